@@ -1,0 +1,1 @@
+//! Linear algebra kernels (band LU). Owned by the linalg/spline helper.

@@ -1,0 +1,1 @@
+//! Cross-sections (annex D).

@@ -1,0 +1,1 @@
+//! Cubic B-splines. Owned by the linalg/spline helper.
