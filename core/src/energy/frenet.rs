@@ -1,0 +1,136 @@
+//! Bending and twist in the Frenet model (SPEC §2.2, II.57–II.63):
+//!
+//!   κ = |r'×r''| / |r'|³,  κ1 = κ sin θ,  κ2 = κ cos θ
+//!   W_b = ½ EI1 (κ1 − κ1⁰)² + ½ EI2 (κ2 − κ2⁰)²
+//!       = A(θ) κ² − B(θ) κ + const,  A = ½(EI1 sin²θ + EI2 cos²θ),
+//!         B = EI1 κ1⁰ sin θ + EI2 κ2⁰ cos θ
+//!   ω = τ + θ'/|r'|,  τ = p / |r'×r''|²,  W_t = ½ GJ (ω − ω⁰)²
+//!
+//! Continuity extension where κ → 0 (the Frenet frame is undefined there,
+//! thesis II.D.3). With δ = κ_ε |r0'|³:
+//! - τ is evaluated as p / (|C|² + δ²): smooth, equal to the Frenet torsion
+//!   to relative (κ_ε/κ)², and going continuously to τ := 0 as κ → 0;
+//! - the linear term B κ (present only for curved rest shapes) uses a
+//!   C¹ Huber extension of |C| below δ, so its gradient stays bounded;
+//! - κ² = c2/a³ is a polynomial ratio and needs no extension, so a straight
+//!   rod keeps the exact anisotropic quadratic bending energy;
+//! - rest curvatures below κ_ε are rounded to zero (straight rest).
+use super::invariants::{Mat5, Vec5, QA, QC2, QP, QTH, QTH1};
+use super::{SampleConsts, Strains};
+
+/// Huber extension of √c2 below δ²: value, first and second derivative in c2.
+fn huber_sqrt(c2: f64, delta: f64) -> (f64, f64, f64) {
+    if c2 >= delta * delta {
+        let s = c2.sqrt();
+        (s, 0.5 / s, -0.25 / (s * c2))
+    } else {
+        (c2 / (2.0 * delta) + 0.5 * delta, 0.5 / delta, 0.0)
+    }
+}
+
+pub fn add_bend(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
+    let (a, c2, th) = (q[QA], q[QC2], q[QTH]);
+    let (sn, cs) = th.sin_cos();
+    let d_ei = c.ei1 - c.ei2;
+    let aa = 0.5 * (c.ei1 * sn * sn + c.ei2 * cs * cs);
+    let aa1 = d_ei * sn * cs;
+    let aa2 = d_ei * (cs * cs - sn * sn);
+    // Q = κ² = c2 a⁻³
+    let ia = 1.0 / a;
+    let ia3 = ia * ia * ia;
+    let qv = c2 * ia3;
+    let (q_a, q_c) = (-3.0 * qv * ia, ia3);
+    let (q_aa, q_ac) = (12.0 * qv * ia * ia, -3.0 * ia3 * ia);
+    let mut w = aa * qv;
+    fq[QA] += aa * q_a;
+    fq[QC2] += aa * q_c;
+    fq[QTH] += aa1 * qv;
+    fqq[(QA, QA)] += aa * q_aa;
+    sym_add(fqq, QA, QC2, aa * q_ac);
+    sym_add(fqq, QA, QTH, aa1 * q_a);
+    sym_add(fqq, QC2, QTH, aa1 * q_c);
+    fqq[(QTH, QTH)] += aa2 * qv;
+    if c.kappa1 != 0.0 || c.kappa2 != 0.0 {
+        let b = c.ei1 * c.kappa1 * sn + c.ei2 * c.kappa2 * cs;
+        let b1 = c.ei1 * c.kappa1 * cs - c.ei2 * c.kappa2 * sn;
+        let b2 = -b;
+        // K = h(c2) a^(-3/2) ≈ κ
+        let (h, h1, h2) = huber_sqrt(c2, c.delta);
+        let ia15 = ia * ia.sqrt();
+        let kv = h * ia15;
+        let (k_a, k_c) = (-1.5 * kv * ia, h1 * ia15);
+        let (k_aa, k_ac, k_cc) = (3.75 * kv * ia * ia, -1.5 * h1 * ia15 * ia, h2 * ia15);
+        w += -b * kv + 0.5 * (c.ei1 * c.kappa1 * c.kappa1 + c.ei2 * c.kappa2 * c.kappa2);
+        fq[QA] -= b * k_a;
+        fq[QC2] -= b * k_c;
+        fq[QTH] -= b1 * kv;
+        fqq[(QA, QA)] -= b * k_aa;
+        sym_add(fqq, QA, QC2, -b * k_ac);
+        fqq[(QC2, QC2)] -= b * k_cc;
+        sym_add(fqq, QA, QTH, -b1 * k_a);
+        sym_add(fqq, QC2, QTH, -b1 * k_c);
+        fqq[(QTH, QTH)] -= b2 * kv;
+    }
+    w
+}
+
+/// Material twist ω with its gradient and Hessian in the invariants.
+fn omega(q: &Vec5, delta: f64) -> (f64, Vec5, Mat5) {
+    let (a, c2, p, th1) = (q[QA], q[QC2], q[QP], q[QTH1]);
+    let id = 1.0 / (c2 + delta * delta);
+    let isa = 1.0 / a.sqrt();
+    let ia = 1.0 / a;
+    let w = p * id + th1 * isa;
+    let mut g = Vec5::zeros();
+    g[QP] = id;
+    g[QC2] = -p * id * id;
+    g[QA] = -0.5 * th1 * isa * ia;
+    g[QTH1] = isa;
+    let mut h = Mat5::zeros();
+    sym_add(&mut h, QP, QC2, -id * id);
+    h[(QC2, QC2)] = 2.0 * p * id * id * id;
+    h[(QA, QA)] = 0.75 * th1 * isa * ia * ia;
+    sym_add(&mut h, QA, QTH1, -0.5 * isa * ia);
+    (w, g, h)
+}
+
+pub fn add_twist(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
+    let (om, g, h) = omega(q, c.delta);
+    let e = om - c.omega;
+    *fq += c.gj * e * g;
+    *fqq += c.gj * (g * g.transpose() + e * h);
+    0.5 * c.gj * e * e
+}
+
+fn sym_add(m: &mut Mat5, i: usize, j: usize, v: f64) {
+    m[(i, j)] += v;
+    m[(j, i)] += v;
+}
+
+/// Curvature κ = |C|/|r'|³ (exact, no extension).
+fn kappa(q: &Vec5) -> f64 {
+    q[QC2].sqrt() / (q[QA] * q[QA].sqrt())
+}
+
+pub fn strains(q: &Vec5, c: &SampleConsts) -> Strains {
+    let k = kappa(q);
+    let (sn, cs) = q[QTH].sin_cos();
+    Strains {
+        eps: super::stretch::strain(q, c),
+        kappa1: k * sn,
+        kappa2: k * cs,
+        omega: omega(q, c.delta).0,
+    }
+}
+
+/// (κ1⁰, κ2⁰, ω⁰) from the rest invariants (rest curvatures below the
+/// threshold δ are rounded to zero, see the module doc).
+pub fn rest_values(q: &Vec5, delta: f64) -> (f64, f64, f64) {
+    let om = omega(q, delta).0;
+    if q[QC2] < delta * delta {
+        return (0.0, 0.0, om);
+    }
+    let k = kappa(q);
+    let (sn, cs) = q[QTH].sin_cos();
+    (k * sn, k * cs, om)
+}
