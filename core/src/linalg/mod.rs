@@ -1,1 +1,4 @@
-//! Linear algebra kernels (band LU). Owned by the linalg/spline helper.
+//! Linear algebra kernels: the band LU of the KKT system (SPEC §5).
+pub mod band;
+
+pub use band::{solve_refined, BandLu, BandMatrix};

@@ -1,1 +1,15 @@
-//! Cubic B-splines. Owned by the linalg/spline helper.
+//! Cubic B-splines on general knot vectors (SPEC §1.1; thesis II.10–II.15):
+//! basis functions with derivatives, Boehm knot insertion and splitting,
+//! and collocation (interpolation) with the band solver.
+pub mod insert;
+pub mod interpolate;
+pub mod knots;
+
+pub use insert::{insert_knot, open_ring_at, split_at};
+pub use interpolate::{default_params, fit, interpolate};
+pub use knots::{eval, KnotKind, KnotVector, KnotVectorData};
+
+/// Polynomial degree of the rod's B-spline.
+pub const DEGREE: usize = 3;
+/// Order (degree + 1) = number of control points per segment.
+pub const ORDER: usize = 4;

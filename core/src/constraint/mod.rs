@@ -1,0 +1,160 @@
+//! Single-point constraints (SPEC §4, thesis III.A), one module per family.
+//! Each linearises g(q) into rows L (the Jacobian, normalised so that the
+//! multiplier Λ is a force or a torque) and a right-hand side
+//! E = target − g(q^n), which carries the drift correction and moving targets.
+pub mod material_roll;
+pub mod position;
+pub mod tangent;
+
+use crate::error::{Error, Result};
+use crate::rod::Rod;
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// What a constraint imposes on a rod at parameter `u`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ConstraintKind {
+    /// r(u) (and θ(u), the roll coordinate) equal to `target` on the axes
+    /// selected by `axes` = [x, y, z, θ] (III.20). Multipliers: force (x,y,z),
+    /// torque about the tangent (θ).
+    Position { u: f64, axes: [bool; 4], target: [f64; 4] },
+    /// r'(u) parallel to `direction` (two rows ⟂ direction, III.23). Multiplier:
+    /// the moment vector ⟂ tangent.
+    Tangent { u: f64, direction: [f64; 3] },
+    /// Absolute roll of the material frame: the angle of director d1 about the
+    /// tangent measured from `reference` (projected ⟂ tangent) equals `angle`
+    /// (radians). In the Frenet model this is θ(u) + angle of the Frenet
+    /// normal, so it needs a curved rod at u. This is a real clamp of the
+    /// cross-section; `Position` with axes[3] only fixes the roll coordinate
+    /// relative to the Frenet frame. Multiplier: torque about the tangent.
+    MaterialRoll { u: f64, reference: [f64; 3], angle: f64 },
+}
+
+/// One linearised constraint row; entries are (rod-local coordinate, value).
+#[derive(Clone, Copy, Debug)]
+pub struct Row {
+    pub entries: [(usize, f64); 16],
+    pub len: usize,
+    pub rhs: f64,
+}
+
+impl Default for Row {
+    fn default() -> Self {
+        Row { entries: [(0, 0.0); 16], len: 0, rhs: 0.0 }
+    }
+}
+
+impl Row {
+    pub(crate) fn push(&mut self, i: usize, v: f64) {
+        self.entries[self.len] = (i, v);
+        self.len += 1;
+    }
+    pub fn entries(&self) -> &[(usize, f64)] {
+        &self.entries[..self.len]
+    }
+}
+
+/// The force and torque a constraint exerts on its rod (force unit,
+/// force × length unit), from its multipliers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Reaction {
+    pub force: [f64; 3],
+    pub torque: [f64; 3],
+}
+
+impl ConstraintKind {
+    pub fn u(&self) -> f64 {
+        match self {
+            ConstraintKind::Position { u, .. }
+            | ConstraintKind::Tangent { u, .. }
+            | ConstraintKind::MaterialRoll { u, .. } => *u,
+        }
+    }
+
+    pub fn n_rows(&self) -> usize {
+        match self {
+            ConstraintKind::Position { axes, .. } => axes.iter().filter(|a| **a).count(),
+            ConstraintKind::Tangent { .. } => 2,
+            ConstraintKind::MaterialRoll { .. } => 1,
+        }
+    }
+
+    /// Checks the constraint against its rod (abscissa inside the domain,
+    /// finite targets, roll only on rods with roll, …).
+    pub fn validate(&self, rod: &Rod) -> Result<()> {
+        let u = crate::error::finite("constraint abscissa u", self.u())?;
+        rod.knots().locate(u)?;
+        match self {
+            ConstraintKind::Position { axes, target, .. } => {
+                if !axes.iter().any(|a| *a) {
+                    return Err(Error::InvalidInput("position constraint selects no axis".into()));
+                }
+                if axes[3] && rod.dofs() == 3 {
+                    return Err(Error::InvalidInput("roll constraint on a rod without roll coordinate".into()));
+                }
+                for (a, t) in axes.iter().zip(target) {
+                    if *a {
+                        crate::error::finite("position target", *t)?;
+                    }
+                }
+            }
+            ConstraintKind::Tangent { direction, .. } => {
+                unit(direction, "tangent direction")?;
+            }
+            ConstraintKind::MaterialRoll { reference, angle, .. } => {
+                if rod.dofs() == 3 {
+                    return Err(Error::InvalidInput("material roll constraint on a rod without roll coordinate".into()));
+                }
+                unit(reference, "material roll reference")?;
+                crate::error::finite("material roll angle", *angle)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Control points the rows touch (for ordering, IV.3–IV.4).
+    pub fn touched(&self, rod: &Rod) -> Result<[usize; 4]> {
+        Ok(rod.basis_at(self.u())?.0)
+    }
+
+    /// Writes `n_rows()` rows linearised at the rod's current coordinates.
+    pub fn linearize(&self, rod: &Rod, rows: &mut [Row]) -> Result<()> {
+        rows.iter_mut().for_each(|r| r.len = 0);
+        match self {
+            ConstraintKind::Position { u, axes, target } => position::linearize(rod, *u, axes, target, rows),
+            ConstraintKind::Tangent { u, direction } => tangent::linearize(rod, *u, direction, rows),
+            ConstraintKind::MaterialRoll { u, reference, angle } => {
+                material_roll::linearize(rod, *u, reference, *angle, rows)
+            }
+        }
+    }
+
+    /// Physical reaction from the multipliers (see each family).
+    pub fn reaction(&self, rod: &Rod, lambda: &[f64]) -> Result<Reaction> {
+        match self {
+            ConstraintKind::Position { axes, .. } => Ok(position::reaction(axes, lambda)),
+            ConstraintKind::Tangent { u, direction } => tangent::reaction(rod, *u, direction, lambda),
+            ConstraintKind::MaterialRoll { u, .. } => {
+                let t = rod.tangent(*u)?;
+                Ok(Reaction { force: [0.0; 3], torque: (t * lambda[0]).into() })
+            }
+        }
+    }
+}
+
+/// Normalised copy of a direction; error on zero / non-finite.
+pub(crate) fn unit(v: &[f64; 3], what: &str) -> Result<Vector3<f64>> {
+    let x = Vector3::from(*v);
+    let n = x.norm();
+    if !n.is_finite() || n == 0.0 {
+        return Err(Error::InvalidInput(format!("{what} must be a finite non-zero vector, got {v:?}")));
+    }
+    Ok(x / n)
+}
+
+/// Two unit vectors completing `t` to an orthonormal frame.
+pub(crate) fn perpendicular_pair(t: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+    let helper = if t.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
+    let e1 = (helper - t * t.dot(&helper)).normalize();
+    (e1, t.cross(&e1))
+}

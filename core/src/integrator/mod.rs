@@ -1,0 +1,249 @@
+//! Time stepping (SPEC §3): linearised implicit Euler and the quasi-static
+//! Newton solve, both on the KKT system of [`crate::system`].
+mod definedness;
+mod dynamic;
+mod statics;
+
+use crate::error::{Error, Result};
+use crate::handles::Index;
+use crate::load::Load;
+use crate::system::kkt::{Coefficients, ConstraintRef};
+use crate::system::layout::ConstraintSlot;
+use crate::system::{KktSystem, Layout};
+use crate::world::World;
+use serde::{Deserialize, Serialize};
+
+/// All integration settings in one place (Rapier-style).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct IntegrationParameters {
+    /// Time step h (time unit).
+    pub dt: f64,
+    /// Gravity (length/time²); the body force is μ g per unit length.
+    pub gravity: [f64; 3],
+    /// Assemble segments in parallel (rayon).
+    pub parallel: bool,
+    /// Quasi-static convergence: Newton increment ≤ tol × rod length (and
+    /// tol radians on roll), constraint violation ≤ tol × rod length.
+    pub relax_tolerance: f64,
+    pub relax_max_iterations: usize,
+}
+
+impl Default for IntegrationParameters {
+    fn default() -> Self {
+        IntegrationParameters {
+            dt: 1e-3,
+            gravity: [0.0, 0.0, 0.0],
+            parallel: true,
+            relax_tolerance: 1e-10,
+            relax_max_iterations: 500,
+        }
+    }
+}
+
+impl IntegrationParameters {
+    pub fn validate(&self) -> Result<()> {
+        crate::error::positive("dt", self.dt)?;
+        for g in self.gravity {
+            crate::error::finite("gravity", g)?;
+        }
+        crate::error::positive("relax_tolerance", self.relax_tolerance)?;
+        if self.relax_max_iterations == 0 {
+            return Err(Error::InvalidInput("relax_max_iterations must be > 0".into()));
+        }
+        Ok(())
+    }
+}
+
+/// What a solve did.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct StepReport {
+    /// Time after the step.
+    pub time: f64,
+    pub n_unknowns: usize,
+    pub n_multipliers: usize,
+    /// Half-bandwidth of the KKT band.
+    pub bandwidth: usize,
+    /// Relative residual of the last linear solve.
+    pub residual: f64,
+    /// Elastic energy before the step.
+    pub elastic_energy: f64,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RelaxReport {
+    /// Linear solves performed (accepted and rejected).
+    pub iterations: usize,
+    pub rejected: usize,
+    /// Final Newton increment (max norm, length unit) and constraint violation.
+    pub increment: f64,
+    pub violation: f64,
+    /// Total potential energy U − Fᵀq at the end.
+    pub potential: f64,
+    pub bandwidth: usize,
+    pub n_unknowns: usize,
+}
+
+/// Buffers reused across steps (not serialised).
+#[derive(Clone, Debug, Default)]
+pub struct Workspace {
+    pub(crate) sys: KktSystem,
+    pub(crate) layout: Layout,
+    pub(crate) ext: Vec<Vec<f64>>,
+    pub(crate) rod_ids: Vec<Index>,
+    pub(crate) con_ids: Vec<Index>,
+}
+
+impl World {
+    /// Builds the layout, the external forces, and assembles the system.
+    /// Returns the elastic energy.
+    pub(crate) fn assemble(&mut self, k: Coefficients) -> Result<f64> {
+        self.params.validate()?;
+        let ws = &mut self.ws;
+        ws.rod_ids.clear();
+        ws.rod_ids.extend(self.rods.iter().map(|(i, _)| i));
+        ws.con_ids.clear();
+        ws.con_ids.extend(self.constraints.iter().map(|(i, _)| i));
+        let rods: Vec<&crate::rod::Rod> = self.rods.iter().map(|(_, r)| r).collect();
+        let pos = |h: crate::handles::RodHandle| -> Result<usize> {
+            let i: Index = h.into();
+            ws.rod_ids.iter().position(|x| *x == i).ok_or_else(|| Error::InvalidHandle(format!("rod {h:?} was removed")))
+        };
+        let mut slots = Vec::with_capacity(ws.con_ids.len());
+        let mut crefs = Vec::with_capacity(ws.con_ids.len());
+        for (_, c) in self.constraints.iter() {
+            let r = pos(c.rod)?;
+            slots.push(ConstraintSlot { rod: r, n_rows: c.kind.n_rows(), touched: c.kind.touched(rods[r])? });
+            crefs.push(ConstraintRef { rod: r, kind: &c.kind, compliance: c.compliance });
+        }
+        let segs: Vec<_> = rods.iter().map(|r| (r.n_ctrl(), r.dofs, r.cache.seg_ctrl.as_slice())).collect();
+        ws.layout = Layout::build(&segs, &slots);
+        // External generalised forces: gravity and loads (III.1–III.10).
+        ws.ext.resize_with(rods.len(), Vec::new);
+        let g = self.params.gravity;
+        for (r, rod) in rods.iter().enumerate() {
+            let f = &mut ws.ext[r];
+            f.clear();
+            f.resize(rod.q.len(), 0.0);
+            let d = rod.dofs;
+            for (s, ctrl) in rod.cache.seg_ctrl.iter().enumerate() {
+                for k in 0..4 {
+                    for a in 0..3 {
+                        f[ctrl[k] * d + a] += rod.cache.seg_mass_weight[s][k] * g[a];
+                    }
+                }
+            }
+        }
+        for (_, l) in self.loads.iter() {
+            let r = pos(l.rod())?;
+            let rod = rods[r];
+            let f = &mut ws.ext[r];
+            let d = rod.dofs;
+            match l {
+                Load::PointForce { u, force, .. } => {
+                    let (ctrl, b) = rod.basis_at(*u)?;
+                    for k in 0..4 {
+                        for a in 0..3 {
+                            f[ctrl[k] * d + a] += b[0][k] * force[a];
+                        }
+                    }
+                }
+                Load::PointTorque { u, torque, .. } => {
+                    let (ctrl, b) = rod.basis_at(*u)?;
+                    for k in 0..4 {
+                        f[ctrl[k] * d + 3] += b[0][k] * torque;
+                    }
+                }
+                Load::Distributed { force_per_length, .. } => {
+                    for (s, ctrl) in rod.cache.seg_ctrl.iter().enumerate() {
+                        for k in 0..4 {
+                            for a in 0..3 {
+                                f[ctrl[k] * d + a] += rod.cache.seg_len_weight[s][k] * force_per_length[a];
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        ws.sys.assemble(&ws.layout, &rods, &ws.ext, &crefs, k, self.params.parallel)
+    }
+
+    /// Solves the assembled system; errors name the offending unknown.
+    pub(crate) fn solve_system(&mut self) -> Result<f64> {
+        let ws = &mut self.ws;
+        let (layout, rod_ids, con_ids) = (&ws.layout, &ws.rod_ids, &ws.con_ids);
+        let describe = |g: usize| describe_unknown(layout, rod_ids, con_ids, g);
+        ws.sys.solve(layout, describe)
+    }
+
+    /// Applies the solution: q += ΔX (returns max |ΔX| over positions and
+    /// over roll), stores multipliers Λ = −y.
+    pub(crate) fn apply_solution(&mut self, scale: f64, set_velocity: Option<f64>) -> (f64, f64) {
+        let ws = &self.ws;
+        let (mut dx_max, mut dth_max) = (0.0f64, 0.0f64);
+        for (r, (_, rod)) in self.rods.iter_mut().enumerate() {
+            let d = rod.dofs;
+            for i in 0..rod.n_ctrl() {
+                for a in 0..d {
+                    let dx = scale * ws.sys.sol[ws.layout.cp_index[r][i] + a];
+                    rod.q[i * d + a] += dx;
+                    if let Some(inv_h) = set_velocity {
+                        rod.v[i * d + a] = dx * inv_h;
+                    }
+                    if a < 3 {
+                        dx_max = dx_max.max(dx.abs());
+                    } else {
+                        dth_max = dth_max.max(dx.abs());
+                    }
+                }
+            }
+        }
+        for (c, (_, con)) in self.constraints.iter_mut().enumerate() {
+            let r0 = ws.layout.row_index[c];
+            for (i, m) in con.multipliers.iter_mut().enumerate() {
+                *m = -ws.sys.sol[r0 + i];
+            }
+        }
+        (dx_max, dth_max)
+    }
+
+    /// Largest constraint violation |E| of the assembled system.
+    pub(crate) fn violation(&self) -> f64 {
+        let mut v = 0.0f64;
+        for (c, (_, con)) in self.constraints.iter().enumerate() {
+            for i in 0..con.kind.n_rows() {
+                v = v.max(self.ws.sys.rhs[self.ws.layout.row_index[c] + i].abs());
+            }
+        }
+        v
+    }
+
+    /// Potential energy U − Σ F_ext·q with the external forces of the last assembly.
+    pub(crate) fn potential(&self) -> f64 {
+        let mut p = 0.0;
+        for (r, (_, rod)) in self.rods.iter().enumerate() {
+            p += rod.elastic_energy();
+            p -= self.ws.ext[r].iter().zip(&rod.q).map(|(f, q)| f * q).sum::<f64>();
+        }
+        p
+    }
+}
+
+fn describe_unknown(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], g: usize) -> String {
+    for (r, cps) in layout.cp_index.iter().enumerate() {
+        for (i, &start) in cps.iter().enumerate() {
+            if g >= start && g < start + layout.dofs[r] {
+                let axis = ["x", "y", "z", "roll"][g - start];
+                return format!("coordinate {axis} of control point {i} of rod {}", rod_ids[r].0);
+            }
+        }
+    }
+    for (c, &start) in layout.row_index.iter().enumerate() {
+        if g >= start && g < start + layout.row_count[c] {
+            return format!(
+                "a multiplier of constraint {} (duplicate or linearly dependent constraints?)",
+                con_ids[c].0
+            );
+        }
+    }
+    format!("unknown {g}")
+}

@@ -1,0 +1,799 @@
+//! General band matrix in LAPACK `dgbtrf` storage and a hand-written band LU
+//! with partial pivoting (SPEC §5: the KKT matrix is banded, symmetric but
+//! indefinite, so Cholesky/LDLᵀ without pivoting hits zero pivots).
+//!
+//! Storage (LAPACK, 0-based): `A[i][j]` lives at row `kl + ku + i - j` of
+//! column `j` of an `ldab × n` column-major array, `ldab = 2 kl + ku + 1`.
+//! The first `kl` rows of every column are zero in a [`BandMatrix`]; the
+//! factorisation uses them for the fill-in of U caused by row interchanges.
+
+use crate::error::{Error, Result};
+
+/// Relative pivot threshold: a pivot is "zero" when `|p| <= PIVOT_TOL * max|a_ij|`.
+/// (1e-15: the Frenet twist makes KKT matrices legitimately ill-conditioned,
+/// ~1e14 after equilibration, near low-curvature points; callers check the residual.)
+const PIVOT_TOL: f64 = 1e-15;
+
+/// A general `n × n` band matrix with `kl` sub- and `ku` super-diagonals.
+#[derive(Clone, Debug, Default)]
+pub struct BandMatrix {
+    n: usize,
+    kl: usize,
+    ku: usize,
+    /// `2 kl + ku + 1`.
+    ldab: usize,
+    /// Column-major, `ldab * n` entries.
+    data: Vec<f64>,
+}
+
+impl BandMatrix {
+    /// A zero `n × n` matrix with `kl` sub- and `ku` super-diagonals.
+    pub fn new(n: usize, kl: usize, ku: usize) -> Self {
+        let mut m = Self::default();
+        m.reshape(n, kl, ku);
+        m
+    }
+
+    /// Change the shape and zero every entry; reuses the allocation when it is
+    /// large enough (so a time loop allocates only on its first step).
+    pub fn reshape(&mut self, n: usize, kl: usize, ku: usize) {
+        self.n = n;
+        self.kl = kl;
+        self.ku = ku;
+        self.ldab = 2 * kl + ku + 1;
+        self.data.clear();
+        self.data.resize(self.ldab * n, 0.0);
+    }
+
+    /// Zero every entry, keeping the shape.
+    pub fn fill_zero(&mut self) {
+        self.data.fill(0.0);
+    }
+
+    pub fn n(&self) -> usize {
+        self.n
+    }
+    pub fn kl(&self) -> usize {
+        self.kl
+    }
+    pub fn ku(&self) -> usize {
+        self.ku
+    }
+
+    /// True when `(i, j)` is inside the matrix and its band (`j - ku <= i <= j + kl`).
+    #[inline]
+    pub fn in_band(&self, i: usize, j: usize) -> bool {
+        i < self.n && j < self.n && i <= j + self.kl && j <= i + self.ku
+    }
+
+    /// Index of `(i, j)` in `data`; caller guarantees `in_band(i, j)`.
+    #[inline]
+    fn idx(&self, i: usize, j: usize) -> usize {
+        // kl + ku + i - j >= kl >= 0 because j <= i + ku.
+        j * self.ldab + self.kl + self.ku + i - j
+    }
+
+    /// Entry `(i, j)`; 0 outside the band or the matrix.
+    #[inline]
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        if self.in_band(i, j) {
+            self.data[self.idx(i, j)]
+        } else {
+            0.0
+        }
+    }
+
+    /// `A[i][j] += v`. Out-of-band writes are a caller bug: they trip a
+    /// debug assertion and are ignored in release builds.
+    #[inline]
+    pub fn add(&mut self, i: usize, j: usize, v: f64) {
+        debug_assert!(
+            self.in_band(i, j),
+            "BandMatrix::add({i}, {j}) outside the band (n={}, kl={}, ku={})",
+            self.n,
+            self.kl,
+            self.ku
+        );
+        if self.in_band(i, j) {
+            let k = self.idx(i, j);
+            self.data[k] += v;
+        }
+    }
+
+    /// `A[i][j] = v`. Same out-of-band policy as [`BandMatrix::add`].
+    #[inline]
+    pub fn set(&mut self, i: usize, j: usize, v: f64) {
+        debug_assert!(
+            self.in_band(i, j),
+            "BandMatrix::set({i}, {j}) outside the band (n={}, kl={}, ku={})",
+            self.n,
+            self.kl,
+            self.ku
+        );
+        if self.in_band(i, j) {
+            let k = self.idx(i, j);
+            self.data[k] = v;
+        }
+    }
+
+    /// `y = A x`.
+    ///
+    /// # Panics
+    /// If `x` or `y` does not have length `n` (a programming error, not user input).
+    pub fn matvec(&self, x: &[f64], y: &mut [f64]) {
+        assert!(
+            x.len() == self.n && y.len() == self.n,
+            "BandMatrix::matvec: length mismatch"
+        );
+        y.fill(0.0);
+        let kv = self.kl + self.ku;
+        // Column-oriented axpy: each column's band is contiguous.
+        for (j, &xj) in x.iter().enumerate() {
+            if xj == 0.0 {
+                continue;
+            }
+            let i0 = j.saturating_sub(self.ku);
+            let i1 = (j + self.kl).min(self.n - 1);
+            let base = j * self.ldab + kv - j;
+            let col = &self.data[base + i0..=base + i1];
+            for (yi, &a) in y[i0..=i1].iter_mut().zip(col) {
+                *yi += a * xj;
+            }
+        }
+    }
+
+    /// Largest `|a_ij|` (NaN entries are ignored by `f64::max`).
+    pub fn max_abs(&self) -> f64 {
+        self.data.iter().fold(0.0, |m, v| m.max(v.abs()))
+    }
+
+    /// `||A||_inf` (largest absolute row sum).
+    fn norm_inf(&self, rows: &mut [f64]) -> f64 {
+        rows.fill(0.0);
+        let kv = self.kl + self.ku;
+        for j in 0..self.n {
+            let i0 = j.saturating_sub(self.ku);
+            let i1 = (j + self.kl).min(self.n - 1);
+            let base = j * self.ldab + kv - j;
+            for (r, &a) in rows[i0..=i1]
+                .iter_mut()
+                .zip(&self.data[base + i0..=base + i1])
+            {
+                *r += a.abs();
+            }
+        }
+        rows.iter().fold(0.0, |m, &v| m.max(v))
+    }
+}
+
+/// LU factors `P A = L U` of a [`BandMatrix`] (LAPACK `dgbtf2` algorithm).
+#[derive(Clone, Debug, Default)]
+pub struct BandLu {
+    n: usize,
+    kl: usize,
+    ku: usize,
+    ldab: usize,
+    /// L multipliers below the diagonal, U (with kl extra super-diagonals of fill) above.
+    ab: Vec<f64>,
+    /// Row `j` was interchanged with row `ipiv[j] >= j` at step `j`.
+    ipiv: Vec<usize>,
+    factored: bool,
+    pivot_ratio: f64,
+}
+
+impl BandLu {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Copies `a` and factors it (dgbtf2-style: partial pivoting, fill within
+    /// the kl extra rows). Allocates only when `a` is larger than any matrix
+    /// factored before by this object.
+    ///
+    /// Errors: `InvalidInput` if an entry is NaN or infinite; `Singular("zero
+    /// pivot at row k ...")` when at step `k` the largest candidate pivot is
+    /// `<= 1e-15 * max|a_ij|` (column/unknown `k` depends linearly on the
+    /// previous ones).
+    pub fn factor(&mut self, a: &BandMatrix) -> Result<()> {
+        let (n, kl, ku, ldab) = (a.n, a.kl, a.ku, a.ldab);
+        let kv = kl + ku;
+        self.factored = false;
+        self.n = n;
+        self.kl = kl;
+        self.ku = ku;
+        self.ldab = ldab;
+        self.ab.clear();
+        self.ab.extend_from_slice(&a.data);
+        self.ipiv.clear();
+        self.ipiv.resize(n, 0);
+
+        let mut amax = 0.0f64;
+        for (k, &v) in self.ab.iter().enumerate() {
+            if !v.is_finite() {
+                let (j, r) = (k / ldab, k % ldab);
+                let i = (r + j) as isize - kv as isize;
+                return Err(Error::InvalidInput(format!(
+                    "band matrix entry ({i}, {j}) is {v}"
+                )));
+            }
+            amax = amax.max(v.abs());
+        }
+        if n == 0 {
+            self.factored = true;
+            self.pivot_ratio = 1.0;
+            return Ok(());
+        }
+        // The fill rows must start at zero (BandMatrix keeps them zero; be robust anyway).
+        for col in self.ab.chunks_exact_mut(ldab) {
+            col[..kl].fill(0.0);
+        }
+        let tol = PIVOT_TOL * amax;
+
+        // ju: last column touched by the U rows produced so far (dgbtf2).
+        let mut ju = 0usize;
+        for j in 0..n {
+            let km = kl.min(n - 1 - j);
+            let cj = j * ldab;
+            // Partial pivoting: largest |entry| among the diagonal and km rows below.
+            let mut jp = 0usize;
+            let mut best = self.ab[cj + kv].abs();
+            for (r, v) in self.ab[cj + kv + 1..=cj + kv + km].iter().enumerate() {
+                if v.abs() > best {
+                    best = v.abs();
+                    jp = r + 1;
+                }
+            }
+            self.ipiv[j] = j + jp;
+            if !best.is_finite() || best <= tol {
+                return Err(Error::Singular(format!(
+                    "zero pivot at row {j} (|pivot| = {best:.3e} <= 1e-15 * max|a_ij| = {tol:.3e}): unknown {j} is linearly dependent on the previous ones"
+                )));
+            }
+            ju = ju.max((j + ku + jp).min(n - 1));
+            if jp != 0 {
+                // Swap rows j and j+jp over columns j..=ju; row j of column c
+                // sits at offset kv + j - c (c - j <= kv, see ju).
+                for c in j..=ju {
+                    let base = c * ldab + kv + j - c;
+                    self.ab.swap(base, base + jp);
+                }
+            }
+            if km > 0 {
+                let (head, tail) = self.ab.split_at_mut(cj + ldab);
+                let inv = 1.0 / head[cj + kv];
+                let l = &mut head[cj + kv + 1..=cj + kv + km];
+                for v in l.iter_mut() {
+                    *v *= inv;
+                }
+                let l = &*l;
+                // Rank-1 update of the trailing block, one contiguous column at a time.
+                for c in j + 1..=ju {
+                    let base = (c - j - 1) * ldab + kv + j - c;
+                    let t = tail[base];
+                    if t != 0.0 {
+                        for (d, &m) in tail[base + 1..=base + km].iter_mut().zip(l) {
+                            *d -= m * t;
+                        }
+                    }
+                }
+            }
+        }
+        let (mut pmin, mut pmax) = (f64::INFINITY, 0.0f64);
+        for col in self.ab.chunks_exact(ldab) {
+            let p = col[kv].abs();
+            pmin = pmin.min(p);
+            pmax = pmax.max(p);
+        }
+        self.pivot_ratio = pmin / pmax;
+        self.factored = true;
+        Ok(())
+    }
+
+    /// Overwrites `b` with `A⁻¹ b` (LAPACK `dgbtrs`, no transpose).
+    pub fn solve_in_place(&self, b: &mut [f64]) -> Result<()> {
+        if !self.factored {
+            return Err(Error::InvalidInput(
+                "BandLu::solve_in_place called without a successful factor()".into(),
+            ));
+        }
+        let (n, kl, ldab) = (self.n, self.kl, self.ldab);
+        let kv = kl + self.ku;
+        if b.len() != n {
+            return Err(Error::InvalidInput(format!(
+                "right-hand side has length {}, the matrix has {n} rows",
+                b.len()
+            )));
+        }
+        if let Some(i) = b.iter().position(|v| !v.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "right-hand side entry {i} is {}",
+                b[i]
+            )));
+        }
+        // Forward: apply P and L (unit lower, kl multipliers per column).
+        if kl > 0 {
+            for j in 0..n.saturating_sub(1) {
+                let l = self.ipiv[j];
+                if l != j {
+                    b.swap(l, j);
+                }
+                let bj = b[j];
+                if bj != 0.0 {
+                    let lm = kl.min(n - 1 - j);
+                    let c = j * ldab + kv;
+                    for (bi, &m) in b[j + 1..=j + lm].iter_mut().zip(&self.ab[c + 1..=c + lm]) {
+                        *bi -= m * bj;
+                    }
+                }
+            }
+        }
+        // Backward: U has kv = kl + ku super-diagonals after fill-in.
+        for j in (0..n).rev() {
+            let c = j * ldab + kv;
+            b[j] /= self.ab[c];
+            let t = b[j];
+            if t != 0.0 {
+                let i0 = j.saturating_sub(kv);
+                for (bi, &u) in b[i0..j].iter_mut().zip(&self.ab[c - (j - i0)..c]) {
+                    *bi -= u * t;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Smallest |pivot| / largest |pivot| of the last successful factorisation
+    /// (1 for an empty matrix, 0 when nothing is factored).
+    pub fn pivot_ratio(&self) -> f64 {
+        if self.factored {
+            self.pivot_ratio
+        } else {
+            0.0
+        }
+    }
+}
+
+/// Solve `A x = b` with the factorisation `lu` of `a`, then `refine` steps of
+/// iterative refinement (stopping early once the residual is at rounding
+/// level). Returns the final relative residual
+/// `||A x - b||_inf / (||A||_inf ||x||_inf + ||b||_inf)` (0 when that is 0/0).
+/// `work` is scratch space, grown to `2 n` on first use.
+pub fn solve_refined(
+    a: &BandMatrix,
+    lu: &BandLu,
+    b: &[f64],
+    x: &mut [f64],
+    work: &mut Vec<f64>,
+    refine: usize,
+) -> Result<f64> {
+    let n = a.n;
+    if !lu.factored || lu.n != n || lu.kl != a.kl || lu.ku != a.ku {
+        return Err(Error::InvalidInput(
+            "solve_refined: the factorisation does not belong to this matrix (factor it first)"
+                .into(),
+        ));
+    }
+    if b.len() != n || x.len() != n {
+        return Err(Error::InvalidInput(format!(
+            "solve_refined: b has length {}, x has {}, the matrix has {n} rows",
+            b.len(),
+            x.len()
+        )));
+    }
+    work.clear();
+    work.resize(2 * n, 0.0);
+    let (r, rows) = work.split_at_mut(n);
+    let anorm = a.norm_inf(rows);
+    let bnorm = inf_norm(b);
+    x.copy_from_slice(b);
+    lu.solve_in_place(x)?;
+    let mut step = 0;
+    loop {
+        a.matvec(x, r);
+        for (ri, &bi) in r.iter_mut().zip(b) {
+            *ri = bi - *ri;
+        }
+        let denom = anorm * inf_norm(x) + bnorm;
+        let rnorm = inf_norm(r);
+        let rel = if denom > 0.0 { rnorm / denom } else { rnorm };
+        if step >= refine || rel <= f64::EPSILON || !rel.is_finite() {
+            return Ok(rel);
+        }
+        lu.solve_in_place(r)?;
+        for (xi, &d) in x.iter_mut().zip(r.iter()) {
+            *xi += d;
+        }
+        step += 1;
+    }
+}
+
+fn inf_norm(v: &[f64]) -> f64 {
+    v.iter().fold(0.0, |m, x| m.max(x.abs()))
+}
+
+#[cfg(test)]
+#[allow(clippy::needless_range_loop)] // dense reference code reads best with indices
+mod tests {
+    use super::*;
+
+    /// Small deterministic generator (no `rand` dependency).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+        }
+    }
+
+    /// Dense Gaussian elimination with partial pivoting (reference).
+    fn dense_solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
+        let n = b.len();
+        for k in 0..n {
+            let p = (k..n)
+                .max_by(|&i, &j| a[i][k].abs().partial_cmp(&a[j][k].abs()).unwrap())
+                .unwrap();
+            a.swap(k, p);
+            b.swap(k, p);
+            for i in k + 1..n {
+                let f = a[i][k] / a[k][k];
+                for j in k..n {
+                    a[i][j] -= f * a[k][j];
+                }
+                b[i] -= f * b[k];
+            }
+        }
+        let mut x = vec![0.0; n];
+        for i in (0..n).rev() {
+            let s: f64 = (i + 1..n).map(|j| a[i][j] * x[j]).sum();
+            x[i] = (b[i] - s) / a[i][i];
+        }
+        x
+    }
+
+    fn to_band(d: &[Vec<f64>]) -> BandMatrix {
+        let n = d.len();
+        let (mut kl, mut ku) = (0, 0);
+        for i in 0..n {
+            for j in 0..n {
+                if d[i][j] != 0.0 {
+                    kl = kl.max(i.saturating_sub(j));
+                    ku = ku.max(j.saturating_sub(i));
+                }
+            }
+        }
+        let mut m = BandMatrix::new(n, kl, ku);
+        for i in 0..n {
+            for j in 0..n {
+                if d[i][j] != 0.0 {
+                    m.set(i, j, d[i][j]);
+                }
+            }
+        }
+        m
+    }
+
+    fn random_band(rng: &mut Lcg, n: usize, kl: usize, ku: usize, diag: f64) -> Vec<Vec<f64>> {
+        let mut d = vec![vec![0.0; n]; n];
+        for i in 0..n {
+            for j in i.saturating_sub(kl)..(i + ku + 1).min(n) {
+                d[i][j] = rng.next();
+            }
+            d[i][i] += diag;
+        }
+        d
+    }
+
+    fn check_against_dense(d: Vec<Vec<f64>>, rng: &mut Lcg) {
+        let n = d.len();
+        let a = to_band(&d);
+        let b: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+        let xref = dense_solve(d, b.clone());
+        let mut lu = BandLu::new();
+        lu.factor(&a).unwrap();
+        let mut x = b.clone();
+        lu.solve_in_place(&mut x).unwrap();
+        let scale = inf_norm(&xref).max(1.0);
+        for (xi, ri) in x.iter().zip(&xref) {
+            assert!((xi - ri).abs() <= 1e-10 * scale, "{xi} vs {ri}");
+        }
+        let mut x2 = vec![0.0; n];
+        let mut work = Vec::new();
+        let res = solve_refined(&a, &lu, &b, &mut x2, &mut work, 2).unwrap();
+        assert!(res < 1e-14, "relative residual {res}");
+    }
+
+    #[test]
+    fn diagonally_dominant_matches_dense() {
+        let mut rng = Lcg(1);
+        for &(n, kl, ku) in &[
+            (1, 0, 0),
+            (5, 1, 1),
+            (30, 2, 5),
+            (30, 5, 2),
+            (40, 0, 3),
+            (40, 3, 0),
+            (60, 7, 7),
+        ] {
+            let d = random_band(&mut rng, n, kl, ku, (kl + ku + 1) as f64 + 1.0);
+            check_against_dense(d, &mut rng);
+        }
+    }
+
+    #[test]
+    fn general_random_needs_pivoting_matches_dense() {
+        let mut rng = Lcg(7);
+        for &(n, kl, ku) in &[(20, 3, 1), (25, 1, 4), (50, 4, 4)] {
+            // No diagonal boost: pivots are chosen by value, rows get swapped.
+            let d = random_band(&mut rng, n, kl, ku, 0.0);
+            check_against_dense(d, &mut rng);
+        }
+    }
+
+    /// KKT matrix [[K, Lᵀ], [L, 0]] ordered as in SPEC §5: each constraint row
+    /// right after the last unknown it touches; zero diagonal blocks force pivoting.
+    fn saddle_point(rng: &mut Lcg, n_ctrl: usize, every: usize) -> Vec<Vec<f64>> {
+        let mut order = Vec::new(); // Some(ctrl index) or None for a constraint
+        let mut cons = Vec::new(); // (position of the constraint, touched ctrl indices)
+        for i in 0..n_ctrl {
+            order.push(i);
+            if i >= 2 && i % every == 0 {
+                cons.push((order.len(), [i - 2, i - 1, i]));
+                order.push(usize::MAX);
+            }
+        }
+        let n = order.len();
+        let pos: Vec<usize> = (0..n_ctrl)
+            .map(|c| order.iter().position(|&o| o == c).unwrap())
+            .collect();
+        let mut d = vec![vec![0.0; n]; n];
+        for c in 0..n_ctrl {
+            let p = pos[c];
+            d[p][p] = 4.0 + rng.next().abs();
+            if c + 1 < n_ctrl {
+                let q = pos[c + 1];
+                let v = -1.0 + 0.1 * rng.next();
+                d[p][q] = v;
+                d[q][p] = v;
+            }
+        }
+        for (row, touched) in cons {
+            for &c in &touched {
+                let v = rng.next();
+                d[row][pos[c]] = v;
+                d[pos[c]][row] = v;
+            }
+        }
+        d
+    }
+
+    #[test]
+    fn saddle_point_kkt_matches_dense() {
+        let mut rng = Lcg(3);
+        for &(n_ctrl, every) in &[(12, 2), (40, 3), (80, 2)] {
+            let d = saddle_point(&mut rng, n_ctrl, every);
+            assert!((0..d.len()).any(|i| d[i][i] == 0.0));
+            check_against_dense(d, &mut rng);
+        }
+    }
+
+    #[test]
+    fn permutation_matrix_zero_diagonal() {
+        let mut a = BandMatrix::new(2, 1, 1);
+        a.set(0, 1, 2.0);
+        a.set(1, 0, 3.0);
+        let mut lu = BandLu::new();
+        lu.factor(&a).unwrap();
+        let mut b = [4.0, 9.0];
+        lu.solve_in_place(&mut b).unwrap();
+        assert_eq!(b, [3.0, 2.0]);
+    }
+
+    #[test]
+    fn n_equals_one_and_zero() {
+        let mut a = BandMatrix::new(1, 0, 0);
+        a.set(0, 0, 4.0);
+        let mut lu = BandLu::new();
+        lu.factor(&a).unwrap();
+        let mut b = [2.0];
+        lu.solve_in_place(&mut b).unwrap();
+        assert_eq!(b, [0.5]);
+        assert_eq!(lu.pivot_ratio(), 1.0);
+        lu.factor(&BandMatrix::new(0, 2, 2)).unwrap();
+        lu.solve_in_place(&mut []).unwrap();
+    }
+
+    #[test]
+    fn singular_matrix_reports_row() {
+        // Rows 0..3 of a tridiagonal matrix with column 2 = column 1.
+        let mut a = BandMatrix::new(4, 2, 2);
+        for i in 0..4 {
+            a.set(i, i, 1.0);
+        }
+        a.set(0, 1, 1.0);
+        a.set(0, 2, 1.0);
+        a.set(1, 2, 1.0);
+        a.set(2, 1, 1.0);
+        let mut lu = BandLu::new();
+        match lu.factor(&a) {
+            Err(Error::Singular(msg)) => assert!(msg.contains("zero pivot at row 2"), "{msg}"),
+            other => panic!("expected Singular, got {other:?}"),
+        }
+        assert!(lu.solve_in_place(&mut [0.0; 4]).is_err());
+        // The zero matrix is singular at the first row.
+        match lu.factor(&BandMatrix::new(3, 1, 1)) {
+            Err(Error::Singular(msg)) => assert!(msg.contains("row 0"), "{msg}"),
+            other => panic!("expected Singular, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn near_singular_below_relative_threshold() {
+        let mut a = BandMatrix::new(2, 1, 1);
+        a.set(0, 0, 1e6);
+        a.set(1, 1, 1e-8); // 1e-14 of the largest entry
+        assert!(matches!(BandLu::new().factor(&a), Err(Error::Singular(_))));
+        a.set(1, 1, 1e-6);
+        assert!(BandLu::new().factor(&a).is_ok());
+    }
+
+    #[test]
+    fn non_finite_entries_are_invalid_input() {
+        let mut a = BandMatrix::new(3, 1, 1);
+        for i in 0..3 {
+            a.set(i, i, 1.0);
+        }
+        a.set(2, 1, f64::NAN);
+        match BandLu::new().factor(&a) {
+            Err(Error::InvalidInput(msg)) => assert!(msg.contains("(2, 1)"), "{msg}"),
+            other => panic!("expected InvalidInput, got {other:?}"),
+        }
+        a.set(2, 1, f64::INFINITY);
+        assert!(matches!(
+            BandLu::new().factor(&a),
+            Err(Error::InvalidInput(_))
+        ));
+        a.set(2, 1, 0.0);
+        let mut lu = BandLu::new();
+        lu.factor(&a).unwrap();
+        assert!(matches!(
+            lu.solve_in_place(&mut [1.0, f64::NAN, 0.0]),
+            Err(Error::InvalidInput(_))
+        ));
+        assert!(matches!(
+            lu.solve_in_place(&mut [1.0, 0.0]),
+            Err(Error::InvalidInput(_))
+        ));
+    }
+
+    #[test]
+    fn accessors_matvec_and_band() {
+        let mut rng = Lcg(11);
+        let d = random_band(&mut rng, 9, 2, 3, 0.0);
+        let a = to_band(&d);
+        assert_eq!((a.n(), a.kl(), a.ku()), (9, 2, 3));
+        assert!(
+            a.in_band(5, 3)
+                && a.in_band(3, 6)
+                && !a.in_band(6, 3)
+                && !a.in_band(3, 7)
+                && !a.in_band(9, 9)
+        );
+        assert_eq!(a.get(8, 0), 0.0);
+        let x: Vec<f64> = (0..9).map(|_| rng.next()).collect();
+        let mut y = vec![0.0; 9];
+        a.matvec(&x, &mut y);
+        for i in 0..9 {
+            let yr: f64 = (0..9).map(|j| d[i][j] * x[j]).sum();
+            assert!((y[i] - yr).abs() < 1e-14);
+            for j in 0..9 {
+                assert_eq!(a.get(i, j), d[i][j]);
+            }
+        }
+        let m = d.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert_eq!(a.max_abs(), m);
+        let mut b = a.clone();
+        b.add(4, 4, 1.5);
+        assert_eq!(b.get(4, 4), d[4][4] + 1.5);
+        b.fill_zero();
+        assert_eq!(b.max_abs(), 0.0);
+    }
+
+    #[test]
+    fn pivot_ratio_of_diagonal() {
+        let mut a = BandMatrix::new(3, 1, 1);
+        a.set(0, 0, 2.0);
+        a.set(1, 1, -8.0);
+        a.set(2, 2, 4.0);
+        let mut lu = BandLu::new();
+        assert_eq!(lu.pivot_ratio(), 0.0);
+        lu.factor(&a).unwrap();
+        assert_eq!(lu.pivot_ratio(), 0.25);
+    }
+
+    #[test]
+    fn reuses_allocations() {
+        let mut rng = Lcg(5);
+        let d = random_band(&mut rng, 50, 4, 4, 10.0);
+        let mut a = to_band(&d);
+        let mut lu = BandLu::new();
+        lu.factor(&a).unwrap();
+        let (pa, pl, pp) = (a.data.as_ptr(), lu.ab.as_ptr(), lu.ipiv.as_ptr());
+        a.reshape(40, 3, 4); // smaller: same buffer
+        for i in 0..40 {
+            a.set(i, i, 1.0);
+        }
+        lu.factor(&a).unwrap();
+        assert_eq!(
+            (pa, pl, pp),
+            (a.data.as_ptr(), lu.ab.as_ptr(), lu.ipiv.as_ptr())
+        );
+        assert_eq!(a.get(1, 0), 0.0);
+    }
+
+    #[test]
+    fn solve_refined_checks_shapes() {
+        let mut a = BandMatrix::new(3, 1, 1);
+        for i in 0..3 {
+            a.set(i, i, 2.0);
+        }
+        let lu = BandLu::new();
+        let mut x = [0.0; 3];
+        let mut w = Vec::new();
+        assert!(solve_refined(&a, &lu, &[1.0; 3], &mut x, &mut w, 1).is_err());
+        let mut lu = BandLu::new();
+        lu.factor(&a).unwrap();
+        assert!(solve_refined(&a, &lu, &[1.0; 2], &mut x, &mut w, 1).is_err());
+        let res = solve_refined(&a, &lu, &[1.0; 3], &mut x, &mut w, 1).unwrap();
+        assert_eq!(x, [0.5; 3]);
+        assert_eq!(res, 0.0);
+    }
+
+    /// Timing of the SPEC §5 hot case (run with `--release -- --ignored --nocapture`).
+    #[test]
+    #[ignore]
+    fn timing_n2000_bw20() {
+        let mut rng = Lcg(9);
+        let (n, k) = (2000, 20);
+        let mut a = BandMatrix::new(n, k, k);
+        for j in 0..n {
+            for i in j.saturating_sub(k)..(j + k + 1).min(n) {
+                a.set(i, j, rng.next());
+            }
+        }
+        let mut lu = BandLu::new();
+        lu.factor(&a).unwrap();
+        let t = std::time::Instant::now();
+        let reps = 50;
+        for _ in 0..reps {
+            lu.factor(&a).unwrap();
+        }
+        let dt = t.elapsed().as_secs_f64() / reps as f64;
+        let mut b = vec![1.0; n];
+        let t2 = std::time::Instant::now();
+        lu.solve_in_place(&mut b).unwrap();
+        println!(
+            "factor n={n} kl=ku={k}: {:.3} ms, solve {:.3} ms",
+            dt * 1e3,
+            t2.elapsed().as_secs_f64() * 1e3
+        );
+    }
+}
+
+impl BandMatrix {
+    /// A ← D A D for the diagonal D = diag(d): symmetric equilibration of a
+    /// KKT matrix before factorisation (entries outside the band stay zero).
+    pub fn scale_symmetric(&mut self, d: &[f64]) {
+        let kv = self.kl + self.ku;
+        for j in 0..self.n {
+            let lo = j.saturating_sub(self.ku);
+            let hi = (j + self.kl).min(self.n - 1);
+            let col = &mut self.data[j * self.ldab..(j + 1) * self.ldab];
+            for i in lo..=hi {
+                col[kv + i - j] *= d[i] * d[j];
+            }
+        }
+    }
+}

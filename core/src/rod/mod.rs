@@ -1,0 +1,319 @@
+//! A rod: cubic B-spline centreline plus roll angle (SPEC §1), with its rest
+//! shape, sections, material and the per-sample data its energy needs.
+//!
+//! Generalised coordinates are stored flat: control point i owns
+//! `q[i*dofs .. i*dofs+dofs]` = (x, y, z[, θ]). Positions are in the world's
+//! length unit, θ in radians; velocities likewise per time unit.
+pub mod assemble;
+pub mod build;
+mod samples;
+
+pub use assemble::SegBlock;
+pub use build::{RodBuilder, RodShape};
+pub(crate) use samples::Cache;
+
+use crate::energy::{self, invariants::LocalState, EnergyTerms, FrameModel, Strains};
+use crate::error::{Error, Result};
+use crate::material::Material;
+use crate::section::Section;
+use crate::spline::KnotVector;
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// Numerical and modelling options of one rod.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RodOptions {
+    /// Gauss–Legendre points per segment (the thesis' "samples per segment"), 1..=8.
+    pub samples_per_segment: usize,
+    /// Which energies are on. Rods without roll never carry twist energy
+    /// (their roll is free, so the twist relaxes to its rest value).
+    pub terms: EnergyTerms,
+    pub model: FrameModel,
+    /// Curvature κ_ε (1/length) below which the Frenet torsion is
+    /// regularised (SPEC §2.2). 0 selects 1e-3 / rest length.
+    pub curvature_threshold: f64,
+    /// Viscous drag coefficient c_d (force per unit velocity per unit length):
+    /// distributed force −c_d v, D_ij = ∫ c_d b_i b_j ds0 (III.10).
+    pub drag: f64,
+}
+
+impl Default for RodOptions {
+    fn default() -> Self {
+        RodOptions {
+            samples_per_segment: 5,
+            terms: EnergyTerms::default(),
+            model: FrameModel::Frenet,
+            curvature_threshold: 0.0,
+            drag: 0.0,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Rod {
+    pub(crate) knots: KnotVector,
+    pub(crate) dofs: usize,
+    pub(crate) q: Vec<f64>,
+    pub(crate) v: Vec<f64>,
+    pub(crate) q_rest: Vec<f64>,
+    /// One section per control point, blended with the basis (II.26).
+    pub(crate) sections: Vec<Section>,
+    pub(crate) material: Material,
+    pub(crate) opts: RodOptions,
+    /// Per-sample plastic offsets (SPEC §6); empty when the rod never yielded.
+    pub(crate) plastic: Vec<Strains>,
+    #[serde(skip)]
+    pub(crate) cache: Cache,
+}
+
+impl Rod {
+    /// A rod from a knot vector and control points (rest shape = this shape).
+    /// `ctrl` holds `knots.n_ctrl()` rows of 3 (no roll) or 4 (x, y, z, θ) values.
+    pub fn new(
+        knots: KnotVector,
+        dofs: usize,
+        ctrl: Vec<f64>,
+        sections: Vec<Section>,
+        material: Material,
+        opts: RodOptions,
+    ) -> Result<Rod> {
+        if dofs != 3 && dofs != 4 {
+            return Err(Error::InvalidInput(format!("a rod has 3 or 4 coordinates per control point, got {dofs}")));
+        }
+        let n = knots.n_ctrl();
+        if ctrl.len() != n * dofs {
+            return Err(Error::InvalidInput(format!(
+                "expected {} control-point values ({n} points × {dofs}), got {}",
+                n * dofs,
+                ctrl.len()
+            )));
+        }
+        if let Some(i) = ctrl.iter().position(|x| !x.is_finite()) {
+            return Err(Error::InvalidInput(format!(
+                "control point {} has a non-finite coordinate ({})",
+                i / dofs,
+                ctrl[i]
+            )));
+        }
+        let sections = match sections.len() {
+            1 => vec![sections[0]; n],
+            m if m == n => sections,
+            m => {
+                return Err(Error::InvalidInput(format!("give 1 section or one per control point ({n}), got {m}")))
+            }
+        };
+        for s in &sections {
+            s.validate()?;
+        }
+        material.validate()?;
+        if !(opts.curvature_threshold.is_finite() && opts.curvature_threshold >= 0.0) {
+            return Err(Error::InvalidInput(format!(
+                "curvature_threshold must be finite and >= 0, got {}",
+                opts.curvature_threshold
+            )));
+        }
+        crate::error::non_negative("drag coefficient", opts.drag)?;
+        let mut opts = opts;
+        if dofs == 3 {
+            opts.terms.twist = false;
+        }
+        let mut rod = Rod {
+            knots,
+            dofs,
+            v: vec![0.0; ctrl.len()],
+            q_rest: ctrl.clone(),
+            q: ctrl,
+            sections,
+            material,
+            opts,
+            plastic: Vec::new(),
+            cache: Cache::default(),
+        };
+        rod.prepare()?;
+        Ok(rod)
+    }
+
+    /// Rebuilds the per-sample cache (after construction or deserialisation).
+    pub fn prepare(&mut self) -> Result<()> {
+        self.cache = Cache::build(self)?;
+        Ok(())
+    }
+
+    pub fn knots(&self) -> &KnotVector {
+        &self.knots
+    }
+    /// Coordinates per control point: 3 (x, y, z) or 4 (x, y, z, θ).
+    pub fn dofs(&self) -> usize {
+        self.dofs
+    }
+    pub fn n_ctrl(&self) -> usize {
+        self.knots.n_ctrl()
+    }
+    pub fn n_segments(&self) -> usize {
+        self.knots.n_segments()
+    }
+    /// Current generalised coordinates (flat, `dofs` per control point).
+    pub fn coords(&self) -> &[f64] {
+        &self.q
+    }
+    pub fn velocities(&self) -> &[f64] {
+        &self.v
+    }
+    pub fn rest_coords(&self) -> &[f64] {
+        &self.q_rest
+    }
+    pub fn material(&self) -> &Material {
+        &self.material
+    }
+    pub fn options(&self) -> &RodOptions {
+        &self.opts
+    }
+    pub fn sections(&self) -> &[Section] {
+        &self.sections
+    }
+    /// Parameter domain [u_start, u_end] of the spline.
+    pub fn domain(&self) -> (f64, f64) {
+        self.knots.domain()
+    }
+    /// Rest length (length unit).
+    pub fn rest_length(&self) -> f64 {
+        self.cache.rest_length
+    }
+    /// Total mass (mass unit).
+    pub fn mass(&self) -> f64 {
+        self.cache.mass
+    }
+
+    /// Replace coordinates (e.g. to pre-deform a rod); checks length and finiteness.
+    pub fn set_coords(&mut self, q: &[f64]) -> Result<()> {
+        check_vec("coordinates", q, self.q.len())?;
+        self.q.copy_from_slice(q);
+        Ok(())
+    }
+    pub fn set_velocities(&mut self, v: &[f64]) -> Result<()> {
+        check_vec("velocities", v, self.v.len())?;
+        self.v.copy_from_slice(v);
+        Ok(())
+    }
+
+    /// Control point indices and basis values/derivatives at u (u checked).
+    pub fn basis_at(&self, u: f64) -> Result<([usize; 4], [[f64; 4]; 4])> {
+        let seg = self.knots.locate(u)?;
+        Ok((self.knots.segment_ctrl(seg), self.knots.basis(seg, u)))
+    }
+
+    /// The `deriv`-th u-derivative of the generalised coordinates at u
+    /// (x, y, z[, θ]).
+    pub fn eval(&self, u: f64, deriv: usize) -> Result<[f64; 4]> {
+        if deriv > 3 {
+            return Err(Error::InvalidInput(format!("derivative order must be 0..=3, got {deriv}")));
+        }
+        let (ctrl, b) = self.basis_at(u)?;
+        let mut out = [0.0; 4];
+        for (k, &i) in ctrl.iter().enumerate() {
+            for (a, o) in out.iter_mut().enumerate().take(self.dofs) {
+                *o += b[deriv][k] * self.q[i * self.dofs + a];
+            }
+        }
+        Ok(out)
+    }
+    /// Centreline point r(u) (length unit).
+    pub fn position(&self, u: f64) -> Result<Vector3<f64>> {
+        let p = self.eval(u, 0)?;
+        Ok(Vector3::new(p[0], p[1], p[2]))
+    }
+    /// Unit tangent r'(u)/|r'(u)|.
+    pub fn tangent(&self, u: f64) -> Result<Vector3<f64>> {
+        let p = self.eval(u, 1)?;
+        let t = Vector3::new(p[0], p[1], p[2]);
+        let n = t.norm();
+        if n == 0.0 {
+            return Err(Error::Singular(format!("zero tangent at u = {u}")));
+        }
+        Ok(t / n)
+    }
+
+    /// The local derivative vector d at u with the current coordinates.
+    pub fn local_state(&self, u: f64) -> Result<LocalState> {
+        let (ctrl, b) = self.basis_at(u)?;
+        Ok(samples::local_state(&self.q, self.dofs, &ctrl, &b))
+    }
+
+    /// Strains (ε, κ1, κ2, ω) at every sample, in sample order.
+    pub fn strains(&self) -> Vec<Strains> {
+        self.cache
+            .samples
+            .iter()
+            .map(|s| {
+                let ls = samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis);
+                energy::strains(&ls, &s.consts, self.opts.model)
+            })
+            .collect()
+    }
+
+    /// Parameter u of every sample (Gauss point), in sample order.
+    pub fn sample_params(&self) -> Vec<f64> {
+        self.cache.samples.iter().map(|s| s.u).collect()
+    }
+
+    /// Centreline points at every sample (length unit).
+    pub fn sample_points(&self) -> Vec<Vector3<f64>> {
+        self.cache
+            .samples
+            .iter()
+            .map(|s| {
+                let ls = samples::point(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis[0]);
+                Vector3::new(ls[0], ls[1], ls[2])
+            })
+            .collect()
+    }
+
+    /// Kinetic energy ½ VᵀMV.
+    pub fn kinetic_energy(&self) -> f64 {
+        let mut mv = vec![0.0; self.v.len()];
+        self.mass_times(&self.v, &mut mv);
+        0.5 * self.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>()
+    }
+
+    /// Linear momentum Σ (M V) over the translational coordinates.
+    pub fn momentum(&self) -> Vector3<f64> {
+        let mut mv = vec![0.0; self.v.len()];
+        self.mass_times(&self.v, &mut mv);
+        let mut p = Vector3::zeros();
+        for i in 0..self.n_ctrl() {
+            for a in 0..3 {
+                p[a] += mv[i * self.dofs + a];
+            }
+        }
+        p
+    }
+
+    /// y = M x with the consistent mass matrix (II.70–II.75).
+    pub fn mass_times(&self, x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|v| *v = 0.0);
+        let d = self.dofs;
+        for (seg, ctrl) in self.cache.seg_ctrl.iter().enumerate() {
+            let (m, j) = (&self.cache.seg_mass[seg], &self.cache.seg_inertia[seg]);
+            for k in 0..4 {
+                for l in 0..4 {
+                    for a in 0..3 {
+                        y[ctrl[k] * d + a] += m[k][l] * x[ctrl[l] * d + a];
+                    }
+                    if d == 4 {
+                        y[ctrl[k] * d + 3] += j[k][l] * x[ctrl[l] * d + 3];
+                    }
+                }
+            }
+        }
+    }
+}
+
+pub(crate) fn check_vec(what: &str, x: &[f64], n: usize) -> Result<()> {
+    if x.len() != n {
+        return Err(Error::InvalidInput(format!("{what}: expected {n} values, got {}", x.len())));
+    }
+    if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+        return Err(Error::InvalidInput(format!("{what}: value {i} is not finite ({})", x[i])));
+    }
+    Ok(())
+}

@@ -1,0 +1,159 @@
+//! Per-sample data of a rod, computed once from the rest shape (SPEC §2:
+//! integration over the rest arc length makes it constant): Gauss points,
+//! basis values, weights w = Gauss weight × span/2 × |r0'|, stiffnesses from
+//! the blended section, rest curvatures and twist, and the per-segment
+//! consistent mass, roll inertia and drag blocks (II.70–II.75, III.10).
+use super::Rod;
+use crate::energy::{self, invariants::LocalState, SampleConsts};
+use crate::error::{Error, Result};
+use crate::quadrature::gauss_legendre;
+use crate::section::Section;
+use nalgebra::Vector3;
+
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Sample {
+    pub seg: usize,
+    pub u: f64,
+    /// basis[deriv][k] for the segment's 4 control points.
+    pub basis: [[f64; 4]; 4],
+    /// Quadrature weight in rest arc length (length unit).
+    pub w: f64,
+    pub consts: SampleConsts,
+}
+
+pub(crate) type Block4 = [[f64; 4]; 4];
+
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Cache {
+    pub samples: Vec<Sample>,
+    pub seg_ctrl: Vec<[usize; 4]>,
+    /// First sample of each segment; segment s owns samples[seg_start[s]..seg_start[s+1]].
+    pub seg_start: Vec<usize>,
+    /// ∫ μ b_k b_l ds0 (translation), ∫ ρ I0 b_k b_l ds0 (roll), ∫ c_d b_k b_l ds0.
+    pub seg_mass: Vec<Block4>,
+    pub seg_inertia: Vec<Block4>,
+    pub seg_drag: Vec<Block4>,
+    /// ∫ μ b_k ds0 (for gravity) and ∫ b_k ds0 (for distributed forces).
+    pub seg_mass_weight: Vec<[f64; 4]>,
+    pub seg_len_weight: Vec<[f64; 4]>,
+    pub rest_length: f64,
+    pub mass: f64,
+}
+
+pub(crate) fn point(q: &[f64], dofs: usize, ctrl: &[usize; 4], b: &[f64; 4]) -> [f64; 4] {
+    let mut p = [0.0; 4];
+    for k in 0..4 {
+        let base = ctrl[k] * dofs;
+        for a in 0..dofs {
+            p[a] += b[k] * q[base + a];
+        }
+    }
+    p
+}
+
+/// d = (r', r'', r''', θ, θ') from the coordinates (θ = 0 without roll).
+pub(crate) fn local_state(q: &[f64], dofs: usize, ctrl: &[usize; 4], b: &[[f64; 4]; 4]) -> LocalState {
+    let mut s = LocalState {
+        r1: Vector3::zeros(),
+        r2: Vector3::zeros(),
+        r3: Vector3::zeros(),
+        th: 0.0,
+        th1: 0.0,
+    };
+    for k in 0..4 {
+        let base = ctrl[k] * dofs;
+        let x = Vector3::new(q[base], q[base + 1], q[base + 2]);
+        s.r1 += b[1][k] * x;
+        s.r2 += b[2][k] * x;
+        s.r3 += b[3][k] * x;
+        if dofs == 4 {
+            s.th += b[0][k] * q[base + 3];
+            s.th1 += b[1][k] * q[base + 3];
+        }
+    }
+    s
+}
+
+impl Cache {
+    pub fn build(rod: &Rod) -> Result<Cache> {
+        let knots = &rod.knots;
+        let (gx, gw) = gauss_legendre(rod.opts.samples_per_segment)?;
+        let nseg = knots.n_segments();
+        let mut c = Cache::default();
+        let e = rod.material.young;
+        let g = rod.material.shear_modulus();
+        let rho = rod.material.density;
+        // First pass: geometry of the rest shape, to get the rest length
+        // (the default curvature threshold is relative to it).
+        let mut raw = Vec::with_capacity(nseg * gx.len());
+        for seg in 0..nseg {
+            let (u0, u1) = knots.segment_interval(seg);
+            let ctrl = knots.segment_ctrl(seg);
+            c.seg_ctrl.push(ctrl);
+            c.seg_start.push(raw.len());
+            for (x, w) in gx.iter().zip(gw) {
+                let u = 0.5 * (u0 + u1) + 0.5 * (u1 - u0) * x;
+                let basis = knots.basis(seg, u);
+                let s0 = local_state(&rod.q_rest, rod.dofs, &ctrl, &basis);
+                let speed0 = s0.r1.norm();
+                if !(speed0 > 0.0) || !speed0.is_finite() {
+                    return Err(Error::InvalidInput(format!(
+                        "rest shape has zero or undefined tangent at u = {u} (coincident control points?)"
+                    )));
+                }
+                let wt = w * 0.5 * (u1 - u0) * speed0;
+                c.rest_length += wt;
+                raw.push((seg, u, basis, wt, s0, speed0));
+            }
+        }
+        c.seg_start.push(raw.len());
+        let kappa_eps = if rod.opts.curvature_threshold > 0.0 {
+            rod.opts.curvature_threshold
+        } else {
+            1e-3 / c.rest_length
+        };
+        c.seg_mass = vec![[[0.0; 4]; 4]; nseg];
+        c.seg_inertia = vec![[[0.0; 4]; 4]; nseg];
+        c.seg_drag = vec![[[0.0; 4]; 4]; nseg];
+        c.seg_mass_weight = vec![[0.0; 4]; nseg];
+        c.seg_len_weight = vec![[0.0; 4]; nseg];
+        for (idx, (seg, u, basis, wt, s0, speed0)) in raw.into_iter().enumerate() {
+            let ctrl = c.seg_ctrl[seg];
+            let sec = Section::blend(
+                [&rod.sections[ctrl[0]], &rod.sections[ctrl[1]], &rod.sections[ctrl[2]], &rod.sections[ctrl[3]]],
+                basis[0],
+            )?;
+            let p = sec.props()?;
+            let delta = kappa_eps * speed0 * speed0 * speed0;
+            let (k1, k2, om) = energy::rest_values(&s0, delta, rod.opts.model);
+            let plastic = rod.plastic.get(idx).copied().unwrap_or_default();
+            let consts = SampleConsts {
+                ea: e * p.area,
+                ei1: e * p.i1,
+                ei2: e * p.i2,
+                gj: g * p.j,
+                speed0,
+                kappa1: k1 + plastic.kappa1,
+                kappa2: k2 + plastic.kappa2,
+                omega: om + plastic.omega,
+                eps_p: plastic.eps,
+                delta,
+            };
+            let mu = rho * p.area;
+            let rho_i0 = rho * p.i0;
+            c.mass += wt * mu;
+            for k in 0..4 {
+                c.seg_mass_weight[seg][k] += wt * mu * basis[0][k];
+                c.seg_len_weight[seg][k] += wt * basis[0][k];
+                for l in 0..4 {
+                    let bb = wt * basis[0][k] * basis[0][l];
+                    c.seg_mass[seg][k][l] += mu * bb;
+                    c.seg_inertia[seg][k][l] += rho_i0 * bb;
+                    c.seg_drag[seg][k][l] += rod.opts.drag * bb;
+                }
+            }
+            c.samples.push(Sample { seg, u, basis, w: wt, consts });
+        }
+        Ok(c)
+    }
+}

@@ -1,0 +1,202 @@
+//! Assembly and solution of the displacement-level KKT system (SPEC §4):
+//!
+//!   [ A   Lᵀ ] [ ΔX ]   [ B ]      A = c_m M + c_d D + K
+//!   [ L  −C  ] [ −Λ ] = [ E ]      B = c_v M V + F + P
+//!
+//! (implicit Euler: c_m = 1/h², c_d = c_v = 1/h; statics: c_m = c_d = c_v = 0,
+//! or c_m = 1/h_pt² for pseudo-transient continuation). Segment blocks are
+//! scattered into the band (they overlap: summed); all buffers are reused
+//! across steps.
+use super::layout::Layout;
+use crate::constraint::{ConstraintKind, Row};
+use crate::error::{Error, Result};
+use crate::linalg::band::{solve_refined, BandLu, BandMatrix};
+use crate::rod::assemble::Need;
+use crate::rod::{Rod, SegBlock};
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coefficients {
+    pub mass: f64,
+    pub drag: f64,
+    pub momentum: f64,
+}
+
+/// A constraint as the system sees it.
+pub struct ConstraintRef<'a> {
+    pub rod: usize,
+    pub kind: &'a ConstraintKind,
+    pub compliance: f64,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct KktSystem {
+    pub band: BandMatrix,
+    pub lu: BandLu,
+    pub rhs: Vec<f64>,
+    pub sol: Vec<f64>,
+    work: Vec<f64>,
+    scale: Vec<f64>,
+    blocks: Vec<Vec<SegBlock>>,
+    rows: Vec<Row>,
+    mv: Vec<f64>,
+}
+
+impl KktSystem {
+    /// Assembles A and B for `rods` (in layout order) with external
+    /// generalised forces `ext[r]`. Returns the total elastic energy.
+    pub fn assemble(
+        &mut self,
+        layout: &Layout,
+        rods: &[&Rod],
+        ext: &[Vec<f64>],
+        cons: &[ConstraintRef],
+        k: Coefficients,
+        parallel: bool,
+    ) -> Result<f64> {
+        let bw = layout.bandwidth;
+        self.band.reshape(layout.n, bw, bw);
+        self.rhs.clear();
+        self.rhs.resize(layout.n, 0.0);
+        self.blocks.resize_with(rods.len(), Vec::new);
+        let mut energy = 0.0;
+        for (r, rod) in rods.iter().enumerate() {
+            let blocks = &mut self.blocks[r];
+            rod.assemble(blocks, Need::Hessian, parallel);
+            let d = rod.dofs;
+            let nl = 4 * d;
+            let cache = &rod.cache;
+            // Momentum term c_v M V.
+            self.mv.resize(rod.v.len(), 0.0);
+            if k.momentum != 0.0 {
+                rod.mass_times(&rod.v, &mut self.mv);
+            }
+            for i in 0..rod.n_ctrl() {
+                for a in 0..d {
+                    let local = i * d + a;
+                    self.rhs[layout.cp_index[r][i] + a] +=
+                        ext[r][local] + if k.momentum != 0.0 { k.momentum * self.mv[local] } else { 0.0 };
+                }
+            }
+            for (s, blk) in blocks.iter().enumerate() {
+                energy += blk.energy;
+                let ctrl = &cache.seg_ctrl[s];
+                let mut idx = [0usize; 16];
+                for kk in 0..4 {
+                    for a in 0..d {
+                        idx[kk * d + a] = layout.cp_index[r][ctrl[kk]] + a;
+                    }
+                }
+                for ci in 0..nl {
+                    self.rhs[idx[ci]] -= blk.grad[ci];
+                    let row = &blk.hess[ci * 16..ci * 16 + 16];
+                    self.band.add(idx[ci], idx[ci], row[ci]);
+                    for cj in ci + 1..nl {
+                        self.band.add(idx[ci], idx[cj], row[cj]);
+                        self.band.add(idx[cj], idx[ci], row[cj]);
+                    }
+                }
+                // c_m M + c_d D on each axis (II.70–II.75, III.10).
+                let (m, j, dr) = (&cache.seg_mass[s], &cache.seg_inertia[s], &cache.seg_drag[s]);
+                for kk in 0..4 {
+                    for l in 0..4 {
+                        let t = k.mass * m[kk][l] + k.drag * dr[kk][l];
+                        for a in 0..3 {
+                            self.band.add(idx[kk * d + a], idx[l * d + a], t);
+                        }
+                        if d == 4 {
+                            self.band.add(idx[kk * 4 + 3], idx[l * 4 + 3], k.mass * j[kk][l]);
+                        }
+                    }
+                }
+            }
+        }
+        for (c, cr) in cons.iter().enumerate() {
+            let nr = cr.kind.n_rows();
+            self.rows.resize(nr.max(self.rows.len()), Row::default());
+            cr.kind.linearize(rods[cr.rod], &mut self.rows[..nr])?;
+            for (i, row) in self.rows[..nr].iter().enumerate() {
+                let gi = layout.row_index[c] + i;
+                for &(local, v) in row.entries() {
+                    let gj = layout.dof(cr.rod, local);
+                    self.band.add(gi, gj, v);
+                    self.band.add(gj, gi, v);
+                }
+                self.band.add(gi, gi, -cr.compliance);
+                self.rhs[gi] = row.rhs;
+            }
+        }
+        Ok(energy)
+    }
+
+    /// Symmetric scaling D A D: unit diagonal on coordinates, rows of unit
+    /// max-norm on multipliers. Without it the multiplier pivots, O(L²/A),
+    /// are ~1e-20 of the largest entry of a stiff rod and look singular.
+    fn equilibrate(&mut self, layout: &Layout) {
+        let n = layout.n;
+        self.scale.clear();
+        self.scale.resize(n, 1.0);
+        let mut is_row = vec![false; 0];
+        is_row.resize(n, false);
+        for (c, &r0) in layout.row_index.iter().enumerate() {
+            for i in 0..layout.row_count[c] {
+                is_row[r0 + i] = true;
+            }
+        }
+        for i in 0..n {
+            let a = self.band.get(i, i).abs();
+            if !is_row[i] && a > 0.0 {
+                self.scale[i] = 1.0 / a.sqrt();
+            }
+        }
+        let bw = layout.bandwidth;
+        for i in (0..n).filter(|&i| is_row[i]) {
+            let mut m = 0.0f64;
+            for j in i.saturating_sub(bw)..(i + bw + 1).min(n) {
+                if !is_row[j] {
+                    m = m.max((self.band.get(i, j) * self.scale[j]).abs());
+                }
+            }
+            if m > 0.0 {
+                self.scale[i] = 1.0 / m;
+            }
+        }
+        self.band.scale_symmetric(&self.scale);
+        for (b, d) in self.rhs.iter_mut().zip(&self.scale) {
+            *b *= d;
+        }
+    }
+
+    /// Factorises and solves; returns the relative residual after one step of
+    /// iterative refinement. Zero pivots become `Error::Singular` naming the
+    /// unknown.
+    pub fn solve(&mut self, layout: &Layout, describe: impl Fn(usize) -> String) -> Result<f64> {
+        self.equilibrate(layout);
+        if let Err(e) = self.lu.factor(&self.band) {
+            return Err(match e {
+                Error::Singular(msg) => {
+                    let row = msg
+                        .split_whitespace()
+                        .find_map(|w| w.trim_matches(|c: char| !c.is_ascii_digit()).parse::<usize>().ok());
+                    Error::Singular(match row {
+                        Some(r) => format!("{msg}: unknown {r} is {}", describe(r)),
+                        None => msg,
+                    })
+                }
+                other => other,
+            });
+        }
+        self.sol.resize(self.rhs.len(), 0.0);
+        let res = solve_refined(&self.band, &self.lu, &self.rhs, &mut self.sol, &mut self.work, 1)?;
+        for (x, d) in self.sol.iter_mut().zip(&self.scale) {
+            *x *= d;
+        }
+        // Restore the unscaled right-hand side (callers read violations from it).
+        for (b, d) in self.rhs.iter_mut().zip(&self.scale) {
+            *b /= d;
+        }
+        if !(res < 1e-6) {
+            return Err(Error::Singular(format!("linear solve residual {res:.3e}: system numerically singular")));
+        }
+        Ok(res)
+    }
+}

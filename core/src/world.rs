@@ -1,0 +1,188 @@
+//! The world: rods, constraints and loads addressed by handles (Rapier-style
+//! sets), one [`IntegrationParameters`], and `step` / `relax` returning
+//! reports. Snapshots (serde) reload bit-for-bit.
+use crate::constraint::{ConstraintKind, Reaction};
+use crate::error::{Error, Result};
+use crate::handles::{Arena, ConstraintHandle, LoadHandle, RodHandle};
+use crate::integrator::{IntegrationParameters, Workspace};
+use crate::load::Load;
+use crate::rod::Rod;
+use serde::{Deserialize, Serialize};
+
+/// A constraint on one rod with its compliance (0 = hard; > 0: a spring of
+/// stiffness 1/C) and the multipliers of the last solve (force/torque units).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Constraint {
+    pub rod: RodHandle,
+    pub kind: ConstraintKind,
+    pub compliance: f64,
+    pub multipliers: Vec<f64>,
+}
+
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct World {
+    pub(crate) rods: Arena<Rod>,
+    pub(crate) constraints: Arena<Constraint>,
+    pub(crate) loads: Arena<Load>,
+    pub params: IntegrationParameters,
+    pub(crate) time: f64,
+    pub(crate) steps: u64,
+    #[serde(skip)]
+    pub(crate) ws: Workspace,
+}
+
+impl World {
+    pub fn new(params: IntegrationParameters) -> Self {
+        World { params, ..Default::default() }
+    }
+
+    /// Simulated time (time unit).
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+    pub fn n_steps(&self) -> u64 {
+        self.steps
+    }
+
+    pub fn add_rod(&mut self, rod: Rod) -> RodHandle {
+        self.rods.insert(rod).into()
+    }
+    /// Removes a rod with its constraints and loads.
+    pub fn remove_rod(&mut self, h: RodHandle) -> Result<Rod> {
+        let rod = self.rods.remove(h.into()).ok_or_else(|| bad_rod(h))?;
+        let cs: Vec<_> = self.constraints.iter().filter(|(_, c)| c.rod == h).map(|(i, _)| i).collect();
+        cs.into_iter().for_each(|i| drop(self.constraints.remove(i)));
+        let ls: Vec<_> = self.loads.iter().filter(|(_, l)| l.rod() == h).map(|(i, _)| i).collect();
+        ls.into_iter().for_each(|i| drop(self.loads.remove(i)));
+        Ok(rod)
+    }
+    pub fn rod(&self, h: RodHandle) -> Result<&Rod> {
+        self.rods.get(h.into()).ok_or_else(|| bad_rod(h))
+    }
+    pub fn rod_mut(&mut self, h: RodHandle) -> Result<&mut Rod> {
+        self.rods.get_mut(h.into()).ok_or_else(|| bad_rod(h))
+    }
+    pub fn rods(&self) -> impl Iterator<Item = (RodHandle, &Rod)> {
+        self.rods.iter().map(|(i, r)| (i.into(), r))
+    }
+
+    /// Adds a hard (compliance 0) or compliant constraint. Errors: removed
+    /// rod, abscissa outside the rod, non-finite target, duplicate.
+    pub fn add_constraint(&mut self, rod: RodHandle, kind: ConstraintKind, compliance: f64) -> Result<ConstraintHandle> {
+        let r = self.rod(rod)?;
+        kind.validate(r)?;
+        crate::error::non_negative("compliance", compliance)?;
+        for (h, c) in self.constraints.iter() {
+            if c.rod == rod && duplicates(&c.kind, &kind) {
+                return Err(Error::InvalidInput(format!(
+                    "duplicate constraint: {kind:?} repeats constraint {} on the same rod at the same abscissa",
+                    h.0
+                )));
+            }
+        }
+        let n = kind.n_rows();
+        Ok(self.constraints.insert(Constraint { rod, kind, compliance, multipliers: vec![0.0; n] }).into())
+    }
+    pub fn remove_constraint(&mut self, h: ConstraintHandle) -> Result<Constraint> {
+        self.constraints.remove(h.into()).ok_or_else(|| bad_con(h))
+    }
+    pub fn constraint(&self, h: ConstraintHandle) -> Result<&Constraint> {
+        self.constraints.get(h.into()).ok_or_else(|| bad_con(h))
+    }
+    /// Replaces a constraint's kind (moving targets: how a user drags,
+    /// rotates or pulls). The new kind must have the same rows.
+    pub fn set_constraint(&mut self, h: ConstraintHandle, kind: ConstraintKind) -> Result<()> {
+        let rod = self.constraint(h)?.rod;
+        kind.validate(self.rod(rod)?)?;
+        let c = self.constraints.get_mut(h.into()).ok_or_else(|| bad_con(h))?;
+        if kind.n_rows() != c.kind.n_rows() || std::mem::discriminant(&kind) != std::mem::discriminant(&c.kind) {
+            return Err(Error::InvalidInput("set_constraint: the new constraint must be of the same kind and rows".into()));
+        }
+        c.kind = kind;
+        Ok(())
+    }
+    /// Force and torque the constraint exerted on its rod in the last solve.
+    pub fn reaction(&self, h: ConstraintHandle) -> Result<Reaction> {
+        let c = self.constraint(h)?;
+        c.kind.reaction(self.rod(c.rod)?, &c.multipliers)
+    }
+
+    pub fn add_load(&mut self, load: Load) -> Result<LoadHandle> {
+        self.check_load(&load)?;
+        Ok(self.loads.insert(load).into())
+    }
+    pub fn set_load(&mut self, h: LoadHandle, load: Load) -> Result<()> {
+        self.check_load(&load)?;
+        *self.loads.get_mut(h.into()).ok_or_else(|| bad_load(h))? = load;
+        Ok(())
+    }
+    pub fn remove_load(&mut self, h: LoadHandle) -> Result<Load> {
+        self.loads.remove(h.into()).ok_or_else(|| bad_load(h))
+    }
+
+    fn check_load(&self, load: &Load) -> Result<()> {
+        let rod = self.rod(load.rod())?;
+        let fin = |v: &[f64]| -> Result<()> {
+            for x in v {
+                crate::error::finite("load value", *x)?;
+            }
+            Ok(())
+        };
+        match load {
+            Load::PointForce { u, force, .. } => {
+                rod.knots().locate(*u)?;
+                fin(force)
+            }
+            Load::PointTorque { u, torque, .. } => {
+                rod.knots().locate(*u)?;
+                if rod.dofs() == 3 {
+                    return Err(Error::InvalidInput("point torque on a rod without roll coordinate".into()));
+                }
+                fin(&[*torque])
+            }
+            Load::Distributed { force_per_length, .. } => fin(force_per_length),
+        }
+    }
+
+    /// Serialises the whole world (JSON, floats round-trip exactly).
+    pub fn to_json(&self) -> Result<String> {
+        serde_json::to_string(self).map_err(|e| Error::Io(e.to_string()))
+    }
+    pub fn from_json(s: &str) -> Result<World> {
+        let mut w: World = serde_json::from_str(s).map_err(|e| Error::Io(format!("snapshot: {e}")))?;
+        for (_, r) in w.rods.iter_mut() {
+            r.prepare()?;
+        }
+        Ok(w)
+    }
+    /// Writes a snapshot atomically (temporary file + rename).
+    pub fn save(&self, path: &std::path::Path) -> Result<()> {
+        crate::io::write_atomic(path, self.to_json()?.as_bytes())
+    }
+    pub fn load(path: &std::path::Path) -> Result<World> {
+        let s = std::fs::read_to_string(path).map_err(|e| Error::Io(format!("{}: {e}", path.display())))?;
+        World::from_json(&s)
+    }
+}
+
+fn duplicates(a: &ConstraintKind, b: &ConstraintKind) -> bool {
+    use ConstraintKind::*;
+    if (a.u() - b.u()).abs() > 1e-12 * (1.0 + a.u().abs()) {
+        return false;
+    }
+    match (a, b) {
+        (Position { axes: x, .. }, Position { axes: y, .. }) => x.iter().zip(y).any(|(p, q)| *p && *q),
+        (Tangent { .. }, Tangent { .. }) | (MaterialRoll { .. }, MaterialRoll { .. }) => true,
+        _ => false,
+    }
+}
+
+fn bad_rod(h: RodHandle) -> Error {
+    Error::InvalidHandle(format!("rod {h:?} does not exist (removed?)"))
+}
+fn bad_con(h: ConstraintHandle) -> Error {
+    Error::InvalidHandle(format!("constraint {h:?} does not exist (removed?)"))
+}
+fn bad_load(h: LoadHandle) -> Error {
+    Error::InvalidHandle(format!("load {h:?} does not exist (removed?)"))
+}
