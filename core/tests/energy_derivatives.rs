@@ -8,7 +8,7 @@ use strandkit_core::energy::invariants::{LocalState, Vec11};
 use strandkit_core::energy::{density, EnergyTerms, FrameModel, SampleConsts};
 
 /// W(d) straight from SPEC §2.1–2.2: ε, κ = |r'×r''|/|r'|³, κ1 = κ sinθ,
-/// κ2 = κ cosθ, τ = C·r'''/(|C|²+δ²), ω = τ + θ'/|r'|. Valid where |C| ≥ δ
+/// κ2 = κ cosθ, τ = (C·r''') |C|²/(|C|²+δ²)², ω = τ + θ'/|r'|. Valid where |C| ≥ δ
 /// or the rest is straight (then the Huber branch is not used).
 fn w_ref<D: DualNum<Primitive = f64> + Copy>(x: &[D], c: &SampleConsts, t: EnergyTerms) -> D {
     let v = |i: usize| [x[i], x[i + 1], x[i + 2]];
@@ -36,7 +36,8 @@ fn w_ref<D: DualNum<Primitive = f64> + Copy>(x: &[D], c: &SampleConsts, t: Energ
         }
     }
     if t.twist {
-        let tau = dot(cr, r3) / (c2 + c.delta * c.delta);
+        let dd = c2 + c.delta * c.delta;
+        let tau = dot(cr, r3) * c2 / (dd * dd);
         let e = tau + th1 / speed - c.omega;
         w += e * e * (0.5 * c.gj);
     }

@@ -8,8 +8,10 @@
 //!
 //! Continuity extension where κ → 0 (the Frenet frame is undefined there,
 //! thesis II.D.3). With δ = κ_ε |r0'|³:
-//! - τ is evaluated as p / (|C|² + δ²): smooth, equal to the Frenet torsion
-//!   to relative (κ_ε/κ)², and going continuously to τ := 0 as κ → 0;
+//! - τ is evaluated as p |C|² / (|C|² + δ²)²: smooth, equal to the Frenet
+//!   torsion to relative 2(κ_ε/κ)², and going to τ := 0 with zero slope as
+//!   κ → 0 (so the twist stiffness stays bounded near inflections and
+//!   free ends, where the Frenet frame flips);
 //! - the linear term B κ (present only for curved rest shapes) uses a
 //!   C¹ Huber extension of |C| below δ, so its gradient stays bounded;
 //! - κ² = c2/a³ is a polynomial ratio and needs no extension, so a straight
@@ -74,21 +76,25 @@ pub fn add_bend(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f6
     w
 }
 
-/// Material twist ω with its gradient and Hessian in the invariants.
+/// Material twist ω with its gradient and Hessian in the invariants:
+/// ω = p c2 / (c2 + δ²)² + θ' a^(−1/2) (the regularised Frenet torsion of
+/// the module doc, whose slope vanishes at κ = 0).
 fn omega(q: &Vec5, delta: f64) -> (f64, Vec5, Mat5) {
     let (a, c2, p, th1) = (q[QA], q[QC2], q[QP], q[QTH1]);
-    let id = 1.0 / (c2 + delta * delta);
+    let d2 = delta * delta;
+    let id = 1.0 / (c2 + d2);
+    let id2 = id * id;
     let isa = 1.0 / a.sqrt();
     let ia = 1.0 / a;
-    let w = p * id + th1 * isa;
+    let w = p * c2 * id2 + th1 * isa;
     let mut g = Vec5::zeros();
-    g[QP] = id;
-    g[QC2] = -p * id * id;
+    g[QP] = c2 * id2;
+    g[QC2] = p * (d2 - c2) * id2 * id;
     g[QA] = -0.5 * th1 * isa * ia;
     g[QTH1] = isa;
     let mut h = Mat5::zeros();
-    sym_add(&mut h, QP, QC2, -id * id);
-    h[(QC2, QC2)] = 2.0 * p * id * id * id;
+    sym_add(&mut h, QP, QC2, (d2 - c2) * id2 * id);
+    h[(QC2, QC2)] = p * (2.0 * c2 - 4.0 * d2) * id2 * id2;
     h[(QA, QA)] = 0.75 * th1 * isa * ia * ia;
     sym_add(&mut h, QA, QTH1, -0.5 * isa * ia);
     (w, g, h)

@@ -217,6 +217,19 @@ impl World {
         v
     }
 
+    /// Largest constraint violation |target − g(q)| at the current coordinates.
+    pub(crate) fn constraint_violation(&self) -> Result<f64> {
+        let mut rows = [crate::constraint::Row::default(); 4];
+        let mut v = 0.0f64;
+        for (_, c) in self.constraints.iter() {
+            let rod = self.rod(c.rod)?;
+            let nr = c.kind.n_rows();
+            c.kind.linearize(rod, &mut rows[..nr])?;
+            v = rows[..nr].iter().fold(v, |m, r| m.max(r.rhs.abs()));
+        }
+        Ok(v)
+    }
+
     /// Potential energy U − Σ F_ext·q with the external forces of the last assembly.
     pub(crate) fn potential(&self) -> f64 {
         let mut p = 0.0;

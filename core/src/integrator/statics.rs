@@ -49,8 +49,17 @@ impl World {
             if std::env::var_os("STRANDKIT_DEBUG").is_some() {
                 eprintln!("relax it {} h {h:.3e} newton {newton} dx {dx:.3e} dth {dth:.3e} viol {violation:.3e} pot {potential:.9e} -> {trial:.9e}", report.iterations);
             }
+            // Energy comparisons are meaningless at round-off level: a step
+            // below the tolerance is accepted as is.
+            // Otherwise a step must halve the constraint violation, or lower
+            // the potential without increasing the violation.
+            let tiny = dx <= tol * length && dth <= tol;
+            let vtrial = self.constraint_violation()?;
+            let floor = tol * length;
             let accept = trial.is_finite()
-                && (trial <= potential + 1e-11 * potential.abs().max(1e-300) || violation > tol * length);
+                && (tiny
+                    || (violation > floor && vtrial <= 0.5 * violation)
+                    || (trial <= potential + 1e-11 * potential.abs() && vtrial <= violation.max(tol.sqrt() * length)));
             if !accept {
                 for ((_, r), q) in self.rods.iter_mut().zip(saved) {
                     r.q = q;

@@ -30,7 +30,10 @@ pub struct RodOptions {
     pub terms: EnergyTerms,
     pub model: FrameModel,
     /// Curvature κ_ε (1/length) below which the Frenet torsion is
-    /// regularised (SPEC §2.2). 0 selects 1e-3 / rest length.
+    /// regularised (SPEC §2.2). 0 selects 1 / rest length: the Frenet torsion
+    /// is exact to 2(κ_ε/κ)², and free 3-D motions stay stable (with
+    /// 0.1 / length a free twisted rod blew up: τ varies like 1/κ near
+    /// inflections and free ends, where the Frenet frame flips).
     pub curvature_threshold: f64,
     /// Viscous drag coefficient c_d (force per unit velocity per unit length):
     /// distributed force −c_d v, D_ij = ∫ c_d b_i b_j ds0 (III.10).

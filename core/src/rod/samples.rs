@@ -110,7 +110,7 @@ impl Cache {
         let kappa_eps = if rod.opts.curvature_threshold > 0.0 {
             rod.opts.curvature_threshold
         } else {
-            1e-3 / c.rest_length
+            1.0 / c.rest_length
         };
         c.seg_mass = vec![[[0.0; 4]; 4]; nseg];
         c.seg_inertia = vec![[[0.0; 4]; 4]; nseg];

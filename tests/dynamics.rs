@@ -1,0 +1,131 @@
+//! Issue "Show 5": momentum and energy of a free rod, the rigid-rod
+//! pendulum frequency, and quasi-static = dynamic with a huge step (IV.B.1.c).
+mod common;
+use common::*;
+use nalgebra::Vector3;
+use strandkit::*;
+
+fn soft_rod(n: usize, roll: bool) -> Rod {
+    RodBuilder::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0))
+        .control_points(n)
+        .with_roll(roll)
+        .section(Section::circle(0.01).unwrap())
+        .material(Material::new("rubber", 1e6, 0.45, 1000.0).unwrap())
+        .build()
+        .unwrap()
+}
+
+/// A pre-deformed free rod with spinning initial velocities: linear momentum
+/// is conserved to 1e-10 (relative to Σ|M V|) and the total energy
+/// (kinetic + elastic) never grows over 2000 steps (linearised implicit Euler
+/// only dissipates).
+#[test]
+fn free_rod_conserves_momentum_and_does_not_gain_energy() {
+    for roll in [false, true] {
+        free_rod_case(roll);
+    }
+}
+
+fn free_rod_case(roll: bool) {
+    let mut rod = soft_rod(15, roll);
+    let d = rod.dofs();
+    let mut q = rod.coords().to_vec();
+    let mut v = vec![0.0; q.len()];
+    for i in 0..rod.n_ctrl() {
+        let x = q[i * d];
+        q[i * d + 1] = 0.05 * (3.0 * x).sin();
+        q[i * d + 2] = 0.03 * (5.0 * x).cos();
+        if d == 4 {
+            q[i * d + 3] = 0.2 * x;
+            v[i * d + 3] = 0.5;
+        }
+        v[i * d] = 0.1;
+        v[i * d + 1] = 0.3 * (x - 0.5);
+        v[i * d + 2] = -0.2;
+    }
+    rod.set_coords(&q).unwrap();
+    rod.set_velocities(&v).unwrap();
+    let mut w = World::new(IntegrationParameters { dt: 1e-3, parallel: false, ..Default::default() });
+    let h = w.add_rod(rod);
+    let total = |w: &World| {
+        let r = w.rod(h).unwrap();
+        r.kinetic_energy() + r.elastic_energy()
+    };
+    let p0 = w.rod(h).unwrap().momentum();
+    let scale = {
+        let r = w.rod(h).unwrap();
+        let mut mv = vec![0.0; r.velocities().len()];
+        r.mass_times(r.velocities(), &mut mv);
+        mv.iter().map(|x| x.abs()).sum::<f64>()
+    };
+    let e0 = total(&w);
+    let mut emax: f64 = e0;
+    let mut drift: f64 = 0.0;
+    for _ in 0..2000 {
+        w.step().unwrap();
+        emax = emax.max(total(&w));
+        let p = w.rod(h).unwrap().momentum();
+        drift = drift.max((p - p0).norm() / scale);
+    }
+    let e1 = total(&w);
+    println!("roll {roll}: energy {e0:.6e} -> {e1:.6e} (max {emax:.6e}), momentum drift {drift:.3e}");
+    assert!(drift <= 1e-10, "momentum drift {drift}");
+    assert!(emax <= e0 * (1.0 + 1e-9), "energy grew: {e0} -> max {emax}");
+    assert!(e1 > 0.2 * e0, "implausibly strong numerical damping: {e0} -> {e1}");
+}
+
+/// A stiff rod pinned at one end swings with ω = √(3g/(2L)) (rigid rod
+/// pendulum, small amplitude), within 2 %.
+#[test]
+fn pinned_stiff_rod_swings_like_a_rigid_pendulum() {
+    let (len, g, phi0) = (1.0, 9.81, 0.05f64);
+    let tip = Vector3::new(len * phi0.sin(), -len * phi0.cos(), 0.0);
+    let rod = RodBuilder::straight(Vector3::zeros(), tip)
+        .control_points(8)
+        .with_roll(false)
+        .section(Section::circle(0.01).unwrap())
+        .material(Material::preset("carbon_steel").unwrap())
+        .build()
+        .unwrap();
+    let u0 = rod.domain().0;
+    let u1 = rod.domain().1;
+    let dt = 1e-3;
+    let mut w = World::new(IntegrationParameters { dt, gravity: [0.0, -g, 0.0], parallel: false, ..Default::default() });
+    let h = w.add_rod(rod);
+    w.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true, true, true, false], target: [0.0; 4] }, 0.0)
+        .unwrap();
+    let mut crossings = Vec::new();
+    let mut prev = w.rod(h).unwrap().position(u1).unwrap().x;
+    for _ in 0..6000 {
+        w.step().unwrap();
+        let x = w.rod(h).unwrap().position(u1).unwrap().x;
+        if prev > 0.0 && x <= 0.0 || prev < 0.0 && x >= 0.0 {
+            // linear interpolation of the crossing time
+            crossings.push(w.time() - dt * x / (x - prev));
+        }
+        prev = x;
+    }
+    assert!(crossings.len() >= 5, "too few zero crossings: {}", crossings.len());
+    let half = (crossings[crossings.len() - 1] - crossings[0]) / (crossings.len() - 1) as f64;
+    let omega = std::f64::consts::PI / half;
+    let expected = (3.0 * g / (2.0 * len)).sqrt();
+    println!("pendulum: ω = {omega:.5} rad/s, rigid rod {expected:.5} ({:.3} %)", 100.0 * (omega / expected - 1.0));
+    assert!((omega / expected - 1.0).abs() < 0.02);
+}
+
+/// Quasi-static and dynamic with a very large step reach the same
+/// equilibrium (IV.B.1.c): the cantilever under a 1e4 N tip load.
+#[test]
+fn quasi_static_equals_dynamic_with_huge_step() {
+    let mut a = cantilever(12, 4, [0.0, -1e4, 0.0]);
+    a.world.relax().unwrap();
+    let mut b = cantilever(12, 4, [0.0, -1e4, 0.0]);
+    b.world.params.dt = 1e6;
+    for _ in 0..30 {
+        b.world.step().unwrap();
+    }
+    let (pa, _) = tip(&a.world, a.rod);
+    let (pb, _) = tip(&b.world, b.rod);
+    println!("static tip {pa:?}, dynamic tip {pb:?}");
+    assert!((pa - pb).norm() < 1e-8 * 4.0, "{}", (pa - pb).norm());
+}
