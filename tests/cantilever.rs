@@ -4,17 +4,9 @@
 mod common;
 use common::*;
 
-const REFS: [(f64, f64, f64, f64); 5] = [
-    (1e4, 0.08129, 3.9930, 0.2166),
-    (5e4, 0.38540, 3.8422, 1.0140),
-    (1e5, 0.67964, 3.5129, 1.7388),
-    (2e5, 1.02631, 2.8979, 2.4945),
-    (5e5, 1.37952, 1.9635, 3.1491),
-];
-
 #[test]
 fn cantilever_matches_elastica_references() {
-    for &(f, angle, x, y) in &REFS {
+    for &(f, angle, x, y) in &CANTILEVER_REFERENCES {
         let mut c = cantilever(20, 5, [0.0, -f, 0.0]);
         let rep = c.world.relax().unwrap();
         let (p, a) = tip(&c.world, c.rod);

@@ -1,2 +1,4 @@
-//! Structure builders (DNA double helix, knitted fabric, rope bridge, bead
-//! necklace, spring, cable: SPEC §9). Not implemented yet: see the open issues.
+//! Structure builders on top of strandkit-core (SPEC §9). So far: the
+//! reference scenarios of SPEC §10; the DNA, knit, bridge, necklace, spring
+//! and cable builders are open issues.
+pub mod scenarios;
