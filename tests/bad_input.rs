@@ -406,7 +406,6 @@ fn relax_rod_held_at_one_point_is_singular() {
 /// rotation about y or z through the held point; the message should name a
 /// rotation, not a translation (which the position constraint does hold).
 #[test]
-#[ignore = "bug: relax() of a rod held at one point says 'its translation along y is held by no constraint' although translations are held; the free motion is a rotation about the held point (definedness.rs names the largest centroid-mode component)"]
 fn relax_rod_held_at_one_point_names_rotation() {
     for roll in [true, false] {
         let (mut w, _) = held_at_one_point(roll);

@@ -27,10 +27,20 @@ impl World {
         for (r, (h, rod)) in self.rods.iter().enumerate() {
             let d = rod.dofs;
             let nc = rod.n_ctrl();
-            let centroid = (0..nc).fold(Vector3::zeros(), |c, i| c + Vector3::new(rod.q[i * d], rod.q[i * d + 1], rod.q[i * d + 2])) / nc as f64;
+            // Rotations about a held point (if any), so that a rod pinned at
+            // one point shows its free motion as a pure rotation.
+            let held = self.constraints.iter().find_map(|(_, c)| match c.kind {
+                crate::constraint::ConstraintKind::Position { u, .. } if c.rod == h.into() => rod.position(u).ok(),
+                _ => None,
+            });
+            let centroid = held.unwrap_or_else(|| {
+                (0..nc).fold(Vector3::zeros(), |c, i| c + Vector3::new(rod.q[i * d], rod.q[i * d + 1], rod.q[i * d + 2]))
+                    / nc as f64
+            });
             // Rigid modes, orthonormalised (dropping degenerate ones, e.g. the
             // rotation of a straight 3-DOF rod about its own axis).
             let mut modes: Vec<(usize, DVector<f64>)> = Vec::new();
+            let mut raw: Vec<(usize, DVector<f64>)> = Vec::new();
             for m in 0..if d == 4 { 7 } else { 6 } {
                 let mut v = DVector::<f64>::zeros(nc * d);
                 for i in 0..nc {
@@ -47,6 +57,7 @@ impl World {
                     }
                 }
                 let norm0 = v.norm();
+                raw.push((m, v.clone()));
                 for (_, q) in &modes {
                     let c = q.dot(&v);
                     v -= q * c;
@@ -103,9 +114,17 @@ impl World {
                 self.ws.sys.band.matvec(&x, &mut y);
                 let curv: f64 = (0..nc * d).map(|i| v[i] * y[self.ws.layout.dof(r, i)]).sum();
                 if !(curv > 1e-8 * kscale) {
-                    let main = (0..k)
-                        .max_by(|&a, &b| eig.eigenvectors[(a, j)].abs().total_cmp(&eig.eigenvectors[(b, j)].abs()))
-                        .map_or("rigid motion", |a| NAMES[modes[a].0]);
+                    // Name a single rigid mode that is free by itself if there
+                    // is one, else the dominant component of the free motion.
+                    let alone = raw.iter().find(|(_, m)| {
+                        let nm = m.norm();
+                        nm > 0.0 && lrows.iter().all(|l| l.dot(m).abs() <= 1e-8 * nm)
+                    });
+                    let main = alone.map(|(i, _)| NAMES[*i]).unwrap_or_else(|| {
+                        (0..k)
+                            .max_by(|&a, &b| eig.eigenvectors[(a, j)].abs().total_cmp(&eig.eigenvectors[(b, j)].abs()))
+                            .map_or("rigid motion", |a| NAMES[modes[a].0])
+                    });
                     return Err(Error::Singular(format!(
                         "rod {} is not statically defined: its {main} is held by no constraint (add constraints, or use step() for dynamics)",
                         h.0
