@@ -80,8 +80,65 @@ impl World {
                 )));
             }
         }
+        self.check_independent(rod, &kind)?;
         let n = kind.n_rows();
         Ok(self.constraints.insert(Constraint { rod, kind, compliance, multipliers: vec![0.0; n] }).into())
+    }
+
+    /// Rejects a constraint whose rows are linearly dependent (at the current
+    /// configuration) on the rows already imposed on the same rod: redundant
+    /// rows leave the multipliers undefined and contradictory ones have no
+    /// solution (SPEC §5). Modified Gram–Schmidt on the normalised rows.
+    fn check_independent(&self, rod: RodHandle, kind: &ConstraintKind) -> Result<()> {
+        let r = self.rod(rod)?;
+        let n = r.coords().len();
+        let mut buf = [crate::constraint::Row::default(); 4];
+        let mut dense = |k: &ConstraintKind| -> Result<Vec<Vec<f64>>> {
+            let nr = k.n_rows();
+            k.linearize(r, &mut buf[..nr])?;
+            Ok(buf[..nr]
+                .iter()
+                .map(|row| {
+                    let mut v = vec![0.0; n];
+                    row.entries().iter().for_each(|&(i, x)| v[i] += x);
+                    v
+                })
+                .collect())
+        };
+        let mut basis: Vec<Vec<f64>> = Vec::new();
+        let mut owners = Vec::new();
+        let add = |mut v: Vec<f64>, basis: &mut Vec<Vec<f64>>| -> bool {
+            let n0 = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            for b in basis.iter() {
+                let c: f64 = b.iter().zip(&v).map(|(a, b)| a * b).sum();
+                v.iter_mut().zip(b).for_each(|(x, y)| *x -= c * y);
+            }
+            let n1 = v.iter().map(|x| x * x).sum::<f64>().sqrt();
+            if n1 <= 1e-9 * n0 {
+                return false;
+            }
+            basis.push(v.into_iter().map(|x| x / n1).collect());
+            true
+        };
+        for (h, c) in self.constraints.iter() {
+            if c.rod == rod {
+                for row in dense(&c.kind)? {
+                    if add(row, &mut basis) {
+                        owners.push(h.0);
+                    }
+                }
+            }
+        }
+        for row in dense(kind)? {
+            if !add(row, &mut basis) {
+                owners.sort_unstable();
+                owners.dedup();
+                return Err(Error::InvalidInput(format!(
+                    "linearly dependent constraint: {kind:?} repeats what constraints {owners:?} on the same rod already impose (redundant rows leave the forces undefined; contradictory ones have no solution)"
+                )));
+            }
+        }
+        Ok(())
     }
     pub fn remove_constraint(&mut self, h: ConstraintHandle) -> Result<Constraint> {
         self.constraints.remove(h.into()).ok_or_else(|| bad_con(h))

@@ -187,6 +187,28 @@ impl KktSystem {
         }
         self.sol.resize(self.rhs.len(), 0.0);
         let res = solve_refined(&self.band, &self.lu, &self.rhs, &mut self.sol, &mut self.work, 1)?;
+        // Each constraint row must hold on its own scale: contradictory
+        // dependent rows are "solved" with huge multipliers and a violated
+        // row, which the global relative residual hides.
+        let bw = layout.bandwidth;
+        let n = layout.n;
+        for (c, &r0) in layout.row_index.iter().enumerate() {
+            for i in r0..r0 + layout.row_count[c] {
+                let (mut acc, mut mag) = (-self.rhs[i], self.rhs[i].abs());
+                for j in i.saturating_sub(bw)..(i + bw + 1).min(n) {
+                    let t = self.band.get(i, j) * self.sol[j];
+                    acc += t;
+                    mag += t.abs();
+                }
+                if acc.abs() > 1e-6 * mag.max(1e-300) && acc.abs() > 1e-12 {
+                    return Err(Error::Singular(format!(
+                        "constraint rows cannot all be met (row off by {:.1e} of its terms; {}): contradictory or linearly dependent constraints",
+                        acc.abs() / mag,
+                        describe(i)
+                    )));
+                }
+            }
+        }
         for (x, d) in self.sol.iter_mut().zip(&self.scale) {
             *x *= d;
         }
