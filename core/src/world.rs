@@ -17,6 +17,24 @@ pub struct Constraint {
     pub kind: ConstraintKind,
     pub compliance: f64,
     pub multipliers: Vec<f64>,
+    /// Force-threshold rupture (III.C.3, algorithm 5); None = unbreakable.
+    pub breaking: Option<Breaking>,
+}
+
+/// A constraint breaks after a solve whose reaction exceeds `force` (force
+/// unit): the magnitude of its reaction force, or with `tension_only` (1-row
+/// distance links) the tension −Λ only, so compression never breaks it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Breaking {
+    pub force: f64,
+    pub tension_only: bool,
+}
+
+/// Something that happened during a solve.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Event {
+    /// A constraint exceeded its break force and was removed.
+    ConstraintBroken { constraint: ConstraintHandle, time: f64, force: f64, kind: ConstraintKind },
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -82,7 +100,7 @@ impl World {
         }
         self.check_independent(rod, &kind)?;
         let n = kind.n_rows();
-        Ok(self.constraints.insert(Constraint { rod, kind, compliance, multipliers: vec![0.0; n] }).into())
+        Ok(self.constraints.insert(Constraint { rod, kind, compliance, multipliers: vec![0.0; n], breaking: None }).into())
     }
 
     /// Rejects a constraint whose rows are linearly dependent (at the current
@@ -158,6 +176,44 @@ impl World {
         c.kind = kind;
         Ok(())
     }
+    /// Makes a constraint breakable (None: unbreakable again).
+    pub fn set_breaking(&mut self, h: ConstraintHandle, breaking: Option<Breaking>) -> Result<()> {
+        let c = self.constraints.get_mut(h.into()).ok_or_else(|| bad_con(h))?;
+        if let Some(b) = breaking {
+            crate::error::positive("break force", b.force)?;
+            if b.tension_only && !matches!(c.kind, ConstraintKind::Distance { .. }) {
+                return Err(Error::InvalidInput("tension-only breaking applies to distance links; use tension_only = false".into()));
+            }
+        }
+        c.breaking = breaking;
+        Ok(())
+    }
+
+    /// Removes the constraints whose last reaction exceeds their break
+    /// force (algorithm 5) and reports them.
+    pub(crate) fn break_constraints(&mut self) -> Result<Vec<Event>> {
+        let mut broken = Vec::new();
+        for (h, c) in self.constraints.iter() {
+            let Some(b) = c.breaking else { continue };
+            let f = if b.tension_only {
+                -c.multipliers[0]
+            } else {
+                let r = c.kind.reaction(self.rod(c.rod)?, &c.multipliers)?;
+                nalgebra::Vector3::from(r.force).norm()
+            };
+            if f > b.force {
+                broken.push((h, f));
+            }
+        }
+        let mut events = Vec::with_capacity(broken.len());
+        for (h, force) in broken {
+            if let Some(c) = self.constraints.remove(h) {
+                events.push(Event::ConstraintBroken { constraint: h.into(), time: self.time, force, kind: c.kind });
+            }
+        }
+        Ok(events)
+    }
+
     /// Force and torque the constraint exerted on its rod in the last solve.
     pub fn reaction(&self, h: ConstraintHandle) -> Result<Reaction> {
         let c = self.constraint(h)?;
@@ -229,7 +285,10 @@ fn duplicates(a: &ConstraintKind, b: &ConstraintKind) -> bool {
     }
     match (a, b) {
         (Position { axes: x, .. }, Position { axes: y, .. }) => x.iter().zip(y).any(|(p, q)| *p && *q),
-        (Tangent { .. }, Tangent { .. }) | (MaterialRoll { .. }, MaterialRoll { .. }) => true,
+        (Tangent { .. }, Tangent { .. })
+        | (MaterialRoll { .. }, MaterialRoll { .. })
+        | (Curvature { .. }, Curvature { .. })
+        | (Axis { .. }, Axis { .. }) => true,
         _ => false,
     }
 }

@@ -2,6 +2,7 @@
 //! Each linearises g(q) into rows L (the Jacobian, normalised so that the
 //! multiplier Λ is a force or a torque) and a right-hand side
 //! E = target − g(q^n), which carries the drift correction and moving targets.
+pub mod geometric;
 pub mod material_roll;
 pub mod position;
 pub mod tangent;
@@ -28,6 +29,16 @@ pub enum ConstraintKind {
     /// cross-section; `Position` with axes[3] only fixes the roll coordinate
     /// relative to the Frenet frame. Multiplier: torque about the tangent.
     MaterialRoll { u: f64, reference: [f64; 3], angle: f64 },
+    /// |r(u) − point| = distance (> 0; III.28). Multiplier: force along
+    /// (r − point)/|r − point|, negative when the link is in tension.
+    Distance { u: f64, point: [f64; 3], distance: f64 },
+    /// r(u) stays on the plane through `origin` with `normal` (III.31).
+    /// Multiplier: normal force.
+    Plane { u: f64, origin: [f64; 3], normal: [f64; 3] },
+    /// r(u) stays on the line through `origin` along `direction` (III.34).
+    Axis { u: f64, origin: [f64; 3], direction: [f64; 3] },
+    /// r''(u) = target (III.27, length per u²).
+    Curvature { u: f64, target: [f64; 3] },
 }
 
 /// One linearised constraint row; entries are (rod-local coordinate, value).
@@ -67,7 +78,11 @@ impl ConstraintKind {
         match self {
             ConstraintKind::Position { u, .. }
             | ConstraintKind::Tangent { u, .. }
-            | ConstraintKind::MaterialRoll { u, .. } => *u,
+            | ConstraintKind::MaterialRoll { u, .. }
+            | ConstraintKind::Distance { u, .. }
+            | ConstraintKind::Plane { u, .. }
+            | ConstraintKind::Axis { u, .. }
+            | ConstraintKind::Curvature { u, .. } => *u,
         }
     }
 
@@ -75,7 +90,9 @@ impl ConstraintKind {
         match self {
             ConstraintKind::Position { axes, .. } => axes.iter().filter(|a| **a).count(),
             ConstraintKind::Tangent { .. } => 2,
-            ConstraintKind::MaterialRoll { .. } => 1,
+            ConstraintKind::MaterialRoll { .. } | ConstraintKind::Distance { .. } | ConstraintKind::Plane { .. } => 1,
+            ConstraintKind::Axis { .. } => 2,
+            ConstraintKind::Curvature { .. } => 3,
         }
     }
 
@@ -108,6 +125,19 @@ impl ConstraintKind {
                 unit(reference, "material roll reference")?;
                 crate::error::finite("material roll angle", *angle)?;
             }
+            ConstraintKind::Distance { point, distance, .. } => {
+                finite3(point, "distance anchor point")?;
+                crate::error::positive("constraint distance (use a Position constraint for zero)", *distance)?;
+            }
+            ConstraintKind::Plane { origin, normal, .. } => {
+                finite3(origin, "plane origin")?;
+                unit(normal, "plane normal")?;
+            }
+            ConstraintKind::Axis { origin, direction, .. } => {
+                finite3(origin, "axis origin")?;
+                unit(direction, "axis direction")?;
+            }
+            ConstraintKind::Curvature { target, .. } => finite3(target, "curvature target")?,
         }
         Ok(())
     }
@@ -126,6 +156,10 @@ impl ConstraintKind {
             ConstraintKind::MaterialRoll { u, reference, angle } => {
                 material_roll::linearize(rod, *u, reference, *angle, rows)
             }
+            ConstraintKind::Distance { u, point, distance } => geometric::distance(rod, *u, point, *distance, rows),
+            ConstraintKind::Plane { u, origin, normal } => geometric::plane(rod, *u, origin, normal, rows),
+            ConstraintKind::Axis { u, origin, direction } => geometric::axis(rod, *u, origin, direction, rows),
+            ConstraintKind::Curvature { u, target } => geometric::curvature(rod, *u, target, rows),
         }
     }
 
@@ -138,6 +172,12 @@ impl ConstraintKind {
                 let t = rod.tangent(*u)?;
                 Ok(Reaction { force: [0.0; 3], torque: (t * lambda[0]).into() })
             }
+            ConstraintKind::Distance { u, point, .. } => geometric::distance_reaction(rod, *u, point, lambda),
+            ConstraintKind::Plane { normal, .. } => {
+                Ok(Reaction { force: (unit(normal, "plane normal")? * lambda[0]).into(), torque: [0.0; 3] })
+            }
+            ConstraintKind::Axis { direction, .. } => geometric::axis_reaction(direction, lambda),
+            ConstraintKind::Curvature { .. } => Ok(Reaction { force: [lambda[0], lambda[1], lambda[2]], torque: [0.0; 3] }),
         }
     }
 }
@@ -150,6 +190,13 @@ pub(crate) fn unit(v: &[f64; 3], what: &str) -> Result<Vector3<f64>> {
         return Err(Error::InvalidInput(format!("{what} must be a finite non-zero vector, got {v:?}")));
     }
     Ok(x / n)
+}
+
+pub(crate) fn finite3(v: &[f64; 3], what: &str) -> Result<()> {
+    for x in v {
+        crate::error::finite(what, *x)?;
+    }
+    Ok(())
 }
 
 /// Two unit vectors completing `t` to an orthonormal frame.

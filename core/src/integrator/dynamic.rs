@@ -15,6 +15,7 @@ impl World {
         self.apply_solution(1.0, Some(1.0 / h));
         self.time += h;
         self.steps += 1;
+        let events = self.break_constraints()?;
         Ok(StepReport {
             time: self.time,
             n_unknowns: self.ws.layout.n,
@@ -22,6 +23,7 @@ impl World {
             bandwidth: self.ws.layout.bandwidth,
             residual,
             elastic_energy: energy,
+            events,
         })
     }
 }

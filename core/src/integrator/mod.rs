@@ -67,6 +67,8 @@ pub struct StepReport {
     pub residual: f64,
     /// Elastic energy before the step.
     pub elastic_energy: f64,
+    /// Constraints broken by this step, in handle order.
+    pub events: Vec<crate::world::Event>,
 }
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -81,6 +83,8 @@ pub struct RelaxReport {
     pub potential: f64,
     pub bandwidth: usize,
     pub n_unknowns: usize,
+    /// Constraints broken at the equilibrium found.
+    pub events: Vec<crate::world::Event>,
 }
 
 /// Buffers reused across steps (not serialised).
@@ -206,12 +210,14 @@ impl World {
         (dx_max, dth_max)
     }
 
-    /// Largest constraint violation |E| of the assembled system.
+    /// Largest constraint residual |E − CΛ| of the assembled system (a
+    /// compliant row is at rest when its violation equals C Λ).
     pub(crate) fn violation(&self) -> f64 {
         let mut v = 0.0f64;
         for (c, (_, con)) in self.constraints.iter().enumerate() {
             for i in 0..con.kind.n_rows() {
-                v = v.max(self.ws.sys.rhs[self.ws.layout.row_index[c] + i].abs());
+                let e = self.ws.sys.rhs[self.ws.layout.row_index[c] + i];
+                v = v.max((e - con.compliance * con.multipliers[i]).abs());
             }
         }
         v
@@ -225,7 +231,10 @@ impl World {
             let rod = self.rod(c.rod)?;
             let nr = c.kind.n_rows();
             c.kind.linearize(rod, &mut rows[..nr])?;
-            v = rows[..nr].iter().fold(v, |m, r| m.max(r.rhs.abs()));
+            v = rows[..nr]
+                .iter()
+                .zip(&c.multipliers)
+                .fold(v, |m, (r, l)| m.max((r.rhs - c.compliance * l).abs()));
         }
         Ok(v)
     }

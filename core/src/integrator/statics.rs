@@ -81,6 +81,7 @@ impl World {
                 report.potential = potential;
                 report.bandwidth = self.ws.layout.bandwidth;
                 report.n_unknowns = self.ws.layout.n;
+                report.events = self.break_constraints()?;
                 return Ok(report);
             }
             h *= 4.0;
