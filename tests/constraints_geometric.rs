@@ -4,7 +4,6 @@
 use nalgebra::Vector3;
 use strandkit::*;
 
-const XYZ: [bool; 4] = [true, true, true, false];
 
 fn beam(n: usize, roll: bool) -> Rod {
     RodBuilder::straight(Vector3::zeros(), Vector3::new(4.0, 0.0, 0.0))
