@@ -7,6 +7,7 @@
 pub mod constraint;
 pub mod energy;
 pub mod error;
+pub mod frames;
 pub mod handles;
 pub mod integrator;
 pub mod io;

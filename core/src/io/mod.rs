@@ -14,3 +14,6 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     drop(f);
     std::fs::rename(&tmp, path).map_err(io)
 }
+
+pub mod mesh;
+pub mod trajectory;

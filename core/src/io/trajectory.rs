@@ -1,0 +1,1 @@
+//! Trajectories for molecular viewers (SPEC §8): PDB (+CONECT), PSF, DCD. (To be written.)
