@@ -29,4 +29,4 @@ pub use load::Load;
 pub use material::Material;
 pub use rod::{Rod, RodBuilder, RodOptions};
 pub use section::Section;
-pub use world::{Breaking, Event, World};
+pub use world::{Breaking, Constraint, Event, World};

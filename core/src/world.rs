@@ -14,6 +14,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Constraint {
     pub rod: RodHandle,
+    /// Second rod of a relative constraint (None: the constraint is on `rod` only).
+    #[serde(default)]
+    pub other: Option<RodHandle>,
     pub kind: ConstraintKind,
     pub compliance: f64,
     pub multipliers: Vec<f64>,
@@ -45,6 +48,9 @@ pub struct World {
     pub params: IntegrationParameters,
     pub(crate) time: f64,
     pub(crate) steps: u64,
+    /// Groups of rods whose control points are interleaved in the band.
+    #[serde(default)]
+    pub(crate) interleave: Vec<Vec<RodHandle>>,
     #[serde(skip)]
     pub(crate) ws: Workspace,
 }
@@ -68,7 +74,9 @@ impl World {
     /// Removes a rod with its constraints and loads.
     pub fn remove_rod(&mut self, h: RodHandle) -> Result<Rod> {
         let rod = self.rods.remove(h.into()).ok_or_else(|| bad_rod(h))?;
-        let cs: Vec<_> = self.constraints.iter().filter(|(_, c)| c.rod == h).map(|(i, _)| i).collect();
+        let cs: Vec<_> =
+            self.constraints.iter().filter(|(_, c)| c.rod == h || c.other == Some(h)).map(|(i, _)| i).collect();
+        self.interleave.iter_mut().for_each(|g| g.retain(|r| *r != h));
         cs.into_iter().for_each(|i| drop(self.constraints.remove(i)));
         let ls: Vec<_> = self.loads.iter().filter(|(_, l)| l.rod() == h).map(|(i, _)| i).collect();
         ls.into_iter().for_each(|i| drop(self.loads.remove(i)));
@@ -84,41 +92,106 @@ impl World {
         self.rods.iter().map(|(i, r)| (i.into(), r))
     }
 
-    /// Adds a hard (compliance 0) or compliant constraint. Errors: removed
-    /// rod, abscissa outside the rod, non-finite target, duplicate.
+    /// Adds a hard (compliance 0) or compliant one-rod constraint. Errors:
+    /// removed rod, abscissa outside the rod, non-finite target, duplicate,
+    /// linearly dependent on the rod's other constraints.
     pub fn add_constraint(&mut self, rod: RodHandle, kind: ConstraintKind, compliance: f64) -> Result<ConstraintHandle> {
-        let r = self.rod(rod)?;
-        kind.validate(r)?;
+        if kind.n_rods() != 1 {
+            return Err(Error::InvalidInput(format!("{kind:?} links two points: use add_link")));
+        }
+        self.insert_constraint(rod, None, kind, compliance)
+    }
+
+    /// Adds a relative constraint between rod `a` (abscissa ua) and rod `b`
+    /// (ub); `a` and `b` may be the same rod.
+    pub fn add_link(&mut self, a: RodHandle, b: RodHandle, kind: ConstraintKind, compliance: f64) -> Result<ConstraintHandle> {
+        if kind.n_rods() != 2 {
+            return Err(Error::InvalidInput(format!("{kind:?} is a one-rod constraint: use add_constraint")));
+        }
+        self.insert_constraint(a, Some(b), kind, compliance)
+    }
+
+    /// Interleaves the control points of these rods in the band (thesis
+    /// IV.A: linked rods, e.g. the two strands of a helix, alternate), so a
+    /// dense set of links between them keeps a narrow band.
+    pub fn interleave(&mut self, rods: &[RodHandle]) -> Result<()> {
+        for r in rods {
+            self.rod(*r)?;
+            if self.interleave.iter().any(|g| g.contains(r)) {
+                return Err(Error::InvalidInput(format!("rod {r:?} is already in an interleaved group")));
+            }
+        }
+        self.interleave.push(rods.to_vec());
+        Ok(())
+    }
+
+    /// The rods a constraint acts on (the first twice for one-rod kinds).
+    pub(crate) fn rods_of(&self, c: &Constraint) -> Result<[&Rod; 2]> {
+        let a = self.rod(c.rod)?;
+        Ok([a, c.other.map_or(Ok(a), |b| self.rod(b))?])
+    }
+
+    fn insert_constraint(
+        &mut self,
+        rod: RodHandle,
+        other: Option<RodHandle>,
+        kind: ConstraintKind,
+        compliance: f64,
+    ) -> Result<ConstraintHandle> {
+        let probe = Constraint { rod, other, kind, compliance, multipliers: Vec::new(), breaking: None };
+        probe.kind.validate(&self.rods_of(&probe)?)?;
         crate::error::non_negative("compliance", compliance)?;
+        let kind = probe.kind;
         for (h, c) in self.constraints.iter() {
-            if c.rod == rod && duplicates(&c.kind, &kind) {
+            if c.rod == rod && c.other == other && duplicates(&c.kind, &kind) {
                 return Err(Error::InvalidInput(format!(
                     "duplicate constraint: {kind:?} repeats constraint {} on the same rod at the same abscissa",
                     h.0
                 )));
             }
         }
-        self.check_independent(rod, &kind)?;
         let n = kind.n_rows();
-        Ok(self.constraints.insert(Constraint { rod, kind, compliance, multipliers: vec![0.0; n], breaking: None }).into())
+        let c = Constraint { rod, other, kind, compliance, multipliers: vec![0.0; n], breaking: None };
+        self.check_independent(&c)?;
+        Ok(self.constraints.insert(c).into())
     }
 
     /// Rejects a constraint whose rows are linearly dependent (at the current
-    /// configuration) on the rows already imposed on the same rod: redundant
+    /// configuration) on the rows already imposed on the same rods: redundant
     /// rows leave the multipliers undefined and contradictory ones have no
-    /// solution (SPEC §5). Modified Gram–Schmidt on the normalised rows.
-    fn check_independent(&self, rod: RodHandle, kind: &ConstraintKind) -> Result<()> {
-        let r = self.rod(rod)?;
-        let n = r.coords().len();
+    /// solution (SPEC §5). Modified Gram–Schmidt on the rows, dense over the
+    /// coordinates of the rods involved.
+    fn check_independent(&self, new: &Constraint) -> Result<()> {
+        let involved = |c: &Constraint| [Some(c.rod), c.other].into_iter().flatten().collect::<Vec<_>>();
+        let mine = involved(new);
+        let related: Vec<_> =
+            self.constraints.iter().filter(|(_, c)| involved(c).iter().any(|r| mine.contains(r))).collect();
+        // Coordinate offsets of every rod touched.
+        let mut rods: Vec<RodHandle> = mine.clone();
+        for (_, c) in &related {
+            for r in involved(c) {
+                if !rods.contains(&r) {
+                    rods.push(r);
+                }
+            }
+        }
+        let mut offset = Vec::with_capacity(rods.len());
+        let mut n = 0;
+        for r in &rods {
+            offset.push(n);
+            n += self.rod(*r)?.coords().len();
+        }
+        let at = |h: RodHandle| offset[rods.iter().position(|r| *r == h).unwrap_or(0)]; // every rod is in `rods`
         let mut buf = [crate::constraint::Row::default(); 4];
-        let mut dense = |k: &ConstraintKind| -> Result<Vec<Vec<f64>>> {
-            let nr = k.n_rows();
-            k.linearize(r, &mut buf[..nr])?;
+        let mut dense = |c: &Constraint| -> Result<Vec<Vec<f64>>> {
+            let nr = c.kind.n_rows();
+            c.kind.linearize(&self.rods_of(c)?, &mut buf[..nr])?;
+            let base = [at(c.rod), at(c.other.unwrap_or(c.rod))];
             Ok(buf[..nr]
                 .iter()
                 .map(|row| {
                     let mut v = vec![0.0; n];
-                    row.entries().iter().for_each(|&(i, x)| v[i] += x);
+                    row.entries().iter().for_each(|&(w, i, x)| v[base[w as usize] + i] += x);
                     v
                 })
                 .collect())
@@ -138,21 +211,20 @@ impl World {
             basis.push(v.into_iter().map(|x| x / n1).collect());
             true
         };
-        for (h, c) in self.constraints.iter() {
-            if c.rod == rod {
-                for row in dense(&c.kind)? {
-                    if add(row, &mut basis) {
-                        owners.push(h.0);
-                    }
+        for (h, c) in &related {
+            for row in dense(c)? {
+                if add(row, &mut basis) {
+                    owners.push(h.0);
                 }
             }
         }
-        for row in dense(kind)? {
+        for row in dense(new)? {
             if !add(row, &mut basis) {
                 owners.sort_unstable();
                 owners.dedup();
                 return Err(Error::InvalidInput(format!(
-                    "linearly dependent constraint: {kind:?} repeats what constraints {owners:?} on the same rod already impose (redundant rows leave the forces undefined; contradictory ones have no solution)"
+                    "linearly dependent constraint: {:?} repeats what constraints {owners:?} on the same rods already impose (redundant rows leave the forces undefined; contradictory ones have no solution)",
+                    new.kind
                 )));
             }
         }
@@ -167,8 +239,9 @@ impl World {
     /// Replaces a constraint's kind (moving targets: how a user drags,
     /// rotates or pulls). The new kind must have the same rows.
     pub fn set_constraint(&mut self, h: ConstraintHandle, kind: ConstraintKind) -> Result<()> {
-        let rod = self.constraint(h)?.rod;
-        kind.validate(self.rod(rod)?)?;
+        let probe = Constraint { kind, ..self.constraint(h)?.clone() };
+        probe.kind.validate(&self.rods_of(&probe)?)?;
+        let kind = probe.kind;
         let c = self.constraints.get_mut(h.into()).ok_or_else(|| bad_con(h))?;
         if kind.n_rows() != c.kind.n_rows() || std::mem::discriminant(&kind) != std::mem::discriminant(&c.kind) {
             return Err(Error::InvalidInput("set_constraint: the new constraint must be of the same kind and rows".into()));
@@ -181,7 +254,7 @@ impl World {
         let c = self.constraints.get_mut(h.into()).ok_or_else(|| bad_con(h))?;
         if let Some(b) = breaking {
             crate::error::positive("break force", b.force)?;
-            if b.tension_only && !matches!(c.kind, ConstraintKind::Distance { .. }) {
+            if b.tension_only && !matches!(c.kind, ConstraintKind::Distance { .. } | ConstraintKind::RelativeDistance { .. }) {
                 return Err(Error::InvalidInput("tension-only breaking applies to distance links; use tension_only = false".into()));
             }
         }
@@ -198,7 +271,7 @@ impl World {
             let f = if b.tension_only {
                 -c.multipliers[0]
             } else {
-                let r = c.kind.reaction(self.rod(c.rod)?, &c.multipliers)?;
+                let r = c.kind.reaction(&self.rods_of(c)?, &c.multipliers)?;
                 nalgebra::Vector3::from(r.force).norm()
             };
             if f > b.force {
@@ -217,7 +290,7 @@ impl World {
     /// Force and torque the constraint exerted on its rod in the last solve.
     pub fn reaction(&self, h: ConstraintHandle) -> Result<Reaction> {
         let c = self.constraint(h)?;
-        c.kind.reaction(self.rod(c.rod)?, &c.multipliers)
+        c.kind.reaction(&self.rods_of(c)?, &c.multipliers)
     }
 
     pub fn add_load(&mut self, load: Load) -> Result<LoadHandle> {
@@ -283,12 +356,21 @@ fn duplicates(a: &ConstraintKind, b: &ConstraintKind) -> bool {
     if (a.u() - b.u()).abs() > 1e-12 * (1.0 + a.u().abs()) {
         return false;
     }
+    let same_b = |x: f64, y: f64| (x - y).abs() <= 1e-12 * (1.0 + x.abs());
+    if let (Some((_, ub1)), Some((_, ub2))) = (crate::constraint::relative::abscissae(a), crate::constraint::relative::abscissae(b)) {
+        if !same_b(ub1, ub2) {
+            return false;
+        }
+    }
     match (a, b) {
         (Position { axes: x, .. }, Position { axes: y, .. }) => x.iter().zip(y).any(|(p, q)| *p && *q),
         (Tangent { .. }, Tangent { .. })
         | (MaterialRoll { .. }, MaterialRoll { .. })
         | (Curvature { .. }, Curvature { .. })
-        | (Axis { .. }, Axis { .. }) => true,
+        | (Axis { .. }, Axis { .. })
+        | (RelativeOrientation { .. }, RelativeOrientation { .. })
+        | (RelativeDistance { .. }, RelativeDistance { .. }) => true,
+        (RelativePosition { axes: x, .. }, RelativePosition { axes: y, .. }) => x.iter().zip(y).any(|(p, q)| *p && *q),
         _ => false,
     }
 }

@@ -5,6 +5,7 @@
 pub mod geometric;
 pub mod material_roll;
 pub mod position;
+pub mod relative;
 pub mod tangent;
 
 use crate::error::{Error, Result};
@@ -39,29 +40,66 @@ pub enum ConstraintKind {
     Axis { u: f64, origin: [f64; 3], direction: [f64; 3] },
     /// r''(u) = target (III.27, length per u²).
     Curvature { u: f64, target: [f64; 3] },
+    /// Two rods (or two points of one rod): q_a(ua) − q_b(ub) = offset on
+    /// the selected axes [x, y, z, θ] (III.55). Multiplier: the force (and
+    /// roll torque) on rod a; rod b receives the opposite.
+    RelativePosition { ua: f64, ub: f64, axes: [bool; 4], offset: [f64; 4] },
+    /// Tangents of rod a at ua and rod b at ub aligned (two rows, III.58),
+    /// plus equal roll coordinates when `roll`. Multiplier: the moment on rod a.
+    RelativeOrientation { ua: f64, ub: f64, roll: bool },
+    /// |r_a(ua) − r_b(ub)| = distance (> 0; III.66). Multiplier: force on rod a
+    /// along (r_a − r_b)/|r_a − r_b|, negative in tension.
+    RelativeDistance { ua: f64, ub: f64, distance: f64 },
 }
 
-/// One linearised constraint row; entries are (rod-local coordinate, value).
+/// Most coordinates one row can touch (two rods × 4 control points × 4,
+/// with room for sliding abscissae).
+pub const MAX_ENTRIES: usize = 40;
+
+/// One linearised constraint row; entries are (which of the constraint's
+/// rods: 0 or 1, rod-local coordinate, value).
 #[derive(Clone, Copy, Debug)]
 pub struct Row {
-    pub entries: [(usize, f64); 16],
+    pub entries: [(u8, usize, f64); MAX_ENTRIES],
     pub len: usize,
     pub rhs: f64,
 }
 
 impl Default for Row {
     fn default() -> Self {
-        Row { entries: [(0, 0.0); 16], len: 0, rhs: 0.0 }
+        Row { entries: [(0, 0, 0.0); MAX_ENTRIES], len: 0, rhs: 0.0 }
     }
 }
 
 impl Row {
     pub(crate) fn push(&mut self, i: usize, v: f64) {
-        self.entries[self.len] = (i, v);
+        self.push_on(0, i, v);
+    }
+    pub(crate) fn push_on(&mut self, which: u8, i: usize, v: f64) {
+        self.entries[self.len] = (which, i, v);
         self.len += 1;
     }
-    pub fn entries(&self) -> &[(usize, f64)] {
+    pub fn entries(&self) -> &[(u8, usize, f64)] {
         &self.entries[..self.len]
+    }
+}
+
+/// Control points a constraint touches: (which rod, control point).
+#[derive(Clone, Copy, Debug)]
+pub struct Touched {
+    pub items: [(u8, usize); 8],
+    pub len: usize,
+}
+
+impl Touched {
+    fn of(which: u8, ctrl: [usize; 4], into: &mut Touched) {
+        for c in ctrl {
+            into.items[into.len] = (which, c);
+            into.len += 1;
+        }
+    }
+    pub fn as_slice(&self) -> &[(u8, usize)] {
+        &self.items[..self.len]
     }
 }
 
@@ -74,7 +112,11 @@ pub struct Reaction {
 }
 
 impl ConstraintKind {
+    /// The abscissa (first rod's for relative kinds).
     pub fn u(&self) -> f64 {
+        if let Some((ua, _)) = relative::abscissae(self) {
+            return ua;
+        }
         match self {
             ConstraintKind::Position { u, .. }
             | ConstraintKind::Tangent { u, .. }
@@ -83,6 +125,7 @@ impl ConstraintKind {
             | ConstraintKind::Plane { u, .. }
             | ConstraintKind::Axis { u, .. }
             | ConstraintKind::Curvature { u, .. } => *u,
+            _ => unreachable!("relative kinds handled above"), // abscissae() covers them
         }
     }
 
@@ -93,12 +136,29 @@ impl ConstraintKind {
             ConstraintKind::MaterialRoll { .. } | ConstraintKind::Distance { .. } | ConstraintKind::Plane { .. } => 1,
             ConstraintKind::Axis { .. } => 2,
             ConstraintKind::Curvature { .. } => 3,
+            ConstraintKind::RelativePosition { axes, .. } => axes.iter().filter(|a| **a).count(),
+            ConstraintKind::RelativeOrientation { roll, .. } => 2 + usize::from(*roll),
+            ConstraintKind::RelativeDistance { .. } => 1,
         }
     }
 
-    /// Checks the constraint against its rod (abscissa inside the domain,
+    /// Rods the constraint links: 1, or 2 for relative constraints (which
+    /// may name the same rod twice).
+    pub fn n_rods(&self) -> usize {
+        if relative::is_relative(self) {
+            2
+        } else {
+            1
+        }
+    }
+
+    /// Checks the constraint against its rods (abscissae inside the domain,
     /// finite targets, roll only on rods with roll, …).
-    pub fn validate(&self, rod: &Rod) -> Result<()> {
+    pub fn validate(&self, rods: &[&Rod]) -> Result<()> {
+        if relative::is_relative(self) {
+            return relative::validate(self, rods);
+        }
+        let rod = rods[0];
         let u = crate::error::finite("constraint abscissa u", self.u())?;
         rod.knots().locate(u)?;
         match self {
@@ -138,18 +198,30 @@ impl ConstraintKind {
                 unit(direction, "axis direction")?;
             }
             ConstraintKind::Curvature { target, .. } => finite3(target, "curvature target")?,
+            _ => {}
         }
         Ok(())
     }
 
     /// Control points the rows touch (for ordering, IV.3–IV.4).
-    pub fn touched(&self, rod: &Rod) -> Result<[usize; 4]> {
-        Ok(rod.basis_at(self.u())?.0)
+    pub fn touched(&self, rods: &[&Rod]) -> Result<Touched> {
+        let mut t = Touched { items: [(0, 0); 8], len: 0 };
+        if let Some((ua, ub)) = relative::abscissae(self) {
+            Touched::of(0, rods[0].basis_at(ua)?.0, &mut t);
+            Touched::of(1, rods[1].basis_at(ub)?.0, &mut t);
+        } else {
+            Touched::of(0, rods[0].basis_at(self.u())?.0, &mut t);
+        }
+        Ok(t)
     }
 
-    /// Writes `n_rows()` rows linearised at the rod's current coordinates.
-    pub fn linearize(&self, rod: &Rod, rows: &mut [Row]) -> Result<()> {
+    /// Writes `n_rows()` rows linearised at the rods' current coordinates.
+    pub fn linearize(&self, rods: &[&Rod], rows: &mut [Row]) -> Result<()> {
         rows.iter_mut().for_each(|r| r.len = 0);
+        if relative::is_relative(self) {
+            return relative::linearize(self, rods, rows);
+        }
+        let rod = rods[0];
         match self {
             ConstraintKind::Position { u, axes, target } => position::linearize(rod, *u, axes, target, rows),
             ConstraintKind::Tangent { u, direction } => tangent::linearize(rod, *u, direction, rows),
@@ -160,11 +232,16 @@ impl ConstraintKind {
             ConstraintKind::Plane { u, origin, normal } => geometric::plane(rod, *u, origin, normal, rows),
             ConstraintKind::Axis { u, origin, direction } => geometric::axis(rod, *u, origin, direction, rows),
             ConstraintKind::Curvature { u, target } => geometric::curvature(rod, *u, target, rows),
+            _ => unreachable!("relative kinds handled above"), // is_relative covers every other variant
         }
     }
 
-    /// Physical reaction from the multipliers (see each family).
-    pub fn reaction(&self, rod: &Rod, lambda: &[f64]) -> Result<Reaction> {
+    /// Physical reaction on the (first) rod from the multipliers (see each family).
+    pub fn reaction(&self, rods: &[&Rod], lambda: &[f64]) -> Result<Reaction> {
+        if relative::is_relative(self) {
+            return relative::reaction(self, rods, lambda);
+        }
+        let rod = rods[0];
         match self {
             ConstraintKind::Position { axes, .. } => Ok(position::reaction(axes, lambda)),
             ConstraintKind::Tangent { u, direction } => tangent::reaction(rod, *u, direction, lambda),
@@ -178,6 +255,7 @@ impl ConstraintKind {
             }
             ConstraintKind::Axis { direction, .. } => geometric::axis_reaction(direction, lambda),
             ConstraintKind::Curvature { .. } => Ok(Reaction { force: [lambda[0], lambda[1], lambda[2]], torque: [0.0; 3] }),
+            _ => unreachable!("relative kinds handled above"), // is_relative covers every other variant
         }
     }
 }

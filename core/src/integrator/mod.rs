@@ -115,12 +115,20 @@ impl World {
         let mut slots = Vec::with_capacity(ws.con_ids.len());
         let mut crefs = Vec::with_capacity(ws.con_ids.len());
         for (_, c) in self.constraints.iter() {
-            let r = pos(c.rod)?;
-            slots.push(ConstraintSlot { rod: r, n_rows: c.kind.n_rows(), touched: c.kind.touched(rods[r])? });
-            crefs.push(ConstraintRef { rod: r, kind: &c.kind, compliance: c.compliance });
+            let (a, b) = (pos(c.rod)?, pos(c.other.unwrap_or(c.rod))?);
+            let t = c.kind.touched(&[rods[a], rods[b]])?;
+            slots.push(ConstraintSlot { rods: [a, b], n_rows: c.kind.n_rows(), touched: t.items, len: t.len });
+            crefs.push(ConstraintRef { rods: [a, b], kind: &c.kind, compliance: c.compliance });
         }
         let segs: Vec<_> = rods.iter().map(|r| (r.n_ctrl(), r.dofs, r.cache.seg_ctrl.as_slice())).collect();
-        ws.layout = Layout::build(&segs, &slots);
+        let groups: Vec<Vec<usize>> = self
+            .interleave
+            .iter()
+            .map(|g| g.iter().map(|h| pos(*h)).collect::<Result<Vec<_>>>())
+            .collect::<Result<_>>()?;
+        let n_ctrl: Vec<usize> = rods.iter().map(|r| r.n_ctrl()).collect();
+        let order = crate::system::layout::control_point_order(&n_ctrl, &groups);
+        ws.layout = Layout::build(&segs, &order, &slots);
         // External generalised forces: gravity and loads (III.1–III.10).
         ws.ext.resize_with(rods.len(), Vec::new);
         let g = self.params.gravity;
@@ -228,9 +236,8 @@ impl World {
         let mut rows = [crate::constraint::Row::default(); 4];
         let mut v = 0.0f64;
         for (_, c) in self.constraints.iter() {
-            let rod = self.rod(c.rod)?;
             let nr = c.kind.n_rows();
-            c.kind.linearize(rod, &mut rows[..nr])?;
+            c.kind.linearize(&self.rods_of(c)?, &mut rows[..nr])?;
             v = rows[..nr]
                 .iter()
                 .zip(&c.multipliers)

@@ -23,7 +23,8 @@ pub struct Coefficients {
 
 /// A constraint as the system sees it.
 pub struct ConstraintRef<'a> {
-    pub rod: usize,
+    /// Positions of its rods in the layout (the same twice for one rod).
+    pub rods: [usize; 2],
     pub kind: &'a ConstraintKind,
     pub compliance: f64,
 }
@@ -113,11 +114,11 @@ impl KktSystem {
         for (c, cr) in cons.iter().enumerate() {
             let nr = cr.kind.n_rows();
             self.rows.resize(nr.max(self.rows.len()), Row::default());
-            cr.kind.linearize(rods[cr.rod], &mut self.rows[..nr])?;
+            cr.kind.linearize(&[rods[cr.rods[0]], rods[cr.rods[1]]], &mut self.rows[..nr])?;
             for (i, row) in self.rows[..nr].iter().enumerate() {
                 let gi = layout.row_index[c] + i;
-                for &(local, v) in row.entries() {
-                    let gj = layout.dof(cr.rod, local);
+                for &(w, local, v) in row.entries() {
+                    let gj = layout.dof(cr.rods[w as usize], local);
                     self.band.add(gi, gj, v);
                     self.band.add(gj, gi, v);
                 }
