@@ -1,0 +1,171 @@
+//! SPEC §4 relative constraints between rods (III.55–III.66), multi-rod
+//! ordering and rupture of links (issue 3).
+mod common;
+use common::*;
+use nalgebra::Vector3;
+use strandkit::*;
+
+fn steel_rod(a: Vector3<f64>, b: Vector3<f64>, n: usize, roll: bool) -> Rod {
+    RodBuilder::straight(a, b)
+        .control_points(n)
+        .with_roll(roll)
+        .section(Section::circle(0.05).unwrap())
+        .material(Material::new("steel", 200e9, 0.3, 7800.0).unwrap())
+        .build()
+        .unwrap()
+}
+
+/// Two rods joined end to end by relative position (x, y, z, roll) and
+/// relative orientation bend like one rod of the same total length: the
+/// two-piece cantilever matches the elastica references (0.5 %), and the
+/// joint transmits the shear force F and the moment F (x_tip − x_joint).
+#[test]
+fn two_joined_rods_bend_like_one() {
+    for &(f, angle, x, y) in &CANTILEVER_REFERENCES[1..4] {
+        let mut w = World::new(IntegrationParameters::default());
+        let a = w.add_rod(steel_rod(Vector3::zeros(), Vector3::new(2.0, 0.0, 0.0), 12, true));
+        let b = w.add_rod(steel_rod(Vector3::new(2.0, 0.0, 0.0), Vector3::new(4.0, 0.0, 0.0), 12, true));
+        let (a0, a1) = w.rod(a).unwrap().domain();
+        let (b0, b1) = w.rod(b).unwrap().domain();
+        w.add_constraint(a, ConstraintKind::Position { u: a0, axes: [true; 4], target: [0.0; 4] }, 0.0).unwrap();
+        w.add_constraint(a, ConstraintKind::Tangent { u: a0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+        let joint = w
+            .add_link(a, b, ConstraintKind::RelativePosition { ua: a1, ub: b0, axes: [true; 4], offset: [0.0; 4] }, 0.0)
+            .unwrap();
+        let bend = w.add_link(a, b, ConstraintKind::RelativeOrientation { ua: a1, ub: b0, roll: false }, 0.0).unwrap();
+        w.add_load(Load::PointForce { rod: b, u: b1, force: [0.0, -f, 0.0] }).unwrap();
+        w.relax().unwrap();
+        let (p, t) = (w.rod(b).unwrap().position(b1).unwrap(), w.rod(b).unwrap().tangent(b1).unwrap());
+        let a_tip = -t.y.atan2(t.x);
+        println!("F={f:.0e}: angle {a_tip:.5} (ref {angle}), tip ({:.4}, {:.4}) (ref ({x}, {y}))", p.x, -p.y);
+        assert!((a_tip - angle).abs() < 5e-3 * angle);
+        assert!((p.x - x).abs() < 5e-3 * 4.0 && (-p.y - y).abs() < 5e-3 * 4.0);
+        // The joint carries the load: force on rod a = −(force on rod b) = (0, −F).
+        let fj = w.reaction(joint).unwrap().force;
+        assert!((fj[1] + f).abs() < 1e-6 * f && fj[0].abs() < 1e-6 * f, "joint force {fj:?}");
+        let xj = w.rod(a).unwrap().position(a1).unwrap().x;
+        let mj = w.reaction(bend).unwrap().torque[2];
+        assert!((mj.abs() - f * (p.x - xj)).abs() < 1e-3 * f * (p.x - xj), "joint moment {mj} vs {}", f * (p.x - xj));
+    }
+}
+
+/// A vertical chain of rods joined by breakable distance links under a
+/// growing load at the bottom: every link carries the load plus the weight
+/// below it, the top link (most loaded) breaks first, at the first load
+/// increment where it exceeds its threshold, and the event reports it.
+#[test]
+fn chain_of_rods_breaks_at_the_most_loaded_link() {
+    let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], ..Default::default() });
+    let gap = 0.01;
+    let mut rods = Vec::new();
+    let mut top = 0.0;
+    for _ in 0..3 {
+        let r = steel_rod(Vector3::new(0.0, top, 0.0), Vector3::new(0.0, top - 1.0, 0.0), 6, false);
+        let h = w.add_rod(r);
+        let (u0, u1) = w.rod(h).unwrap().domain();
+        for u in [u0, u1] {
+            w.add_constraint(h, ConstraintKind::Axis { u, origin: [0.0; 3], direction: [0.0, 1.0, 0.0] }, 0.0).unwrap();
+        }
+        rods.push(h);
+        top -= 1.0 + gap;
+    }
+    let u0 = w.rod(rods[0]).unwrap().domain().0;
+    w.add_constraint(rods[0], ConstraintKind::Position { u: u0, axes: [false, true, false, false], target: [0.0; 4] }, 0.0)
+        .unwrap();
+    let threshold = 5000.0;
+    let links: Vec<_> = (0..2)
+        .map(|i| {
+            let ua = w.rod(rods[i]).unwrap().domain().1;
+            let ub = w.rod(rods[i + 1]).unwrap().domain().0;
+            let c = w.add_link(rods[i], rods[i + 1], ConstraintKind::RelativeDistance { ua, ub, distance: gap }, 0.0).unwrap();
+            w.set_breaking(c, Some(Breaking { force: threshold, tension_only: true })).unwrap();
+            c
+        })
+        .collect();
+    let bottom = rods[2];
+    let ub = w.rod(bottom).unwrap().domain().1;
+    let load = w.add_load(Load::PointForce { rod: bottom, u: ub, force: [0.0; 3] }).unwrap();
+    let weight = w.rod(rods[0]).unwrap().mass() * 9.81;
+    let mut previous = [0.0; 2];
+    for k in 1..200 {
+        let f = 100.0 * k as f64;
+        w.set_load(load, Load::PointForce { rod: bottom, u: ub, force: [0.0, -f, 0.0] }).unwrap();
+        let rep = w.relax().unwrap();
+        if let Some(Event::ConstraintBroken { constraint, force, .. }) = rep.events.first() {
+            println!("load {f} N: link {constraint:?} broke at {force:.1} N (previous {previous:?})");
+            assert_eq!(rep.events.len(), 1);
+            assert_eq!(*constraint, links[0], "the top link carries the most");
+            assert!(*force > threshold && previous[0] <= threshold);
+            return;
+        }
+        for (i, c) in links.iter().enumerate() {
+            let t = -w.constraint(*c).unwrap().multipliers[0];
+            let expected = f + (2 - i) as f64 * weight;
+            assert!((t - expected).abs() < 1e-6 * expected, "link {i}: {t} vs {expected}");
+            previous[i] = t;
+        }
+    }
+    panic!("no link broke");
+}
+
+/// A compliant link between two rods is a spring: extension = F C.
+#[test]
+fn compliant_link_between_rods() {
+    let mut w = World::new(IntegrationParameters::default());
+    let a = w.add_rod(steel_rod(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0), 6, false));
+    let b = w.add_rod(steel_rod(Vector3::new(1.1, 0.0, 0.0), Vector3::new(2.1, 0.0, 0.0), 6, false));
+    let (a0, a1) = w.rod(a).unwrap().domain();
+    let (b0, b1) = w.rod(b).unwrap().domain();
+    w.add_constraint(a, ConstraintKind::Position { u: a0, axes: [true, true, true, false], target: [0.0; 4] }, 0.0).unwrap();
+    w.add_constraint(a, ConstraintKind::Position { u: a1, axes: [false, true, true, false], target: [1.0, 0.0, 0.0, 0.0] }, 0.0)
+        .unwrap();
+    for u in [b0, b1] {
+        w.add_constraint(b, ConstraintKind::Axis { u, origin: [0.0; 3], direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    }
+    let c = 1e-6; // m/N
+    let link = w.add_link(a, b, ConstraintKind::RelativeDistance { ua: a1, ub: b0, distance: 0.1 }, c).unwrap();
+    let f = 2000.0;
+    w.add_load(Load::PointForce { rod: b, u: b1, force: [f, 0.0, 0.0] }).unwrap();
+    w.relax().unwrap();
+    let gap = w.rod(b).unwrap().position(b0).unwrap().x - w.rod(a).unwrap().position(a1).unwrap().x;
+    let lam = w.constraint(link).unwrap().multipliers[0];
+    println!("gap {gap:.9} m (0.1 + F C = {:.9}), multiplier {lam}", 0.1 + f * c);
+    assert!((lam + f).abs() < 1e-6 * f, "the link carries F in tension");
+    assert!((gap - (0.1 + f * c)).abs() < 1e-9, "extension F C");
+}
+
+/// Two parallel rods linked by 30 rungs (a ladder under load): interleaving
+/// their control points gives the same solution with a narrower band.
+#[test]
+fn interleaved_ladder_matches_sequential_with_narrower_band() {
+    let mut results = Vec::new();
+    for inter in [false, true] {
+        let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], ..Default::default() });
+        let a = w.add_rod(steel_rod(Vector3::zeros(), Vector3::new(3.0, 0.0, 0.0), 31, true));
+        let b = w.add_rod(steel_rod(Vector3::new(0.0, 0.0, 0.5), Vector3::new(3.0, 0.0, 0.5), 31, true));
+        if inter {
+            w.interleave(&[a, b]).unwrap();
+        }
+        for h in [a, b] {
+            let (u0, u1) = w.rod(h).unwrap().domain();
+            let z = w.rod(h).unwrap().position(u0).unwrap().z;
+            for (u, x) in [(u0, 0.0), (u1, 3.0)] {
+                w.add_constraint(h, ConstraintKind::Position { u, axes: [true, true, true, u == u0], target: [x, 0.0, z, 0.0] }, 0.0)
+                    .unwrap();
+            }
+        }
+        let (u0, u1) = w.rod(a).unwrap().domain();
+        for k in 1..30 {
+            let u = u0 + (u1 - u0) * k as f64 / 30.0;
+            w.add_link(a, b, ConstraintKind::RelativeDistance { ua: u, ub: u, distance: 0.5 }, 0.0).unwrap();
+        }
+        let rep = w.relax().unwrap();
+        let mid = w.rod(a).unwrap().position(0.5 * (u0 + u1)).unwrap();
+        println!("interleave {inter}: bandwidth {}, mid sag {:.6e}", rep.bandwidth, mid.y);
+        results.push((rep.bandwidth, mid, w.rod(b).unwrap().coords().to_vec()));
+    }
+    let (seq, int) = (&results[0], &results[1]);
+    assert!(int.0 * 2 < seq.0, "interleaved band {} vs sequential {}", int.0, seq.0);
+    assert!((seq.1 - int.1).norm() < 1e-9, "same solution");
+    assert!(seq.2.iter().zip(&int.2).all(|(x, y)| (x - y).abs() < 1e-8));
+}
