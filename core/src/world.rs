@@ -38,6 +38,8 @@ pub struct Breaking {
 pub enum Event {
     /// A constraint exceeded its break force and was removed.
     ConstraintBroken { constraint: ConstraintHandle, time: f64, force: f64, kind: ConstraintKind },
+    /// A sliding constraint's abscissa left its rod; the constraint was removed.
+    SliderLeft { constraint: ConstraintHandle, time: f64, kind: ConstraintKind },
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -191,7 +193,8 @@ impl World {
                 .iter()
                 .map(|row| {
                     let mut v = vec![0.0; n];
-                    row.entries().iter().for_each(|&(w, i, x)| v[base[w as usize] + i] += x);
+                    // (entries on a slider's own abscissa unknown, w = 2, are private to it)
+                    row.entries().iter().filter(|e| e.0 < 2).for_each(|&(w, i, x)| v[base[w as usize] + i] += x);
                     v
                 })
                 .collect())

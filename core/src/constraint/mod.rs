@@ -6,6 +6,7 @@ pub mod geometric;
 pub mod material_roll;
 pub mod position;
 pub mod relative;
+pub mod sliding;
 pub mod tangent;
 
 use crate::error::{Error, Result};
@@ -50,6 +51,22 @@ pub enum ConstraintKind {
     /// |r_a(ua) − r_b(ub)| = distance (> 0; III.66). Multiplier: force on rod a
     /// along (r_a − r_b)/|r_a − r_b|, negative in tension.
     RelativeDistance { ua: f64, ub: f64, distance: f64 },
+    /// The rod passes through `point`; `u` is an unknown updated every solve
+    /// (III.37–III.42). `friction`: viscous coefficient c, tangential force
+    /// −c v_s per unit sliding speed v_s (force·time/length). Multiplier: the
+    /// force on the rod (⟂ tangent when frictionless). A slider that leaves
+    /// the rod is removed with an event.
+    SlidingPoint { u: f64, point: [f64; 3], friction: f64 },
+}
+
+/// Extra blocks of a constraint that owns abscissa unknowns (sliders):
+/// the diagonal A_uu and right-hand side per unknown, and the coupling
+/// entries A_(q,u) with the coordinates (one unknown for now).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SlidingBlocks {
+    pub diag: [f64; 2],
+    pub rhs: [f64; 2],
+    pub coupling: Row,
 }
 
 /// Most coordinates one row can touch (two rods × 4 control points × 4,
@@ -124,7 +141,8 @@ impl ConstraintKind {
             | ConstraintKind::Distance { u, .. }
             | ConstraintKind::Plane { u, .. }
             | ConstraintKind::Axis { u, .. }
-            | ConstraintKind::Curvature { u, .. } => *u,
+            | ConstraintKind::Curvature { u, .. }
+            | ConstraintKind::SlidingPoint { u, .. } => *u,
             _ => unreachable!("relative kinds handled above"), // abscissae() covers them
         }
     }
@@ -139,7 +157,39 @@ impl ConstraintKind {
             ConstraintKind::RelativePosition { axes, .. } => axes.iter().filter(|a| **a).count(),
             ConstraintKind::RelativeOrientation { roll, .. } => 2 + usize::from(*roll),
             ConstraintKind::RelativeDistance { .. } => 1,
+            ConstraintKind::SlidingPoint { .. } => 3,
         }
+    }
+
+    /// Abscissa unknowns the constraint adds to the system (sliders).
+    pub fn n_extra(&self) -> usize {
+        usize::from(matches!(self, ConstraintKind::SlidingPoint { .. }))
+    }
+
+    /// A_uu, rhs and A_(q,u) of the abscissa unknowns, given the previous
+    /// multipliers and the friction coefficient factor (1/h in dynamics, 0
+    /// in statics).
+    pub fn sliding_blocks(&self, rods: &[&Rod], lambda: &[f64], friction_coeff: f64, out: &mut SlidingBlocks) -> Result<()> {
+        out.diag = [0.0; 2];
+        out.rhs = [0.0; 2];
+        out.coupling.len = 0;
+        match self {
+            ConstraintKind::SlidingPoint { u, friction, .. } => {
+                sliding::blocks(rods[0], *u, *friction, lambda, friction_coeff, out)
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Moves the abscissae by the solved increments; returns false when a
+    /// slider left its rod's domain.
+    pub fn advance(&mut self, rods: &[&Rod], du: &[f64]) -> bool {
+        if let ConstraintKind::SlidingPoint { u, .. } = self {
+            *u += du[0];
+            let (a, b) = rods[0].domain();
+            return *u >= a && *u <= b;
+        }
+        true
     }
 
     /// Rods the constraint links: 1, or 2 for relative constraints (which
@@ -198,6 +248,10 @@ impl ConstraintKind {
                 unit(direction, "axis direction")?;
             }
             ConstraintKind::Curvature { target, .. } => finite3(target, "curvature target")?,
+            ConstraintKind::SlidingPoint { point, friction, .. } => {
+                finite3(point, "sliding point")?;
+                crate::error::non_negative("sliding friction", *friction)?;
+            }
             _ => {}
         }
         Ok(())
@@ -232,6 +286,7 @@ impl ConstraintKind {
             ConstraintKind::Plane { u, origin, normal } => geometric::plane(rod, *u, origin, normal, rows),
             ConstraintKind::Axis { u, origin, direction } => geometric::axis(rod, *u, origin, direction, rows),
             ConstraintKind::Curvature { u, target } => geometric::curvature(rod, *u, target, rows),
+            ConstraintKind::SlidingPoint { u, point, .. } => sliding::linearize(rod, *u, point, rows),
             _ => unreachable!("relative kinds handled above"), // is_relative covers every other variant
         }
     }
@@ -254,7 +309,9 @@ impl ConstraintKind {
                 Ok(Reaction { force: (unit(normal, "plane normal")? * lambda[0]).into(), torque: [0.0; 3] })
             }
             ConstraintKind::Axis { direction, .. } => geometric::axis_reaction(direction, lambda),
-            ConstraintKind::Curvature { .. } => Ok(Reaction { force: [lambda[0], lambda[1], lambda[2]], torque: [0.0; 3] }),
+            ConstraintKind::Curvature { .. } | ConstraintKind::SlidingPoint { .. } => {
+                Ok(Reaction { force: [lambda[0], lambda[1], lambda[2]], torque: [0.0; 3] })
+            }
             _ => unreachable!("relative kinds handled above"), // is_relative covers every other variant
         }
     }

@@ -90,7 +90,7 @@ impl World {
                         .map(|(r, _, v)| {
                             row.entries()
                                 .iter()
-                                .filter(|e| which[e.0 as usize] == Some(*r))
+                                .filter(|e| e.0 < 2 && which[e.0 as usize] == Some(*r))
                                 .map(|&(_, i, x)| x * v[i])
                                 .sum::<f64>()
                                 / norm

@@ -15,7 +15,8 @@ impl World {
         self.apply_solution(1.0, Some(1.0 / h));
         self.time += h;
         self.steps += 1;
-        let events = self.break_constraints()?;
+        let mut events = self.drop_departed_sliders();
+        events.extend(self.break_constraints()?);
         Ok(StepReport {
             time: self.time,
             n_unknowns: self.ws.layout.n,

@@ -95,6 +95,8 @@ pub struct Workspace {
     pub(crate) ext: Vec<Vec<f64>>,
     pub(crate) rod_ids: Vec<Index>,
     pub(crate) con_ids: Vec<Index>,
+    /// Sliders that left their rod in the last solve.
+    pub(crate) left: Vec<Index>,
 }
 
 impl World {
@@ -117,8 +119,14 @@ impl World {
         for (_, c) in self.constraints.iter() {
             let (a, b) = (pos(c.rod)?, pos(c.other.unwrap_or(c.rod))?);
             let t = c.kind.touched(&[rods[a], rods[b]])?;
-            slots.push(ConstraintSlot { rods: [a, b], n_rows: c.kind.n_rows(), touched: t.items, len: t.len });
-            crefs.push(ConstraintRef { rods: [a, b], kind: &c.kind, compliance: c.compliance });
+            slots.push(ConstraintSlot {
+                rods: [a, b],
+                n_rows: c.kind.n_rows(),
+                n_extra: c.kind.n_extra(),
+                touched: t.items,
+                len: t.len,
+            });
+            crefs.push(ConstraintRef { rods: [a, b], kind: &c.kind, compliance: c.compliance, lambda: &c.multipliers });
         }
         let segs: Vec<_> = rods.iter().map(|r| (r.n_ctrl(), r.dofs, r.cache.seg_ctrl.as_slice())).collect();
         let groups: Vec<Vec<usize>> = self
@@ -209,13 +217,38 @@ impl World {
                 }
             }
         }
-        for (c, (_, con)) in self.constraints.iter_mut().enumerate() {
+        let rods = &self.rods;
+        let mut left = Vec::new();
+        for (c, (h, con)) in self.constraints.iter_mut().enumerate() {
             let r0 = ws.layout.row_index[c];
             for (i, m) in con.multipliers.iter_mut().enumerate() {
                 *m = -ws.sys.sol[r0 + i];
             }
+            let ne = con.kind.n_extra();
+            if ne > 0 {
+                let du: Vec<f64> = (0..ne).map(|k| scale * ws.sys.sol[ws.layout.extra_index[c] + k]).collect();
+                let (Some(a), Some(b)) = (rods.get(con.rod.into()), rods.get(con.other.unwrap_or(con.rod).into())) else {
+                    continue;
+                };
+                if !con.kind.advance(&[a, b], &du) {
+                    left.push(h);
+                }
+            }
         }
+        self.ws.left.extend(left);
         (dx_max, dth_max)
+    }
+
+    /// Removes the sliders that left their rod during the last solve.
+    pub(crate) fn drop_departed_sliders(&mut self) -> Vec<crate::world::Event> {
+        let left = std::mem::take(&mut self.ws.left);
+        let mut events = Vec::new();
+        for h in left {
+            if let Some(c) = self.constraints.remove(h) {
+                events.push(crate::world::Event::SliderLeft { constraint: h.into(), time: self.time, kind: c.kind });
+            }
+        }
+        events
     }
 
     /// Largest constraint residual |E − CΛ| of the assembled system (a
@@ -264,6 +297,11 @@ fn describe_unknown(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], g: us
                 let axis = ["x", "y", "z", "roll"][g - start];
                 return format!("coordinate {axis} of control point {i} of rod {}", rod_ids[r].0);
             }
+        }
+    }
+    for (c, &start) in layout.extra_index.iter().enumerate() {
+        if g >= start && g < layout.row_index[c] {
+            return format!("the sliding abscissa of constraint {} (its rows cannot fix it: tangent ⟂ all rows?)", con_ids[c].0);
         }
     }
     for (c, &start) in layout.row_index.iter().enumerate() {

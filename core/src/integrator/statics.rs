@@ -34,6 +34,7 @@ impl World {
             self.assemble(Coefficients { mass: m, drag: 0.0, momentum: 0.0 })?;
             let violation = self.violation();
             let saved: Vec<Vec<f64>> = self.rods.iter().map(|(_, r)| r.q.clone()).collect();
+            let saved_kinds: Vec<_> = self.constraints.iter().map(|(_, c)| c.kind.clone()).collect();
             let solved = self.solve_system();
             report.iterations += 1;
             if let Err(e) = solved {
@@ -45,6 +46,12 @@ impl World {
                 return Err(e);
             }
             let (dx, dth) = self.apply_solution(1.0, None);
+            if !self.ws.left.is_empty() {
+                // A slider left its rod: the configuration changed, start anew.
+                report.events.extend(self.drop_departed_sliders());
+                potential = self.potential();
+                continue;
+            }
             let trial = self.potential();
             if std::env::var_os("STRANDKIT_DEBUG").is_some() {
                 eprintln!("relax it {} h {h:.3e} newton {newton} dx {dx:.3e} dth {dth:.3e} viol {violation:.3e} pot {potential:.9e} -> {trial:.9e}", report.iterations);
@@ -64,6 +71,10 @@ impl World {
                 for ((_, r), q) in self.rods.iter_mut().zip(saved) {
                     r.q = q;
                 }
+                for ((_, c), k) in self.constraints.iter_mut().zip(saved_kinds) {
+                    c.kind = k;
+                }
+                self.ws.left.clear();
                 report.rejected += 1;
                 h = if newton { h0 * 1e5 } else { h / 4.0 };
                 if h < 1e-8 * h0 {
@@ -81,7 +92,7 @@ impl World {
                 report.potential = potential;
                 report.bandwidth = self.ws.layout.bandwidth;
                 report.n_unknowns = self.ws.layout.n;
-                report.events = self.break_constraints()?;
+                report.events.extend(self.break_constraints()?);
                 return Ok(report);
             }
             h *= 4.0;

@@ -8,7 +8,7 @@
 //! scattered into the band (they overlap: summed); all buffers are reused
 //! across steps.
 use super::layout::Layout;
-use crate::constraint::{ConstraintKind, Row};
+use crate::constraint::{ConstraintKind, Row, SlidingBlocks};
 use crate::error::{Error, Result};
 use crate::linalg::band::{solve_refined, BandLu, BandMatrix};
 use crate::rod::assemble::Need;
@@ -27,6 +27,8 @@ pub struct ConstraintRef<'a> {
     pub rods: [usize; 2],
     pub kind: &'a ConstraintKind,
     pub compliance: f64,
+    /// Multipliers of the previous solve (for the sliders' second-order blocks).
+    pub lambda: &'a [f64],
 }
 
 #[derive(Clone, Debug, Default)]
@@ -114,11 +116,26 @@ impl KktSystem {
         for (c, cr) in cons.iter().enumerate() {
             let nr = cr.kind.n_rows();
             self.rows.resize(nr.max(self.rows.len()), Row::default());
-            cr.kind.linearize(&[rods[cr.rods[0]], rods[cr.rods[1]]], &mut self.rows[..nr])?;
+            let pair = [rods[cr.rods[0]], rods[cr.rods[1]]];
+            cr.kind.linearize(&pair, &mut self.rows[..nr])?;
+            let gx = layout.extra_index[c];
+            if cr.kind.n_extra() > 0 {
+                let mut sb = SlidingBlocks::default();
+                cr.kind.sliding_blocks(&pair, cr.lambda, k.drag, &mut sb)?;
+                for e in 0..cr.kind.n_extra() {
+                    self.band.add(gx + e, gx + e, sb.diag[e]);
+                    self.rhs[gx + e] = sb.rhs[e];
+                }
+                for &(w, local, v) in sb.coupling.entries() {
+                    let gj = layout.dof(cr.rods[w as usize], local);
+                    self.band.add(gj, gx, v);
+                    self.band.add(gx, gj, v);
+                }
+            }
             for (i, row) in self.rows[..nr].iter().enumerate() {
                 let gi = layout.row_index[c] + i;
                 for &(w, local, v) in row.entries() {
-                    let gj = layout.dof(cr.rods[w as usize], local);
+                    let gj = if w == 2 { gx + local } else { layout.dof(cr.rods[w as usize], local) };
                     self.band.add(gi, gj, v);
                     self.band.add(gj, gi, v);
                 }

@@ -14,6 +14,8 @@ pub struct ConstraintSlot {
     /// Positions of its rods in the layout's rod order (twice the same for one rod).
     pub rods: [usize; 2],
     pub n_rows: usize,
+    /// Abscissa unknowns (sliders), placed just before the rows.
+    pub n_extra: usize,
     /// (which rod: 0/1, control point), `len` of them.
     pub touched: [(u8, usize); 8],
     pub len: usize,
@@ -26,6 +28,9 @@ pub struct Layout {
     pub dofs: Vec<usize>,
     /// Global index of the first row of each constraint.
     pub row_index: Vec<usize>,
+    /// Global index of each constraint's first abscissa unknown (= row_index
+    /// − n_extra).
+    pub extra_index: Vec<usize>,
     pub row_count: Vec<usize>,
     /// Number of unknowns (coordinates + multipliers).
     pub n: usize,
@@ -51,6 +56,7 @@ impl Layout {
         }
         let mut l = Layout {
             row_index: vec![0; cons.len()],
+            extra_index: vec![0; cons.len()],
             row_count: cons.iter().map(|c| c.n_rows).collect(),
             cp_index: rods.iter().map(|(n, _, _)| vec![0; *n]).collect(),
             dofs: rods.iter().map(|(_, d, _)| *d).collect(),
@@ -61,6 +67,8 @@ impl Layout {
             l.cp_index[r][i] = cursor;
             cursor += l.dofs[r];
             for &c in &anchors[k] {
+                l.extra_index[c] = cursor;
+                cursor += cons[c].n_extra;
                 l.row_index[c] = cursor;
                 cursor += cons[c].n_rows;
                 l.n_rows += cons[c].n_rows;
@@ -76,7 +84,7 @@ impl Layout {
             }
         }
         for (c, s) in cons.iter().enumerate() {
-            let (r0, r1) = (l.row_index[c], l.row_index[c] + s.n_rows - 1);
+            let (r0, r1) = (l.extra_index[c], l.row_index[c] + s.n_rows - 1);
             for &(w, i) in &s.touched[..s.len] {
                 let r = s.rods[w as usize];
                 let (lo, hi) = (l.cp_index[r][i], l.cp_index[r][i] + l.dofs[r] - 1);
@@ -144,7 +152,7 @@ mod tests {
                 len += 1;
             }
         }
-        ConstraintSlot { rods, n_rows, touched, len }
+        ConstraintSlot { rods, n_rows, n_extra: 0, touched, len }
     }
     /// The bandwidth of a rod with constraints spread along it does not grow
     /// with the number of constraints (IV.A).
