@@ -25,6 +25,7 @@ macro_rules! handle {
 handle!(RodHandle, "rod");
 handle!(ConstraintHandle, "constraint");
 handle!(LoadHandle, "load");
+handle!(BeadHandle, "bead");
 
 /// (slot, generation).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

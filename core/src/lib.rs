@@ -4,6 +4,7 @@
 //! loads by handle; [`World::step`] advances it with linearised implicit
 //! Euler and [`World::relax`] solves for static equilibrium, both through one
 //! banded KKT system whose multipliers are reported as forces and torques.
+pub mod bead;
 pub mod constraint;
 pub mod energy;
 pub mod error;
@@ -23,7 +24,8 @@ pub mod world;
 
 pub use constraint::{ConstraintKind, Reaction};
 pub use error::{Error, Result};
-pub use handles::{ConstraintHandle, LoadHandle, RodHandle};
+pub use bead::Bead;
+pub use handles::{BeadHandle, ConstraintHandle, LoadHandle, RodHandle};
 pub use integrator::{IntegrationParameters, RelaxReport, StepReport};
 pub use load::Load;
 pub use material::Material;

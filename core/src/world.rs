@@ -3,7 +3,8 @@
 //! reports. Snapshots (serde) reload bit-for-bit.
 use crate::constraint::{ConstraintKind, Reaction};
 use crate::error::{Error, Result};
-use crate::handles::{Arena, ConstraintHandle, LoadHandle, RodHandle};
+use crate::bead::Bead;
+use crate::handles::{Arena, BeadHandle, ConstraintHandle, LoadHandle, RodHandle};
 use crate::integrator::{IntegrationParameters, Workspace};
 use crate::load::Load;
 use crate::rod::Rod;
@@ -40,6 +41,8 @@ pub enum Event {
     ConstraintBroken { constraint: ConstraintHandle, time: f64, force: f64, kind: ConstraintKind },
     /// A sliding constraint's abscissa left its rod; the constraint was removed.
     SliderLeft { constraint: ConstraintHandle, time: f64, kind: ConstraintKind },
+    /// A bead slid off the end of its rod and was removed.
+    BeadLeft { bead: BeadHandle, time: f64 },
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -47,6 +50,8 @@ pub struct World {
     pub(crate) rods: Arena<Rod>,
     pub(crate) constraints: Arena<Constraint>,
     pub(crate) loads: Arena<Load>,
+    #[serde(default)]
+    pub(crate) beads: Arena<Bead>,
     pub params: IntegrationParameters,
     pub(crate) time: f64,
     pub(crate) steps: u64,
@@ -82,6 +87,8 @@ impl World {
         cs.into_iter().for_each(|i| drop(self.constraints.remove(i)));
         let ls: Vec<_> = self.loads.iter().filter(|(_, l)| l.rod() == h).map(|(i, _)| i).collect();
         ls.into_iter().for_each(|i| drop(self.loads.remove(i)));
+        let bs: Vec<_> = self.beads.iter().filter(|(_, b)| b.rod == h).map(|(i, _)| i).collect();
+        bs.into_iter().for_each(|i| drop(self.beads.remove(i)));
         Ok(rod)
     }
     pub fn rod(&self, h: RodHandle) -> Result<&Rod> {
@@ -331,6 +338,32 @@ impl World {
             }
             Load::Distributed { force_per_length, .. } => fin(force_per_length),
         }
+    }
+
+    /// Threads a bead on a rod at abscissa u: mass (> 0), viscous friction
+    /// (force per unit sliding speed, ≥ 0), radius (length, ≥ 0: beads on
+    /// one rod keep their centres r_a + r_b apart along it).
+    pub fn add_bead(&mut self, rod: RodHandle, u: f64, mass: f64, friction: f64, radius: f64) -> Result<BeadHandle> {
+        self.rod(rod)?.knots().locate(crate::error::finite("bead abscissa u", u)?)?;
+        crate::error::positive("bead mass", mass)?;
+        crate::error::non_negative("bead friction", friction)?;
+        crate::error::non_negative("bead radius", radius)?;
+        let b = Bead { rod, u, velocity: 0.0, mass, friction, radius, force: [0.0; 3], step_ds: 0.0, rod_force: [0.0; 3], u_assembled: u };
+        Ok(self.beads.insert(b).into())
+    }
+    pub fn bead(&self, h: BeadHandle) -> Result<&Bead> {
+        self.beads.get(h.into()).ok_or_else(|| Error::InvalidHandle(format!("bead {h:?} does not exist (removed?)")))
+    }
+    /// Sets the external force on a bead (besides gravity; force unit).
+    pub fn set_bead_force(&mut self, h: BeadHandle, force: [f64; 3]) -> Result<()> {
+        crate::constraint::finite3(&force, "bead force")?;
+        self.beads.get_mut(h.into()).ok_or_else(|| Error::InvalidHandle(format!("bead {h:?} does not exist")))?.force = force;
+        Ok(())
+    }
+    /// Position of a bead (length unit).
+    pub fn bead_position(&self, h: BeadHandle) -> Result<nalgebra::Vector3<f64>> {
+        let b = self.bead(h)?;
+        self.rod(b.rod)?.position(b.u)
     }
 
     /// Serialises the whole world (JSON, floats round-trip exactly).

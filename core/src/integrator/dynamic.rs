@@ -10,12 +10,14 @@ impl World {
     /// Advances the world by one time step `params.dt`.
     pub fn step(&mut self) -> Result<StepReport> {
         let h = self.params.dt;
+        self.beads_predict(h)?;
         let energy = self.assemble(Coefficients { mass: 1.0 / (h * h), drag: 1.0 / h, momentum: 1.0 / h })?;
         let residual = self.solve_system()?;
         self.apply_solution(1.0, Some(1.0 / h));
         self.time += h;
         self.steps += 1;
         let mut events = self.drop_departed_sliders();
+        events.extend(self.beads_advance(h)?);
         events.extend(self.break_constraints()?);
         Ok(StepReport {
             time: self.time,

@@ -1,5 +1,6 @@
 //! Time stepping (SPEC §3): linearised implicit Euler and the quasi-static
 //! Newton solve, both on the KKT system of [`crate::system`].
+mod beads;
 mod definedness;
 mod dynamic;
 mod statics;
@@ -103,6 +104,12 @@ impl World {
     /// Builds the layout, the external forces, and assembles the system.
     /// Returns the elastic energy.
     pub(crate) fn assemble(&mut self, k: Coefficients) -> Result<f64> {
+        self.assemble_with(k, false)
+    }
+
+    /// `bead_unknowns`: beads' abscissae are unknowns (statics), placed like
+    /// sliders next to the control points they touch.
+    pub(crate) fn assemble_with(&mut self, k: Coefficients, bead_unknowns: bool) -> Result<f64> {
         self.params.validate()?;
         let ws = &mut self.ws;
         ws.rod_ids.clear();
@@ -128,6 +135,19 @@ impl World {
             });
             crefs.push(ConstraintRef { rods: [a, b], kind: &c.kind, compliance: c.compliance, lambda: &c.multipliers });
         }
+        let mut static_beads = Vec::new();
+        if bead_unknowns {
+            for (_, b) in self.beads.iter() {
+                let r = pos(b.rod)?;
+                let ctrl = rods[r].basis_at(b.u)?.0;
+                let mut touched = [(0u8, 0usize); 8];
+                for (t, c) in touched.iter_mut().zip(ctrl) {
+                    *t = (0, c);
+                }
+                slots.push(ConstraintSlot { rods: [r, r], n_rows: 0, n_extra: 1, touched, len: 4 });
+                static_beads.push(crate::system::kkt::BeadRef { rod: r, u: b.u, load: b.rod_force, mass: b.mass });
+            }
+        }
         let segs: Vec<_> = rods.iter().map(|r| (r.n_ctrl(), r.dofs, r.cache.seg_ctrl.as_slice())).collect();
         let groups: Vec<Vec<usize>> = self
             .interleave
@@ -152,6 +172,18 @@ impl World {
                     }
                 }
             }
+        }
+        let mut masses = Vec::with_capacity(self.beads.len());
+        for (_, b) in self.beads.iter() {
+            let r = pos(b.rod)?;
+            let (ctrl, bs) = rods[r].basis_at(b.u)?;
+            let d = rods[r].dofs;
+            for k in 0..4 {
+                for a in 0..3 {
+                    ws.ext[r][ctrl[k] * d + a] += bs[0][k] * b.rod_force[a];
+                }
+            }
+            masses.push((r, b.u, b.mass));
         }
         for (_, l) in self.loads.iter() {
             let r = pos(l.rod())?;
@@ -184,7 +216,13 @@ impl World {
                 }
             }
         }
-        ws.sys.assemble(&ws.layout, &rods, &ws.ext, &crefs, k, self.params.parallel)
+        let energy = ws.sys.assemble(&ws.layout, &rods, &ws.ext, &crefs, &masses, k, self.params.parallel)?;
+        ws.sys.assemble_beads(&ws.layout, &rods, crefs.len(), &static_beads, k)?;
+        drop(rods);
+        for (_, b) in self.beads.iter_mut() {
+            b.u_assembled = b.u;
+        }
+        Ok(energy)
     }
 
     /// Solves the assembled system; errors name the offending unknown.

@@ -220,6 +220,18 @@ impl Rod {
         }
         Ok(out)
     }
+    /// Velocity of the centreline point at u (length/time).
+    pub fn eval_velocity(&self, u: f64) -> Result<Vector3<f64>> {
+        let (ctrl, b) = self.basis_at(u)?;
+        let mut v = Vector3::zeros();
+        for (k, &i) in ctrl.iter().enumerate() {
+            for a in 0..3 {
+                v[a] += b[0][k] * self.v[i * self.dofs + a];
+            }
+        }
+        Ok(v)
+    }
+
     /// Centreline point r(u) (length unit).
     pub fn position(&self, u: f64) -> Result<Vector3<f64>> {
         let p = self.eval(u, 0)?;

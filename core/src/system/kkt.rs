@@ -31,6 +31,14 @@ pub struct ConstraintRef<'a> {
     pub lambda: &'a [f64],
 }
 
+/// A bead whose abscissa is an unknown (statics): load F (force unit) and mass.
+pub struct BeadRef {
+    pub rod: usize,
+    pub u: f64,
+    pub load: [f64; 3],
+    pub mass: f64,
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct KktSystem {
     pub band: BandMatrix,
@@ -53,6 +61,7 @@ impl KktSystem {
         rods: &[&Rod],
         ext: &[Vec<f64>],
         cons: &[ConstraintRef],
+        point_masses: &[(usize, f64, f64)],
         k: Coefficients,
         parallel: bool,
     ) -> Result<f64> {
@@ -113,6 +122,20 @@ impl KktSystem {
                 }
             }
         }
+        // Point masses (beads) on x, y, z: c_m m b_i b_j and c_v m b_i v(u).
+        for &(r, u, m) in point_masses {
+            let (ctrl, b) = rods[r].basis_at(u)?;
+            let v = rods[r].eval_velocity(u)?;
+            for kk in 0..4 {
+                for a in 0..3 {
+                    let gi = layout.cp_index[r][ctrl[kk]] + a;
+                    self.rhs[gi] += k.momentum * m * b[0][kk] * v[a];
+                    for l in 0..4 {
+                        self.band.add(gi, layout.cp_index[r][ctrl[l]] + a, k.mass * m * b[0][kk] * b[0][l]);
+                    }
+                }
+            }
+        }
         for (c, cr) in cons.iter().enumerate() {
             let nr = cr.kind.n_rows();
             self.rows.resize(nr.max(self.rows.len()), Row::default());
@@ -144,6 +167,50 @@ impl KktSystem {
             }
         }
         Ok(energy)
+    }
+
+    /// Levenberg–Marquardt damping: A_ii += λ max(|A_ii|, floor) on every
+    /// unknown that is not a multiplier row (coordinates, slider and bead
+    /// abscissae). Scale-free, unlike a mass term, so a heavy bead on a light
+    /// string is damped as well as a uniform rod.
+    pub fn damp(&mut self, layout: &Layout, lambda: f64) {
+        let n = layout.n;
+        let mut is_row = vec![false; n];
+        for (c, &r0) in layout.row_index.iter().enumerate() {
+            for i in 0..layout.row_count[c] {
+                is_row[r0 + i] = true;
+            }
+        }
+        let dmax = (0..n).filter(|&i| !is_row[i]).map(|i| self.band.get(i, i).abs()).fold(0.0, f64::max);
+        for i in (0..n).filter(|&i| !is_row[i]) {
+            let a = self.band.get(i, i).abs().max(1e-9 * dmax);
+            self.band.add(i, i, lambda * a);
+        }
+    }
+
+    /// Bead abscissa unknowns (slots after the `n_cons` constraints):
+    /// Π_b(u) = −F·r(u) gives rhs F·r'(u), diagonal −F·r''(u) + c_m m |r'|²
+    /// (the bead's pseudo-inertia along the rod) and coupling −F_α b'_k(u).
+    pub fn assemble_beads(&mut self, layout: &Layout, rods: &[&Rod], n_cons: usize, beads: &[BeadRef], k: Coefficients) -> Result<()> {
+        for (j, b) in beads.iter().enumerate() {
+            let g = layout.extra_index[n_cons + j];
+            let rod = rods[b.rod];
+            let (ctrl, bs) = rod.basis_at(b.u)?;
+            let (d1, d2) = (rod.eval(b.u, 1)?, rod.eval(b.u, 2)?);
+            let f = b.load;
+            let dot = |v: [f64; 4]| f[0] * v[0] + f[1] * v[1] + f[2] * v[2];
+            let speed2 = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2];
+            self.band.add(g, g, -dot(d2) + k.mass * b.mass * speed2);
+            self.rhs[g] = dot(d1);
+            for kk in 0..4 {
+                for a in 0..3 {
+                    let gj = layout.cp_index[b.rod][ctrl[kk]] + a;
+                    self.band.add(gj, g, -f[a] * bs[1][kk]);
+                    self.band.add(g, gj, -f[a] * bs[1][kk]);
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Symmetric scaling D A D: unit diagonal on coordinates, rows of unit
