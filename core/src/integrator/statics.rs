@@ -64,19 +64,18 @@ impl World {
                 continue;
             }
             let trial = self.potential() + self.beads_potential_correction()?;
+            let vtrial = self.constraint_violation()?;
             if std::env::var_os("STRANDKIT_DEBUG").is_some() {
-                eprintln!("relax it {} λ {lambda:.3e} newton {newton} dx {dx:.3e} dth {dth:.3e} viol {violation:.3e} pot {potential:.9e} -> {trial:.9e}", report.iterations);
+                eprintln!("relax it {} λ {lambda:.3e} newton {newton} dx {dx:.3e} dth {dth:.3e} viol {violation:.3e} vtrial {vtrial:.3e} pot {potential:.9e} -> {trial:.9e}", report.iterations);
             }
             // Energy comparisons are meaningless at round-off level: a step
             // below the tolerance is accepted as is.
             // Otherwise a step must halve the constraint violation, or lower
             // the potential without increasing the violation.
             let tiny = dx <= tol * length && dth <= tol && dbead <= tol * 1e3;
-            let vtrial = self.constraint_violation()?;
-            let floor = tol * length;
             let accept = trial.is_finite()
                 && (tiny
-                    || (violation > floor && vtrial <= 0.5 * violation)
+                    || (violation > 0.0 && vtrial <= 0.5 * violation)
                     || (trial <= potential + 1e-11 * potential.abs() && vtrial <= violation.max(tol.sqrt() * length)));
             if !accept {
                 for ((_, r), q) in self.rods.iter_mut().zip(saved) {

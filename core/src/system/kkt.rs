@@ -169,16 +169,20 @@ impl KktSystem {
         Ok(energy)
     }
 
-    /// Levenberg–Marquardt damping: A_ii += λ max(|A_ii|, floor) on every
-    /// unknown that is not a multiplier row (coordinates, slider and bead
-    /// abscissae). Scale-free, unlike a mass term, so a heavy bead on a light
-    /// string is damped as well as a uniform rod.
+    /// Levenberg–Marquardt damping: A_ii += λ max(|A_ii|, floor) on the
+    /// coordinates and bead abscissae. Scale-free, unlike a mass term, so a
+    /// heavy bead on a light string is damped as well as a uniform rod. Not
+    /// on multiplier rows, nor on slider abscissae: their rows fix them, and
+    /// damping them makes the rod move against its tension instead.
     pub fn damp(&mut self, layout: &Layout, lambda: f64) {
         let n = layout.n;
         let mut is_row = vec![false; n];
         for (c, &r0) in layout.row_index.iter().enumerate() {
-            for i in 0..layout.row_count[c] {
-                is_row[r0 + i] = true;
+            if layout.row_count[c] == 0 {
+                continue; // a bead: its abscissa is damped
+            }
+            for i in layout.extra_index[c]..r0 + layout.row_count[c] {
+                is_row[i] = true;
             }
         }
         let dmax = (0..n).filter(|&i| !is_row[i]).map(|i| self.band.get(i, i).abs()).fold(0.0, f64::max);
