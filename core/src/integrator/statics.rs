@@ -75,7 +75,7 @@ impl World {
             let tiny = dx <= tol * length && dth <= tol && dbead <= tol * 1e3;
             let accept = trial.is_finite()
                 && (tiny
-                    || (violation > 0.0 && vtrial <= 0.5 * violation)
+                    || (violation > 1e-5 * tol * length && vtrial <= 0.5 * violation)
                     || (trial <= potential + 1e-11 * potential.abs() && vtrial <= violation.max(tol.sqrt() * length)));
             if !accept {
                 for ((_, r), q) in self.rods.iter_mut().zip(saved) {
