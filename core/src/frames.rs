@@ -51,7 +51,7 @@ pub fn rotation_minimising(rod: &Rod, us: &[f64], reference: Option<[f64; 3]>) -
     if us.is_empty() {
         return Ok(Vec::new());
     }
-    if let Some(i) = us.windows(2).position(|w| !(w[1] >= w[0])) {
+    if let Some(i) = us.windows(2).position(|w| w[1].partial_cmp(&w[0]).is_none_or(|o| o.is_lt())) {
         return Err(Error::InvalidInput(format!(
             "frame parameters must be increasing, got u = {} then {}",
             us[i],

@@ -191,7 +191,7 @@ impl World {
             n += self.rod(*r)?.coords().len();
         }
         let at = |h: RodHandle| offset[rods.iter().position(|r| *r == h).unwrap_or(0)]; // every rod is in `rods`
-        let mut buf = [crate::constraint::Row::default(); 4];
+        let mut buf = [crate::constraint::Row::default(); crate::constraint::MAX_ROWS];
         let mut dense = |c: &Constraint| -> Result<Vec<Vec<f64>>> {
             let nr = c.kind.n_rows();
             c.kind.linearize(&self.rods_of(c)?, &mut buf[..nr])?;
@@ -264,7 +264,9 @@ impl World {
         let c = self.constraints.get_mut(h.into()).ok_or_else(|| bad_con(h))?;
         if let Some(b) = breaking {
             crate::error::positive("break force", b.force)?;
-            if b.tension_only && !matches!(c.kind, ConstraintKind::Distance { .. } | ConstraintKind::RelativeDistance { .. }) {
+            if b.tension_only
+                && !matches!(c.kind, ConstraintKind::Distance { .. } | ConstraintKind::RelativeDistance { .. } | ConstraintKind::Contact { .. })
+            {
                 return Err(Error::InvalidInput("tension-only breaking applies to distance links; use tension_only = false".into()));
             }
         }
@@ -405,7 +407,10 @@ fn duplicates(a: &ConstraintKind, b: &ConstraintKind) -> bool {
         | (Curvature { .. }, Curvature { .. })
         | (Axis { .. }, Axis { .. })
         | (RelativeOrientation { .. }, RelativeOrientation { .. })
-        | (RelativeDistance { .. }, RelativeDistance { .. }) => true,
+        | (RelativeDistance { .. }, RelativeDistance { .. })
+        | (Contact { .. }, Contact { .. })
+        | (OrientedSlidingPoint { .. }, OrientedSlidingPoint { .. })
+        | (SlidingPoint { .. }, SlidingPoint { .. }) => true,
         (RelativePosition { axes: x, .. }, RelativePosition { axes: y, .. }) => x.iter().zip(y).any(|(p, q)| *p && *q),
         _ => false,
     }

@@ -57,6 +57,15 @@ pub enum ConstraintKind {
     /// force on the rod (⟂ tangent when frictionless). A slider that leaves
     /// the rod is removed with an event.
     SlidingPoint { u: f64, point: [f64; 3], friction: f64 },
+    /// Sliding point whose tangent is also held parallel to `direction`
+    /// at the same moving abscissa (III.43–III.49): a rod through a tube or
+    /// a clip. Multipliers: force (3), moment (2).
+    OrientedSlidingPoint { u: f64, point: [f64; 3], direction: [f64; 3], friction: f64 },
+    /// Contact between two rods: |r_a(ua) − r_b(ub)| = distance with both
+    /// abscissae moved to the closest points before every solve, so the
+    /// force is normal to both rods and yarns slide freely (III.42 remark).
+    /// Multiplier: force on rod a along (r_a − r_b), negative in tension.
+    Contact { ua: f64, ub: f64, distance: f64 },
 }
 
 /// Extra blocks of a constraint that owns abscissa unknowns (sliders):
@@ -72,6 +81,9 @@ pub struct SlidingBlocks {
 /// Most coordinates one row can touch (two rods × 4 control points × 4,
 /// with room for sliding abscissae).
 pub const MAX_ENTRIES: usize = 40;
+
+/// Most rows one constraint has (oriented slider: 5).
+pub const MAX_ROWS: usize = 6;
 
 /// One linearised constraint row; entries are (which of the constraint's
 /// rods: 0 or 1, rod-local coordinate, value).
@@ -142,7 +154,8 @@ impl ConstraintKind {
             | ConstraintKind::Plane { u, .. }
             | ConstraintKind::Axis { u, .. }
             | ConstraintKind::Curvature { u, .. }
-            | ConstraintKind::SlidingPoint { u, .. } => *u,
+            | ConstraintKind::SlidingPoint { u, .. }
+            | ConstraintKind::OrientedSlidingPoint { u, .. } => *u,
             _ => unreachable!("relative kinds handled above"), // abscissae() covers them
         }
     }
@@ -158,12 +171,14 @@ impl ConstraintKind {
             ConstraintKind::RelativeOrientation { roll, .. } => 2 + usize::from(*roll),
             ConstraintKind::RelativeDistance { .. } => 1,
             ConstraintKind::SlidingPoint { .. } => 3,
+            ConstraintKind::OrientedSlidingPoint { .. } => 5,
+            ConstraintKind::Contact { .. } => 1,
         }
     }
 
     /// Abscissa unknowns the constraint adds to the system (sliders).
     pub fn n_extra(&self) -> usize {
-        usize::from(matches!(self, ConstraintKind::SlidingPoint { .. }))
+        usize::from(matches!(self, ConstraintKind::SlidingPoint { .. } | ConstraintKind::OrientedSlidingPoint { .. }))
     }
 
     /// A_uu, rhs and A_(q,u) of the abscissa unknowns, given the previous
@@ -174,17 +189,28 @@ impl ConstraintKind {
         out.rhs = [0.0; 2];
         out.coupling.len = 0;
         match self {
-            ConstraintKind::SlidingPoint { u, friction, .. } => {
-                sliding::blocks(rods[0], *u, *friction, lambda, friction_coeff, out)
+            ConstraintKind::SlidingPoint { u, friction, .. } | ConstraintKind::OrientedSlidingPoint { u, friction, .. } => {
+                sliding::blocks(rods[0], *u, *friction, &lambda[..3], friction_coeff, out)
             }
             _ => Ok(()),
         }
     }
 
+    /// Moves a contact's abscissae to the closest points of its two rods
+    /// (called before every linearisation).
+    pub fn project(&mut self, rods: &[&Rod]) -> Result<()> {
+        if let ConstraintKind::Contact { ua, ub, .. } = self {
+            let (a, b) = sliding::closest_points(rods[0], rods[1], *ua, *ub)?;
+            *ua = a;
+            *ub = b;
+        }
+        Ok(())
+    }
+
     /// Moves the abscissae by the solved increments; returns false when a
     /// slider left its rod's domain.
     pub fn advance(&mut self, rods: &[&Rod], du: &[f64]) -> bool {
-        if let ConstraintKind::SlidingPoint { u, .. } = self {
+        if let ConstraintKind::SlidingPoint { u, .. } | ConstraintKind::OrientedSlidingPoint { u, .. } = self {
             *u += du[0];
             let (a, b) = rods[0].domain();
             return *u >= a && *u <= b;
@@ -252,6 +278,11 @@ impl ConstraintKind {
                 finite3(point, "sliding point")?;
                 crate::error::non_negative("sliding friction", *friction)?;
             }
+            ConstraintKind::OrientedSlidingPoint { point, direction, friction, .. } => {
+                finite3(point, "sliding point")?;
+                unit(direction, "oriented slider direction")?;
+                crate::error::non_negative("sliding friction", *friction)?;
+            }
             _ => {}
         }
         Ok(())
@@ -287,6 +318,9 @@ impl ConstraintKind {
             ConstraintKind::Axis { u, origin, direction } => geometric::axis(rod, *u, origin, direction, rows),
             ConstraintKind::Curvature { u, target } => geometric::curvature(rod, *u, target, rows),
             ConstraintKind::SlidingPoint { u, point, .. } => sliding::linearize(rod, *u, point, rows),
+            ConstraintKind::OrientedSlidingPoint { u, point, direction, .. } => {
+                sliding::linearize_oriented(rod, *u, point, direction, rows)
+            }
             _ => unreachable!("relative kinds handled above"), // is_relative covers every other variant
         }
     }
@@ -311,6 +345,10 @@ impl ConstraintKind {
             ConstraintKind::Axis { direction, .. } => geometric::axis_reaction(direction, lambda),
             ConstraintKind::Curvature { .. } | ConstraintKind::SlidingPoint { .. } => {
                 Ok(Reaction { force: [lambda[0], lambda[1], lambda[2]], torque: [0.0; 3] })
+            }
+            ConstraintKind::OrientedSlidingPoint { u, direction, .. } => {
+                let m = tangent::reaction(rod, *u, direction, &lambda[3..5])?;
+                Ok(Reaction { force: [lambda[0], lambda[1], lambda[2]], torque: m.torque })
             }
             _ => unreachable!("relative kinds handled above"), // is_relative covers every other variant
         }

@@ -16,7 +16,8 @@ pub fn abscissae(k: &ConstraintKind) -> Option<(f64, f64)> {
     match k {
         ConstraintKind::RelativePosition { ua, ub, .. }
         | ConstraintKind::RelativeOrientation { ua, ub, .. }
-        | ConstraintKind::RelativeDistance { ua, ub, .. } => Some((*ua, *ub)),
+        | ConstraintKind::RelativeDistance { ua, ub, .. }
+        | ConstraintKind::Contact { ua, ub, .. } => Some((*ua, *ub)),
         _ => None,
     }
 }
@@ -41,7 +42,7 @@ pub fn validate(k: &ConstraintKind, rods: &[&Rod]) -> Result<()> {
                 return Err(Error::InvalidInput("relative roll on a rod without roll coordinate".into()));
             }
         }
-        ConstraintKind::RelativeDistance { distance, .. } => {
+        ConstraintKind::RelativeDistance { distance, .. } | ConstraintKind::Contact { distance, .. } => {
             crate::error::positive("relative distance (use RelativePosition for zero)", *distance)?;
         }
         _ => {}
@@ -106,7 +107,7 @@ pub fn linearize(k: &ConstraintKind, rods: &[&Rod], rows: &mut [Row]) -> Result<
             }
             Ok(())
         }
-        ConstraintKind::RelativeDistance { ua, ub, distance } => {
+        ConstraintKind::RelativeDistance { ua, ub, distance } | ConstraintKind::Contact { ua, ub, distance } => {
             let v = rods[0].position(*ua)? - rods[1].position(*ub)?;
             let len = v.norm();
             if len < 1e-12 * rods[0].rest_length() {
@@ -153,7 +154,7 @@ pub fn linearize(k: &ConstraintKind, rods: &[&Rod], rows: &mut [Row]) -> Result<
 pub fn reaction(k: &ConstraintKind, rods: &[&Rod], lambda: &[f64]) -> Result<Reaction> {
     match k {
         ConstraintKind::RelativePosition { axes, .. } => Ok(super::position::reaction(axes, lambda)),
-        ConstraintKind::RelativeDistance { ua, ub, .. } => {
+        ConstraintKind::RelativeDistance { ua, ub, .. } | ConstraintKind::Contact { ua, ub, .. } => {
             let v = rods[0].position(*ua)? - rods[1].position(*ub)?;
             Ok(Reaction { force: (v.normalize() * lambda[0]).into(), torque: [0.0; 3] })
         }

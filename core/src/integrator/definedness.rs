@@ -75,7 +75,7 @@ impl World {
         let k = modes.len();
         let mut lq: Vec<Vec<f64>> = Vec::new();
         let mut lraw: Vec<Vec<f64>> = Vec::new();
-        let mut buf = [Row::default(); 4];
+        let mut buf = [Row::default(); crate::constraint::MAX_ROWS];
         for (_, c) in self.constraints.iter() {
             let nr = c.kind.n_rows();
             c.kind.linearize(&self.rods_of(c)?, &mut buf[..nr])?;

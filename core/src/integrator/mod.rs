@@ -111,6 +111,13 @@ impl World {
     /// sliders next to the control points they touch.
     pub(crate) fn assemble_with(&mut self, k: Coefficients, bead_unknowns: bool) -> Result<f64> {
         self.params.validate()?;
+        // Contacts follow the closest points of their rods.
+        let rods_arena = &self.rods;
+        for (_, c) in self.constraints.iter_mut() {
+            if let (Some(a), Some(b)) = (rods_arena.get(c.rod.into()), rods_arena.get(c.other.unwrap_or(c.rod).into())) {
+                c.kind.project(&[a, b])?;
+            }
+        }
         let ws = &mut self.ws;
         ws.rod_ids.clear();
         ws.rod_ids.extend(self.rods.iter().map(|(i, _)| i));
@@ -304,11 +311,14 @@ impl World {
 
     /// Largest constraint violation |target − g(q)| at the current coordinates.
     pub(crate) fn constraint_violation(&self) -> Result<f64> {
-        let mut rows = [crate::constraint::Row::default(); 4];
+        let mut rows = [crate::constraint::Row::default(); crate::constraint::MAX_ROWS];
         let mut v = 0.0f64;
         for (_, c) in self.constraints.iter() {
             let nr = c.kind.n_rows();
-            c.kind.linearize(&self.rods_of(c)?, &mut rows[..nr])?;
+            let pair = self.rods_of(c)?;
+            let mut kind = c.kind.clone();
+            kind.project(&pair)?; // contacts: at the current closest points
+            kind.linearize(&pair, &mut rows[..nr])?;
             v = rows[..nr]
                 .iter()
                 .zip(&c.multipliers)

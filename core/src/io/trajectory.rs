@@ -142,10 +142,10 @@ pub fn pdb_string(topo: &Topology, frames: &[Vec<[f64; 3]>], scale: f64) -> Resu
             let resid = (i - first + 1) % 10_000;
             let _ = writeln!(
                 s,
-                "HETATM{:>5} {:<4}{}{:>3} {}{:>4}    {:>8.3}{:>8.3}{:>8.3}{:>6.2}{:>6.2}          {:>2}  ",
+                // altLoc (column 17) blank.
+                "HETATM{:>5} {:<4} {:>3} {}{:>4}    {:>8.3}{:>8.3}{:>8.3}{:>6.2}{:>6.2}          {:>2}  ",
                 i + 1,
                 format!(" {BEAD_ELEMENT}"),
-                ' ',
                 RESIDUE_NAME,
                 chain_id(c),
                 resid,
