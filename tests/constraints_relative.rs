@@ -169,3 +169,81 @@ fn interleaved_ladder_matches_sequential_with_narrower_band() {
     assert!((seq.1 - int.1).norm() < 1e-9, "same solution");
     assert!(seq.2.iter().zip(&int.2).all(|(x, y)| (x - y).abs() < 1e-8));
 }
+
+/// Coplanar relative clamp (III.61–III.65). Note: with α fixed, a rigid
+/// rotation of rod b about P = r_b + α1 r_b' (where the two tangent lines
+/// meet) leaves g = 0 exactly, so the thesis' "clamp" is a hinge at P (it
+/// welds only together with a relative-angle constraint). Shown here: two
+/// perpendicular rods linked at a distance, b tied at its far end; under a
+/// load the tangent lines of a and b keep meeting at a common point that
+/// moves with a's bending, and the forces balance.
+#[test]
+fn coplanar_clamp_is_a_hinge_at_the_tangent_intersection() {
+    let mut w = World::new(IntegrationParameters::default());
+    let a = w.add_rod(steel_rod(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0), 11, false));
+    let b = w.add_rod(steel_rod(Vector3::new(1.1, 0.1, 0.0), Vector3::new(1.1, 1.1, 0.0), 11, false));
+    let (a0, a1) = w.rod(a).unwrap().domain();
+    let (b0, b1) = w.rod(b).unwrap().domain();
+    w.add_constraint(a, ConstraintKind::Position { u: a0, axes: [true, true, true, false], target: [0.0; 4] }, 0.0).unwrap();
+    w.add_constraint(a, ConstraintKind::Tangent { u: a0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    let link = w.add_coplanar_clamp(a, a1, b, b0, 0.0).unwrap();
+    let (alpha0, alpha1) = match w.constraint(link).unwrap().kind {
+        ConstraintKind::CoplanarClamp { alpha, .. } => (alpha[0], alpha[1]),
+        _ => unreachable!(),
+    };
+    // Tie b's far end to a fixed point and keep b in the plane.
+    let tie = w.add_constraint(b, ConstraintKind::Distance { u: b1, point: [2.1, 1.1, 0.0], distance: 1.0 }, 0.0).unwrap();
+    w.add_constraint(b, ConstraintKind::Plane { u: b1, origin: [0.0; 3], normal: [0.0, 0.0, 1.0] }, 0.0).unwrap();
+    let f = [0.0, -3e3, 0.0];
+    let load_u = 0.5 * (b0 + b1);
+    w.add_load(Load::PointForce { rod: b, u: load_u, force: f }).unwrap();
+    w.relax().unwrap();
+    let v3 = |d: [f64; 4]| Vector3::new(d[0], d[1], d[2]);
+    let (ra, rb) = (w.rod(a).unwrap(), w.rod(b).unwrap());
+    let pa = v3(ra.eval(a1, 0).unwrap()) - v3(ra.eval(a1, 1).unwrap()) * alpha0;
+    let pb = v3(rb.eval(b0, 0).unwrap()) + v3(rb.eval(b0, 1).unwrap()) * alpha1;
+    let moved = (pa - Vector3::new(1.1, 0.0, 0.0)).norm();
+    let fl = Vector3::from(w.reaction(link).unwrap().force);
+    let ft = Vector3::from(w.reaction(tie).unwrap().force);
+    println!("tangent-line intersections {pa:?} {pb:?} (moved {moved:.3e} m), link force {fl:?}, tie {ft:?}");
+    assert!((pa - pb).norm() < 1e-9, "the tangent lines meet");
+    assert!(moved > 1e-6, "the hinge point moved with a");
+    // Rod b: load + tie + (−link force on a) balance.
+    assert!((Vector3::from(f) + ft - fl).norm() < 1e-6 * 3e3, "forces on b balance");
+    // Parallel tangents, or a link out of the tangents' plane, are rejected.
+    let mut w2 = World::new(IntegrationParameters::default());
+    let a = w2.add_rod(steel_rod(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0), 6, false));
+    let c = w2.add_rod(steel_rod(Vector3::new(0.0, 1.0, 0.0), Vector3::new(1.0, 1.0, 0.0), 6, false));
+    let d = w2.add_rod(steel_rod(Vector3::new(1.1, 0.1, 0.5), Vector3::new(1.1, 1.1, 0.5), 6, false));
+    let (a1, c0, d0) = (w2.rod(a).unwrap().domain().1, w2.rod(c).unwrap().domain().0, w2.rod(d).unwrap().domain().0);
+    assert!(matches!(w2.add_coplanar_clamp(a, a1, c, c0, 0.0), Err(Error::InvalidInput(m)) if m.contains("parallel")));
+    assert!(matches!(w2.add_coplanar_clamp(a, a1, d, d0, 0.0), Err(Error::InvalidInput(m)) if m.contains("plane")));
+}
+
+/// Barycentric constraint (III.70–III.74): the middle of a loaded
+/// cantilever held on the chord of its ends. The constraint holds exactly
+/// and, its weights summing to 1, exerts no net force: the clamp still
+/// carries exactly the load.
+#[test]
+fn barycentric_constraint_holds_and_is_self_equilibrated() {
+    let mut c = cantilever(16, 5, [0.0, -5e4, 0.0]);
+    let (u0, u1) = c.world.rod(c.rod).unwrap().domain();
+    let um = 0.5 * (u0 + u1);
+    let bary = c
+        .world
+        .add_constraint(
+            c.rod,
+            ConstraintKind::Barycentric { points: vec![(u0, 0.5), (u1, 0.5)], driven: um, axes: [false, true, false, false] },
+            0.0,
+        )
+        .unwrap();
+    c.world.relax().unwrap();
+    let rod = c.world.rod(c.rod).unwrap();
+    let (p0, pm, p1) = (rod.position(u0).unwrap(), rod.position(um).unwrap(), rod.position(u1).unwrap());
+    let fb = c.world.reaction(bary).unwrap().force[1];
+    let fc = c.world.reaction(c.clamp).unwrap().force[1];
+    println!("mid y {:.6}, chord {:.6}, barycentric force {fb:.1} N, clamp {fc:.1} N", pm.y, 0.5 * (p0.y + p1.y));
+    assert!((pm.y - 0.5 * (p0.y + p1.y)).abs() < 1e-9);
+    assert!(fb.abs() > 1e3, "the constraint works");
+    assert!((fc - 5e4).abs() < 1e-6 * 5e4, "no net force from a barycentric constraint: clamp {fc}");
+}

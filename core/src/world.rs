@@ -120,6 +120,27 @@ impl World {
         self.insert_constraint(a, Some(b), kind, compliance)
     }
 
+    /// Coplanar relative clamp between rod a at ua and rod b at ub (III.61):
+    /// α0, α1 are solved from the current geometry, r_a − r_b = α0 r_a' +
+    /// α1 r_b'. Errors when the tangents are parallel or the link is not in
+    /// their plane (the thesis' restriction).
+    pub fn add_coplanar_clamp(&mut self, a: RodHandle, ua: f64, b: RodHandle, ub: f64, compliance: f64) -> Result<ConstraintHandle> {
+        let v3 = |d: [f64; 4]| nalgebra::Vector3::new(d[0], d[1], d[2]);
+        let (ra, rb) = (self.rod(a)?, self.rod(b)?);
+        let d = v3(ra.eval(ua, 0)?) - v3(rb.eval(ub, 0)?);
+        let (ta, tb) = (v3(ra.eval(ua, 1)?), v3(rb.eval(ub, 1)?));
+        let m = nalgebra::Matrix3x2::from_columns(&[ta, tb]);
+        let mtm = m.transpose() * m;
+        let inv = mtm.try_inverse().filter(|_| ta.cross(&tb).norm() > 1e-9 * ta.norm() * tb.norm()).ok_or_else(|| {
+            Error::InvalidInput("coplanar clamp: the two tangents are parallel (use RelativePosition + RelativeOrientation)".into())
+        })?;
+        let alpha = inv * (m.transpose() * d);
+        if (m * alpha - d).norm() > 1e-9 * d.norm().max(1e-300) {
+            return Err(Error::InvalidInput("coplanar clamp: the link is not in the plane of the two tangents".into()));
+        }
+        self.add_link(a, b, ConstraintKind::CoplanarClamp { ua, ub, alpha: [alpha[0], alpha[1]] }, compliance)
+    }
+
     /// Interleaves the control points of these rods in the band (thesis
     /// IV.A: linked rods, e.g. the two strands of a helix, alternate), so a
     /// dense set of links between them keeps a narrow band.
@@ -410,7 +431,8 @@ fn duplicates(a: &ConstraintKind, b: &ConstraintKind) -> bool {
         | (RelativeDistance { .. }, RelativeDistance { .. })
         | (Contact { .. }, Contact { .. })
         | (OrientedSlidingPoint { .. }, OrientedSlidingPoint { .. })
-        | (SlidingPoint { .. }, SlidingPoint { .. }) => true,
+        | (SlidingPoint { .. }, SlidingPoint { .. })
+        | (CoplanarClamp { .. }, CoplanarClamp { .. }) => true,
         (RelativePosition { axes: x, .. }, RelativePosition { axes: y, .. }) => x.iter().zip(y).any(|(p, q)| *p && *q),
         _ => false,
     }

@@ -66,6 +66,17 @@ pub enum ConstraintKind {
     /// force is normal to both rods and yarns slide freely (III.42 remark).
     /// Multiplier: force on rod a along (r_a − r_b), negative in tension.
     Contact { ua: f64, ub: f64, distance: f64 },
+    /// Coplanar relative clamp (III.61–III.65): r_a(ua) − r_b(ub) =
+    /// α0 r_a'(ua) + α1 r_b'(ub), with α fixed from the geometry when it is
+    /// made (`World::add_coplanar_clamp`; the link must lie in the plane of
+    /// the two tangents). Unlike the thesis' name suggests it is a hinge, not
+    /// a weld: it keeps the two tangent lines meeting at a common point P,
+    /// and rod b may rotate about P (g stays exactly 0). Multiplier: force on rod a.
+    CoplanarClamp { ua: f64, ub: f64, alpha: [f64; 2] },
+    /// Barycentric (III.70–III.74): Σ a_j q(u_j) = q(driven) on the selected
+    /// axes of one rod (up to 4 points; weights summing to 1 make it
+    /// translation invariant). Multiplier: force (torque) at the driven point.
+    Barycentric { points: Vec<(f64, f64)>, driven: f64, axes: [bool; 4] },
 }
 
 /// Extra blocks of a constraint that owns abscissa unknowns (sliders):
@@ -116,9 +127,12 @@ impl Row {
 /// Control points a constraint touches: (which rod, control point).
 #[derive(Clone, Copy, Debug)]
 pub struct Touched {
-    pub items: [(u8, usize); 8],
+    pub items: [(u8, usize); MAX_TOUCHED],
     pub len: usize,
 }
+
+/// Most control points one constraint touches (barycentric: 5 points × 4).
+pub const MAX_TOUCHED: usize = 20;
 
 impl Touched {
     fn of(which: u8, ctrl: [usize; 4], into: &mut Touched) {
@@ -156,6 +170,7 @@ impl ConstraintKind {
             | ConstraintKind::Curvature { u, .. }
             | ConstraintKind::SlidingPoint { u, .. }
             | ConstraintKind::OrientedSlidingPoint { u, .. } => *u,
+            ConstraintKind::Barycentric { driven, .. } => *driven,
             _ => unreachable!("relative kinds handled above"), // abscissae() covers them
         }
     }
@@ -173,6 +188,8 @@ impl ConstraintKind {
             ConstraintKind::SlidingPoint { .. } => 3,
             ConstraintKind::OrientedSlidingPoint { .. } => 5,
             ConstraintKind::Contact { .. } => 1,
+            ConstraintKind::CoplanarClamp { .. } => 3,
+            ConstraintKind::Barycentric { axes, .. } => axes.iter().filter(|a| **a).count(),
         }
     }
 
@@ -278,6 +295,19 @@ impl ConstraintKind {
                 finite3(point, "sliding point")?;
                 crate::error::non_negative("sliding friction", *friction)?;
             }
+            ConstraintKind::Barycentric { points, driven, axes } => {
+                if points.is_empty() || points.len() > 4 {
+                    return Err(Error::InvalidInput(format!("barycentric constraint needs 1 to 4 points, got {}", points.len())));
+                }
+                for (u, a) in points {
+                    rod.knots().locate(crate::error::finite("barycentric abscissa", *u)?)?;
+                    crate::error::finite("barycentric weight", *a)?;
+                }
+                rod.knots().locate(*driven)?;
+                if !axes.iter().any(|a| *a) || (axes[3] && rod.dofs() == 3) {
+                    return Err(Error::InvalidInput("barycentric constraint: select axes the rod has".into()));
+                }
+            }
             ConstraintKind::OrientedSlidingPoint { point, direction, friction, .. } => {
                 finite3(point, "sliding point")?;
                 unit(direction, "oriented slider direction")?;
@@ -290,7 +320,13 @@ impl ConstraintKind {
 
     /// Control points the rows touch (for ordering, IV.3–IV.4).
     pub fn touched(&self, rods: &[&Rod]) -> Result<Touched> {
-        let mut t = Touched { items: [(0, 0); 8], len: 0 };
+        let mut t = Touched { items: [(0, 0); MAX_TOUCHED], len: 0 };
+        if let ConstraintKind::Barycentric { points, driven, .. } = self {
+            for &(u, _) in points.iter().chain(std::iter::once(&(*driven, 0.0))) {
+                Touched::of(0, rods[0].basis_at(u)?.0, &mut t);
+            }
+            return Ok(t);
+        }
         if let Some((ua, ub)) = relative::abscissae(self) {
             Touched::of(0, rods[0].basis_at(ua)?.0, &mut t);
             Touched::of(1, rods[1].basis_at(ub)?.0, &mut t);
@@ -321,6 +357,25 @@ impl ConstraintKind {
             ConstraintKind::OrientedSlidingPoint { u, point, direction, .. } => {
                 sliding::linearize_oriented(rod, *u, point, direction, rows)
             }
+            ConstraintKind::Barycentric { points, driven, axes } => {
+                let mut r = 0;
+                for a in 0..4 {
+                    if !axes[a] {
+                        continue;
+                    }
+                    let mut value = 0.0;
+                    for &(u, w) in points.iter().chain(std::iter::once(&(*driven, -1.0))) {
+                        let (ctrl, b) = rod.basis_at(u)?;
+                        for k in 0..4 {
+                            rows[r].push(ctrl[k] * rod.dofs() + a, w * b[0][k]);
+                        }
+                        value += w * rod.eval(u, 0)?[a];
+                    }
+                    rows[r].rhs = -value;
+                    r += 1;
+                }
+                Ok(())
+            }
             _ => unreachable!("relative kinds handled above"), // is_relative covers every other variant
         }
     }
@@ -345,6 +400,11 @@ impl ConstraintKind {
             ConstraintKind::Axis { direction, .. } => geometric::axis_reaction(direction, lambda),
             ConstraintKind::Curvature { .. } | ConstraintKind::SlidingPoint { .. } => {
                 Ok(Reaction { force: [lambda[0], lambda[1], lambda[2]], torque: [0.0; 3] })
+            }
+            ConstraintKind::Barycentric { axes, .. } => {
+                // Λ multiplies −q(driven): the force at the driven point is −Λ.
+                let r = position::reaction(axes, lambda);
+                Ok(Reaction { force: r.force.map(|f| -f), torque: r.torque.map(|t| -t) })
             }
             ConstraintKind::OrientedSlidingPoint { u, direction, .. } => {
                 let m = tangent::reaction(rod, *u, direction, &lambda[3..5])?;

@@ -17,7 +17,8 @@ pub fn abscissae(k: &ConstraintKind) -> Option<(f64, f64)> {
         ConstraintKind::RelativePosition { ua, ub, .. }
         | ConstraintKind::RelativeOrientation { ua, ub, .. }
         | ConstraintKind::RelativeDistance { ua, ub, .. }
-        | ConstraintKind::Contact { ua, ub, .. } => Some((*ua, *ub)),
+        | ConstraintKind::Contact { ua, ub, .. }
+        | ConstraintKind::CoplanarClamp { ua, ub, .. } => Some((*ua, *ub)),
         _ => None,
     }
 }
@@ -41,6 +42,10 @@ pub fn validate(k: &ConstraintKind, rods: &[&Rod]) -> Result<()> {
             if *roll && (rods[0].dofs() == 3 || rods[1].dofs() == 3) {
                 return Err(Error::InvalidInput("relative roll on a rod without roll coordinate".into()));
             }
+        }
+        ConstraintKind::CoplanarClamp { alpha, .. } => {
+            crate::error::finite("coplanar clamp alpha", alpha[0])?;
+            crate::error::finite("coplanar clamp alpha", alpha[1])?;
         }
         ConstraintKind::RelativeDistance { distance, .. } | ConstraintKind::Contact { distance, .. } => {
             crate::error::positive("relative distance (use RelativePosition for zero)", *distance)?;
@@ -115,6 +120,21 @@ pub fn linearize(k: &ConstraintKind, rods: &[&Rod], rows: &mut [Row]) -> Result<
             }
             point_rows(rods, *ua, *ub, &[v / len], &[distance - len], rows)
         }
+        ConstraintKind::CoplanarClamp { ua, ub, alpha } => {
+            // g = r_a(ua) − r_b(ub) − α0 r_a'(ua) − α1 r_b'(ub), linear in q (III.62–III.65).
+            let (ca, ba) = rods[0].basis_at(*ua)?;
+            let (cb, bb) = rods[1].basis_at(*ub)?;
+            let (pa, pb) = (rods[0].eval(*ua, 0)?, rods[1].eval(*ub, 0)?);
+            let (ta, tb) = (rods[0].eval(*ua, 1)?, rods[1].eval(*ub, 1)?);
+            for (a, row) in rows.iter_mut().enumerate().take(3) {
+                for j in 0..4 {
+                    row.push_on(0, ca[j] * rods[0].dofs() + a, ba[0][j] - alpha[0] * ba[1][j]);
+                    row.push_on(1, cb[j] * rods[1].dofs() + a, -bb[0][j] - alpha[1] * bb[1][j]);
+                }
+                row.rhs = -(pa[a] - pb[a] - alpha[0] * ta[a] - alpha[1] * tb[a]);
+            }
+            Ok(())
+        }
         ConstraintKind::RelativeOrientation { ua, ub, roll } => {
             // g_i = e_i · (t_a × t_b), e_i ⟂ (t_a + t_b): ≈ the relative
             // rotation angle about e_i, so Λ is a moment.
@@ -154,6 +174,7 @@ pub fn linearize(k: &ConstraintKind, rods: &[&Rod], rows: &mut [Row]) -> Result<
 pub fn reaction(k: &ConstraintKind, rods: &[&Rod], lambda: &[f64]) -> Result<Reaction> {
     match k {
         ConstraintKind::RelativePosition { axes, .. } => Ok(super::position::reaction(axes, lambda)),
+        ConstraintKind::CoplanarClamp { .. } => Ok(Reaction { force: [lambda[0], lambda[1], lambda[2]], torque: [0.0; 3] }),
         ConstraintKind::RelativeDistance { ua, ub, .. } | ConstraintKind::Contact { ua, ub, .. } => {
             let v = rods[0].position(*ua)? - rods[1].position(*ub)?;
             Ok(Reaction { force: (v.normalize() * lambda[0]).into(), torque: [0.0; 3] })

@@ -147,7 +147,7 @@ impl World {
             for (_, b) in self.beads.iter() {
                 let r = pos(b.rod)?;
                 let ctrl = rods[r].basis_at(b.u)?.0;
-                let mut touched = [(0u8, 0usize); 8];
+                let mut touched = [(0u8, 0usize); crate::constraint::MAX_TOUCHED];
                 for (t, c) in touched.iter_mut().zip(ctrl) {
                     *t = (0, c);
                 }

@@ -17,7 +17,7 @@ pub struct ConstraintSlot {
     /// Abscissa unknowns (sliders), placed just before the rows.
     pub n_extra: usize,
     /// (which rod: 0/1, control point), `len` of them.
-    pub touched: [(u8, usize); 8],
+    pub touched: [(u8, usize); crate::constraint::MAX_TOUCHED],
     pub len: usize,
 }
 
@@ -140,7 +140,7 @@ mod tests {
         (0..n - 3).map(|s| [s, s + 1, s + 2, s + 3]).collect()
     }
     fn slot(rods: [usize; 2], n_rows: usize, a: [usize; 4], b: Option<[usize; 4]>) -> ConstraintSlot {
-        let mut touched = [(0u8, 0usize); 8];
+        let mut touched = [(0u8, 0usize); crate::constraint::MAX_TOUCHED];
         let mut len = 0;
         for i in a {
             touched[len] = (0, i);
