@@ -26,6 +26,7 @@ handle!(RodHandle, "rod");
 handle!(ConstraintHandle, "constraint");
 handle!(LoadHandle, "load");
 handle!(BeadHandle, "bead");
+handle!(ClipHandle, "clip");
 
 /// (slot, generation).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -5,6 +5,7 @@
 //! Euler and [`World::relax`] solves for static equilibrium, both through one
 //! banded KKT system whose multipliers are reported as forces and torques.
 pub mod bead;
+pub mod clip;
 pub mod constraint;
 pub mod energy;
 pub mod error;
@@ -25,7 +26,8 @@ pub mod world;
 pub use constraint::{ConstraintKind, Reaction};
 pub use error::{Error, Result};
 pub use bead::Bead;
-pub use handles::{BeadHandle, ConstraintHandle, LoadHandle, RodHandle};
+pub use clip::Clip;
+pub use handles::{BeadHandle, ClipHandle, ConstraintHandle, LoadHandle, RodHandle};
 pub use integrator::{IntegrationParameters, RelaxReport, StepReport};
 pub use load::Load;
 pub use material::Material;

@@ -4,7 +4,8 @@
 use crate::constraint::{ConstraintKind, Reaction};
 use crate::error::{Error, Result};
 use crate::bead::Bead;
-use crate::handles::{Arena, BeadHandle, ConstraintHandle, LoadHandle, RodHandle};
+use crate::clip::Clip;
+use crate::handles::{Arena, BeadHandle, ClipHandle, ConstraintHandle, LoadHandle, RodHandle};
 use crate::integrator::{IntegrationParameters, Workspace};
 use crate::load::Load;
 use crate::rod::Rod;
@@ -43,6 +44,10 @@ pub enum Event {
     SliderLeft { constraint: ConstraintHandle, time: f64, kind: ConstraintKind },
     /// A bead slid off the end of its rod and was removed.
     BeadLeft { bead: BeadHandle, time: f64 },
+    /// A clip captured a rod (position constraint `constraint` at abscissa u).
+    ClipCaptured { clip: ClipHandle, rod: RodHandle, constraint: ConstraintHandle, u: f64, time: f64 },
+    /// A clip released its rod: the pull-out force exceeded its resistance.
+    ClipReleased { clip: ClipHandle, rod: RodHandle, force: f64, time: f64 },
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -52,6 +57,8 @@ pub struct World {
     pub(crate) loads: Arena<Load>,
     #[serde(default)]
     pub(crate) beads: Arena<Bead>,
+    #[serde(default)]
+    pub(crate) clips: Arena<Clip>,
     pub params: IntegrationParameters,
     pub(crate) time: f64,
     pub(crate) steps: u64,
@@ -389,6 +396,78 @@ impl World {
         self.rod(b.rod)?.position(b.u)
     }
 
+    /// Adds a clip: capture sphere (centre, radius > 0), exit axis (non-zero)
+    /// and pull-out resistance (> 0, force unit). Captures happen after
+    /// solves (`step`, `relax`), reported as events.
+    pub fn add_clip(&mut self, center: [f64; 3], radius: f64, axis: [f64; 3], resistance: f64) -> Result<ClipHandle> {
+        crate::constraint::finite3(&center, "clip centre")?;
+        crate::error::positive("clip radius", radius)?;
+        let a = crate::constraint::unit(&axis, "clip exit axis")?;
+        crate::error::positive("clip resistance", resistance)?;
+        let c = Clip { center, radius, axis: a.into(), resistance, held: None, disarmed: false };
+        Ok(self.clips.insert(c).into())
+    }
+    pub fn clip(&self, h: ClipHandle) -> Result<&Clip> {
+        self.clips.get(h.into()).ok_or_else(|| Error::InvalidHandle(format!("clip {h:?} does not exist")))
+    }
+
+    /// Algorithms 4–5: release held rods pulled out harder than the clip's
+    /// resistance, capture rods that entered an armed clip.
+    pub(crate) fn update_clips(&mut self) -> Result<Vec<Event>> {
+        let mut events = Vec::new();
+        let ids: Vec<_> = self.clips.iter().map(|(i, _)| i).collect();
+        for i in ids {
+            let Some(clip) = self.clips.get(i).cloned() else { continue };
+            let axis = nalgebra::Vector3::from(clip.axis);
+            if let Some((rod, con)) = clip.held {
+                // Force of the clip on the rod along −axis = pull-out force.
+                let pull = match self.reaction(con) {
+                    Ok(r) => -nalgebra::Vector3::from(r.force).dot(&axis),
+                    Err(_) => 0.0, // the constraint was removed (rod removed, broken)
+                };
+                if self.constraint(con).is_err() || pull > clip.resistance {
+                    let _ = self.remove_constraint(con);
+                    if let Some(c) = self.clips.get_mut(i) {
+                        c.held = None;
+                        c.disarmed = true;
+                    }
+                    events.push(Event::ClipReleased { clip: i.into(), rod, force: pull, time: self.time });
+                }
+                continue;
+            }
+            // Closest sample of every rod to the centre.
+            let centre = nalgebra::Vector3::from(clip.center);
+            let mut best: Option<(RodHandle, f64, f64)> = None;
+            for (h, rod) in self.rods() {
+                for (u, p) in rod.sample_params().into_iter().zip(rod.sample_points()) {
+                    let d = (p - centre).norm();
+                    if d <= clip.radius && best.is_none_or(|b| d < b.2) {
+                        best = Some((h, u, d));
+                    }
+                }
+            }
+            match best {
+                None => {
+                    if let Some(c) = self.clips.get_mut(i) {
+                        c.disarmed = false;
+                    }
+                }
+                Some((rod, u, _)) if !clip.disarmed => {
+                    let u = closest_abscissa(self.rod(rod)?, centre, u)?;
+                    let kind = ConstraintKind::Position { u, axes: [true, true, true, false], target: [clip.center[0], clip.center[1], clip.center[2], 0.0] };
+                    if let Ok(con) = self.add_constraint(rod, kind, 0.0) {
+                        if let Some(c) = self.clips.get_mut(i) {
+                            c.held = Some((rod, con));
+                        }
+                        events.push(Event::ClipCaptured { clip: i.into(), rod, constraint: con, u, time: self.time });
+                    }
+                }
+                _ => {}
+            }
+        }
+        Ok(events)
+    }
+
     /// Serialises the whole world (JSON, floats round-trip exactly).
     pub fn to_json(&self) -> Result<String> {
         serde_json::to_string(self).map_err(|e| Error::Io(e.to_string()))
@@ -408,6 +487,26 @@ impl World {
         let s = std::fs::read_to_string(path).map_err(|e| Error::Io(format!("{}: {e}", path.display())))?;
         World::from_json(&s)
     }
+}
+
+/// Abscissa of the point of `rod` closest to `p`, by Newton from `u`.
+fn closest_abscissa(rod: &Rod, p: nalgebra::Vector3<f64>, mut u: f64) -> Result<f64> {
+    let (lo, hi) = rod.domain();
+    for _ in 0..20 {
+        let (r, d1, d2) = (rod.eval(u, 0)?, rod.eval(u, 1)?, rod.eval(u, 2)?);
+        let v = nalgebra::Vector3::new(r[0], r[1], r[2]) - p;
+        let (t, c) = (nalgebra::Vector3::new(d1[0], d1[1], d1[2]), nalgebra::Vector3::new(d2[0], d2[1], d2[2]));
+        let h = t.dot(&t) + v.dot(&c);
+        if !(h > 0.0) {
+            break;
+        }
+        let du = v.dot(&t) / h;
+        u = (u - du).clamp(lo, hi);
+        if du.abs() < 1e-14 * (1.0 + u.abs()) {
+            break;
+        }
+    }
+    Ok(u)
 }
 
 fn duplicates(a: &ConstraintKind, b: &ConstraintKind) -> bool {

@@ -19,6 +19,7 @@ impl World {
         let mut events = self.drop_departed_sliders();
         events.extend(self.beads_advance(h)?);
         events.extend(self.break_constraints()?);
+        events.extend(self.update_clips()?);
         Ok(StepReport {
             time: self.time,
             n_unknowns: self.ws.layout.n,

@@ -106,6 +106,7 @@ impl World {
                 report.bandwidth = self.ws.layout.bandwidth;
                 report.n_unknowns = self.ws.layout.n;
                 report.events.extend(self.break_constraints()?);
+                report.events.extend(self.update_clips()?);
                 return Ok(report);
             }
             lambda /= 4.0;
