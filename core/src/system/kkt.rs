@@ -259,6 +259,11 @@ impl KktSystem {
     /// iterative refinement. Zero pivots become `Error::Singular` naming the
     /// unknown.
     pub fn solve(&mut self, layout: &Layout, describe: impl Fn(usize) -> String) -> Result<f64> {
+        // A right-hand side at underflow level (a system at exact rest) is
+        // zero: its relative residual would only measure denormal noise.
+        if self.rhs.iter().all(|b| b.abs() < f64::MIN_POSITIVE.sqrt()) {
+            self.rhs.iter_mut().for_each(|b| *b = 0.0);
+        }
         self.equilibrate(layout);
         if let Err(e) = self.lu.factor(&self.band) {
             return Err(match e {
