@@ -1,0 +1,671 @@
+//! Rods: the builders (straight, helix, curve, through points, control
+//! points) and access to a rod's state as numpy arrays.
+//!
+//! A `Rod` object is either free (just built, owns its Rust rod) or in a
+//! world (then it is a live view: reading it reads the world's rod, so it
+//! always shows the current state, and it doubles as the rod's handle).
+use crate::convert::{self, array2, points};
+use crate::guard;
+use crate::props::{PyMaterial, PySection};
+use crate::world::PyWorld;
+use nalgebra::Vector3;
+use numpy::{PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use std::sync::{Arc, Mutex};
+use strandkit_core::energy::EnergyTerms;
+use strandkit_core::io::mesh::{self, TubeOptions};
+use strandkit_core::spline::KnotKind;
+use strandkit_core::{frames, Error, Material, Rod, RodBuilder, RodHandle, RodOptions, Section};
+
+type Array<'py> = Bound<'py, PyArray2<f64>>;
+type Arrays4<'py> = (Array<'py>, Array<'py>, Array<'py>, Array<'py>);
+type MeshArrays<'py> = (Array<'py>, Array<'py>, Bound<'py, PyArray2<i64>>);
+
+pub enum RodState {
+    Free(Box<Rod>),
+    InWorld {
+        world: Py<PyWorld>,
+        handle: RodHandle,
+    },
+}
+
+/// A rod: cubic B-spline centreline with (optionally) a roll angle per
+/// control point. Built by `strandkit.straight`, `helix`, `curve`,
+/// `through_points`, `from_control_points`; once added to a world, this
+/// object is a live view of the world's rod and serves as its handle.
+///
+/// Units: positions in the world's length unit, roll θ in radians,
+/// velocities per time unit, energies in energy units, mass in mass units.
+#[pyclass(name = "Rod", module = "strandkit._native")]
+pub struct PyRod {
+    pub state: RodState,
+}
+
+impl PyRod {
+    pub fn free(rod: Rod) -> Self {
+        PyRod {
+            state: RodState::Free(Box::new(rod)),
+        }
+    }
+    pub fn attached(world: Py<PyWorld>, handle: RodHandle) -> Self {
+        PyRod {
+            state: RodState::InWorld { world, handle },
+        }
+    }
+    pub fn handle_parts(&self) -> Option<(u32, u32)> {
+        match &self.state {
+            RodState::InWorld { handle, .. } => Some((handle.index, handle.generation)),
+            RodState::Free(_) => None,
+        }
+    }
+    /// Runs `f` on the Rust rod (free, or the world's).
+    pub fn with<R>(&self, py: Python<'_>, f: impl FnOnce(&Rod) -> PyResult<R>) -> PyResult<R> {
+        match &self.state {
+            RodState::Free(r) => f(r),
+            RodState::InWorld { world, handle } => {
+                let w = world.bind(py).try_borrow()?;
+                let r = w.inner.rod(*handle).map_err(crate::err)?;
+                f(r)
+            }
+        }
+    }
+    fn with_mut<R>(
+        &mut self,
+        py: Python<'_>,
+        f: impl FnOnce(&mut Rod) -> PyResult<R>,
+    ) -> PyResult<R> {
+        match &mut self.state {
+            RodState::Free(r) => f(r),
+            RodState::InWorld { world, handle } => {
+                let mut w = world.bind(py).try_borrow_mut()?;
+                let r = w.inner.rod_mut(*handle).map_err(crate::err)?;
+                f(r)
+            }
+        }
+    }
+}
+
+/// Parameters given as a float or an array: (values, was_scalar).
+fn params(obj: &Bound<'_, PyAny>) -> PyResult<(Vec<f64>, bool)> {
+    if let Ok(x) = obj.extract::<f64>() {
+        return Ok((vec![x], true));
+    }
+    Ok((convert::vector(obj, "u")?, false))
+}
+
+#[pymethods]
+impl PyRod {
+    /// Control points, shape (n, 4) = (x, y, z, θ) or (n, 3) without roll
+    /// (length unit, radians). Assign an array of the same shape to move them.
+    #[getter]
+    fn control_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (q, d) = self.with(py, |r| Ok((r.coords().to_vec(), r.dofs())))?;
+        array2(py, q, d)
+    }
+    #[setter]
+    fn set_control_points(&mut self, py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        let (flat, _, _) = convert::matrix(value, &[3, 4], "control_points")?;
+        self.with_mut(py, |r| guard(|| r.set_coords(&flat)))
+    }
+    /// Velocities of the control points, same shape as `control_points`
+    /// (length/time, rad/time). Assignable.
+    #[getter]
+    fn velocities<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (v, d) = self.with(py, |r| Ok((r.velocities().to_vec(), r.dofs())))?;
+        array2(py, v, d)
+    }
+    #[setter]
+    fn set_velocities(&mut self, py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        let (flat, _, _) = convert::matrix(value, &[3, 4], "velocities")?;
+        self.with_mut(py, |r| guard(|| r.set_velocities(&flat)))
+    }
+    /// Rest-shape control points (same shape as `control_points`).
+    #[getter]
+    fn rest_control_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (q, d) = self.with(py, |r| Ok((r.rest_coords().to_vec(), r.dofs())))?;
+        array2(py, q, d)
+    }
+    /// Centreline points at the sample (Gauss) points, shape (m, 3), length unit.
+    fn sample_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let p = self.with(py, |r| Ok(r.sample_points()))?;
+        points(py, p.into_iter().map(|v| [v.x, v.y, v.z]))
+    }
+    /// Parameter u of every sample point, shape (m,).
+    fn sample_params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let u = self.with(py, |r| Ok(r.sample_params()))?;
+        Ok(PyArray1::from_vec(py, u))
+    }
+    /// `n` ≥ 2 parameters evenly spread over the domain, ends included.
+    fn uniform_params<'py>(
+        &self,
+        py: Python<'py>,
+        n: usize,
+    ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let u = self.with(py, |r| guard(|| frames::uniform_params(r, n)))?;
+        Ok(PyArray1::from_vec(py, u))
+    }
+    /// Centreline point r(u) (length unit): shape (3,) for a float u,
+    /// (m, 3) for an array. Error if u is outside `domain`.
+    fn position<'py>(&self, py: Python<'py>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        self.eval_impl(py, u, 0, true)
+    }
+    /// Unit tangent at u: shape (3,) or (m, 3).
+    fn tangent<'py>(&self, py: Python<'py>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let (us, scalar) = params(u)?;
+        let t = self.with(py, |r| {
+            us.iter()
+                .map(|&u| guard(|| r.tangent(u)).map(|v| [v.x, v.y, v.z]))
+                .collect::<PyResult<Vec<_>>>()
+        })?;
+        if scalar {
+            Ok(PyArray1::from_vec(py, t[0].to_vec()).into_any())
+        } else {
+            Ok(points(py, t)?.into_any())
+        }
+    }
+    /// The `derivative`-th u-derivative of (x, y, z[, θ]) at u: shape
+    /// (dofs,) or (m, dofs).
+    #[pyo3(signature = (u, derivative = 0))]
+    fn eval<'py>(
+        &self,
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+        derivative: usize,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        self.eval_impl(py, u, derivative, false)
+    }
+    /// Rotation-minimising frames (double reflection, Wang et al. 2008)
+    /// rotated by θ: returns (points, tangents, d1, d2), each (m, 3). `u`:
+    /// increasing parameters (default: the sample points); or `n` evenly
+    /// spread ones. `reference`: direction fixing the first d1 (before roll).
+    #[pyo3(signature = (u = None, *, n = None, reference = None))]
+    fn frames<'py>(
+        &self,
+        py: Python<'py>,
+        u: Option<&Bound<'py, PyAny>>,
+        n: Option<usize>,
+        reference: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Arrays4<'py>> {
+        let us = match u {
+            Some(u) => Some(params(u)?.0),
+            None => None,
+        };
+        let reference = reference
+            .map(|r| convert::vec3(r, "reference"))
+            .transpose()?;
+        let f = self.with(py, |r| {
+            let us = match (us, n) {
+                (Some(u), _) => u,
+                (None, Some(n)) => guard(|| frames::uniform_params(r, n))?,
+                (None, None) => r.sample_params(),
+            };
+            guard(|| frames::rotation_minimising(r, &us, reference))
+        })?;
+        let col = |g: fn(&frames::Frame) -> Vector3<f64>| points(py, f.iter().map(|x| g(x).into()));
+        Ok((
+            col(|x| x.point)?,
+            col(|x| x.tangent)?,
+            col(|x| x.d1)?,
+            col(|x| x.d2)?,
+        ))
+    }
+    /// Strains at the sample points, shape (m, 4): stretch ε (dimensionless),
+    /// material curvatures κ1, κ2 and twist ω (1/length).
+    fn strains<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let s = self.with(py, |r| Ok(r.strains()))?;
+        array2(
+            py,
+            s.iter()
+                .flat_map(|x| [x.eps, x.kappa1, x.kappa2, x.omega])
+                .collect(),
+            4,
+        )
+    }
+    /// Internal generalised forces −∂U/∂q, shape like `control_points`.
+    fn internal_forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let (p, d) = self.with(py, |r| Ok((r.internal_forces(), r.dofs())))?;
+        array2(py, p, d)
+    }
+    /// Tube mesh (generalised cylinder): (vertices (N,3), normals (N,3),
+    /// triangles (T,3) int). Radius = section bounding radius × radius_scale.
+    #[pyo3(signature = (*, rings_per_segment = 6, points_per_ring = 12, radius_scale = 1.0, caps = true))]
+    fn mesh<'py>(
+        &self,
+        py: Python<'py>,
+        rings_per_segment: usize,
+        points_per_ring: usize,
+        radius_scale: f64,
+        caps: bool,
+    ) -> PyResult<MeshArrays<'py>> {
+        let o = TubeOptions {
+            rings_per_segment,
+            points_per_ring,
+            radius_scale,
+            caps,
+        };
+        let m = self.with(py, |r| guard(|| mesh::tube(r, &o)))?;
+        let tri: Vec<i64> = m.triangles.iter().flat_map(|t| t.map(i64::from)).collect();
+        let nt = m.triangles.len();
+        Ok((
+            points(py, m.vertices)?,
+            points(py, m.normals)?,
+            PyArray1::from_vec(py, tri).reshape([nt, 3])?,
+        ))
+    }
+    /// Parameter domain (u_start, u_end).
+    #[getter]
+    fn domain(&self, py: Python<'_>) -> PyResult<(f64, f64)> {
+        self.with(py, |r| Ok(r.domain()))
+    }
+    /// First parameter of the domain (the rod's start).
+    #[getter]
+    fn u_start(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |r| Ok(r.domain().0))
+    }
+    /// Last parameter of the domain (the rod's end).
+    #[getter]
+    fn u_end(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |r| Ok(r.domain().1))
+    }
+    #[getter]
+    fn n_control_points(&self, py: Python<'_>) -> PyResult<usize> {
+        self.with(py, |r| Ok(r.n_ctrl()))
+    }
+    #[getter]
+    fn n_segments(&self, py: Python<'_>) -> PyResult<usize> {
+        self.with(py, |r| Ok(r.n_segments()))
+    }
+    /// Coordinates per control point: 4 (x, y, z, θ) or 3.
+    #[getter]
+    fn dofs(&self, py: Python<'_>) -> PyResult<usize> {
+        self.with(py, |r| Ok(r.dofs()))
+    }
+    /// Knot vector kind: "uniform", "clamped", "periodic" or "general".
+    #[getter]
+    fn knots(&self, py: Python<'_>) -> PyResult<String> {
+        self.with(py, |r| Ok(format!("{:?}", r.knots().kind()).to_lowercase()))
+    }
+    /// Rest length (length unit).
+    #[getter]
+    fn rest_length(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |r| Ok(r.rest_length()))
+    }
+    /// Total mass (mass unit).
+    #[getter]
+    fn mass(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |r| Ok(r.mass()))
+    }
+    /// Elastic energy U (energy unit).
+    #[getter]
+    fn elastic_energy(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |r| guard(|| Ok(r.elastic_energy())))
+    }
+    /// Kinetic energy ½ VᵀMV (energy unit).
+    #[getter]
+    fn kinetic_energy(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |r| Ok(r.kinetic_energy()))
+    }
+    /// Elastic + kinetic energy (energy unit).
+    #[getter]
+    fn energy(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |r| {
+            guard(|| Ok(r.elastic_energy() + r.kinetic_energy()))
+        })
+    }
+    /// Linear momentum (mass × length/time), shape (3,).
+    #[getter]
+    fn momentum<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let p = self.with(py, |r| Ok(r.momentum()))?;
+        Ok(PyArray1::from_vec(py, vec![p.x, p.y, p.z]))
+    }
+    #[getter]
+    fn material(&self, py: Python<'_>) -> PyResult<PyMaterial> {
+        self.with(py, |r| {
+            Ok(PyMaterial {
+                inner: r.material().clone(),
+            })
+        })
+    }
+    /// One section per control point.
+    #[getter]
+    fn sections(&self, py: Python<'_>) -> PyResult<Vec<PySection>> {
+        self.with(py, |r| {
+            Ok(r.sections()
+                .iter()
+                .map(|s| PySection { inner: *s })
+                .collect())
+        })
+    }
+    /// (index, generation) of the rod in its world, or None if free.
+    #[getter]
+    fn handle(&self) -> Option<(u32, u32)> {
+        self.handle_parts()
+    }
+    /// The world holding this rod, or None.
+    #[getter]
+    fn world(&self, py: Python<'_>) -> Option<Py<PyWorld>> {
+        match &self.state {
+            RodState::InWorld { world, .. } => Some(world.clone_ref(py)),
+            RodState::Free(_) => None,
+        }
+    }
+    /// A free copy of this rod (current state as its shape, same rest shape).
+    fn copy(&self, py: Python<'_>) -> PyResult<PyRod> {
+        self.with(py, |r| Ok(PyRod::free(r.clone())))
+    }
+    /// The rod as JSON (serde; floats round-trip exactly).
+    fn to_json(&self, py: Python<'_>) -> PyResult<String> {
+        self.with(py, |r| {
+            guard(|| serde_json::to_string(r).map_err(|e| Error::Io(e.to_string())))
+        })
+    }
+    fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
+        let Ok(o) = other.cast::<PyRod>() else {
+            return false;
+        };
+        let Ok(o) = o.try_borrow() else { return false };
+        match (&self.state, &o.state) {
+            (
+                RodState::InWorld {
+                    world: a,
+                    handle: h,
+                },
+                RodState::InWorld {
+                    world: b,
+                    handle: k,
+                },
+            ) => a.is(b) && h == k,
+            (RodState::Free(a), RodState::Free(b)) => std::ptr::eq(&**a, &**b),
+            _ => false,
+        }
+    }
+    fn __hash__(&self) -> u64 {
+        self.handle_parts()
+            .map_or(0, |(i, g)| ((g as u64) << 32) | i as u64)
+    }
+    fn __repr__(&self, py: Python<'_>) -> String {
+        let place = match &self.state {
+            RodState::Free(_) => "free".to_string(),
+            RodState::InWorld { handle, .. } => format!("rod {} in a world", handle.index),
+        };
+        self.with(py, |r| {
+            Ok(format!(
+                "Rod({} control points × {}, {} knots, rest_length={:.6}, mass={:.6}, section={}, material={:?}, {place})",
+                r.n_ctrl(),
+                r.dofs(),
+                format!("{:?}", r.knots().kind()).to_lowercase(),
+                r.rest_length(),
+                r.mass(),
+                r.sections()[0].kind_name(),
+                r.material().name
+            ))
+        })
+        .unwrap_or_else(|e| format!("Rod(<{place}: {e}>)"))
+    }
+}
+
+impl PyRod {
+    fn eval_impl<'py>(
+        &self,
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+        deriv: usize,
+        xyz: bool,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let (us, scalar) = params(u)?;
+        let (vals, d) = self.with(py, |r| {
+            let d = if xyz { 3 } else { r.dofs() };
+            let mut out = Vec::with_capacity(us.len() * d);
+            for &u in &us {
+                out.extend_from_slice(&guard(|| r.eval(u, deriv))?[..d]);
+            }
+            Ok((out, d))
+        })?;
+        if scalar {
+            Ok(PyArray1::from_vec(py, vals).into_any())
+        } else {
+            Ok(array2(py, vals, d)?.into_any())
+        }
+    }
+}
+
+fn section_arg(obj: &Bound<'_, PyAny>) -> PyResult<Section> {
+    if let Ok(s) = obj.cast::<PySection>() {
+        return Ok(s.get().inner);
+    }
+    if let Ok(r) = obj.extract::<f64>() {
+        return guard(|| Section::circle(r));
+    }
+    Err(PyTypeError::new_err(
+        "section: expected a strandkit.Section or a radius (float) for a circle",
+    ))
+}
+
+fn material_arg(obj: &Bound<'_, PyAny>) -> PyResult<Material> {
+    if let Ok(m) = obj.cast::<PyMaterial>() {
+        return Ok(m.get().inner.clone());
+    }
+    if let Ok(name) = obj.extract::<String>() {
+        return guard(|| Material::preset(&name));
+    }
+    Err(PyTypeError::new_err(
+        "material: expected a strandkit.Material or a preset name",
+    ))
+}
+
+fn knot_kind(s: &str) -> PyResult<KnotKind> {
+    match s.to_ascii_lowercase().as_str() {
+        "clamped" => Ok(KnotKind::Clamped),
+        "uniform" => Ok(KnotKind::Uniform),
+        "periodic" | "closed" => Ok(KnotKind::Periodic),
+        _ => Err(PyValueError::new_err(format!(
+            "knots must be 'clamped', 'uniform' or 'periodic', got {s:?}"
+        ))),
+    }
+}
+
+/// Keyword options shared by every builder.
+struct Common<'a, 'py> {
+    section: Option<&'a Bound<'py, PyAny>>,
+    sections: Option<&'a Bound<'py, PyAny>>,
+    material: Option<&'a Bound<'py, PyAny>>,
+    n_control_points: usize,
+    knots: &'a str,
+    with_roll: bool,
+    samples_per_segment: usize,
+    drag: f64,
+    curvature_threshold: f64,
+    terms: (bool, bool, bool),
+    roll: Option<&'a Bound<'py, PyAny>>,
+}
+
+impl Common<'_, '_> {
+    fn apply(&self, b: RodBuilder) -> PyResult<RodBuilder> {
+        let mut b = b
+            .control_points(self.n_control_points)
+            .knots(knot_kind(self.knots)?)
+            .with_roll(self.with_roll)
+            .options(RodOptions {
+                samples_per_segment: self.samples_per_segment,
+                terms: EnergyTerms {
+                    stretch: self.terms.0,
+                    bend: self.terms.1,
+                    twist: self.terms.2,
+                },
+                curvature_threshold: self.curvature_threshold,
+                drag: self.drag,
+                ..Default::default()
+            });
+        match (self.section, self.sections) {
+            (Some(s), None) => b = b.section(section_arg(s)?),
+            (None, Some(list)) => {
+                let v = list
+                    .try_iter()?
+                    .map(|s| section_arg(&s?))
+                    .collect::<PyResult<Vec<_>>>()?;
+                b = b.sections(v);
+            }
+            (None, None) => {
+                return Err(PyValueError::new_err(
+                    "a rod needs section= (or sections=, one per control point)",
+                ))
+            }
+            (Some(_), Some(_)) => {
+                return Err(PyValueError::new_err(
+                    "give section= or sections=, not both",
+                ))
+            }
+        }
+        let m = self.material.ok_or_else(|| {
+            PyValueError::new_err("a rod needs material= (a Material or a preset name)")
+        })?;
+        b = b.material(material_arg(m)?);
+        if let Some(r) = self.roll {
+            b = b.roll(convert::vector(r, "roll")?);
+        }
+        if !(1..=8).contains(&self.samples_per_segment) {
+            return Err(PyValueError::new_err(format!(
+                "invalid input: samples_per_segment must be in 1..=8, got {}",
+                self.samples_per_segment
+            )));
+        }
+        Ok(b)
+    }
+}
+
+macro_rules! builder_fn {
+    ($(#[$doc:meta])* $name:ident ( $($arg:ident : $ty:ty),* ) => |$c:ident| $body:expr) => {
+        $(#[$doc])*
+        #[pyfunction]
+        #[pyo3(signature = ($($arg),*, *, section = None, material = None, n_control_points = 20, knots = "clamped",
+            with_roll = true, samples_per_segment = 5, drag = 0.0, curvature_threshold = 0.0,
+            stretch = true, bend = true, twist = true, roll = None, sections = None))]
+        #[allow(clippy::too_many_arguments)]
+        fn $name<'py>(
+            $($arg: $ty,)*
+            section: Option<&Bound<'py, PyAny>>,
+            material: Option<&Bound<'py, PyAny>>,
+            n_control_points: usize,
+            knots: &str,
+            with_roll: bool,
+            samples_per_segment: usize,
+            drag: f64,
+            curvature_threshold: f64,
+            stretch: bool,
+            bend: bool,
+            twist: bool,
+            roll: Option<&Bound<'py, PyAny>>,
+            sections: Option<&Bound<'py, PyAny>>,
+        ) -> PyResult<PyRod> {
+            let $c = Common {
+                section, sections, material, n_control_points, knots, with_roll, samples_per_segment, drag,
+                curvature_threshold, terms: (stretch, bend, twist), roll,
+            };
+            $body
+        }
+    };
+}
+
+fn build(b: RodBuilder) -> PyResult<PyRod> {
+    Ok(PyRod::free(guard(|| b.build())?))
+}
+
+builder_fn!(
+    /// Straight rod from `start` to `end` (length unit).
+    ///
+    /// Keyword options of every builder: `section` (Section, or a float =
+    /// circle radius) or `sections` (one per control point), `material`
+    /// (Material or preset name), `n_control_points` (≥ 4, default 20),
+    /// `knots` ('clamped' | 'uniform' | 'periodic'), `with_roll` (False: 3
+    /// coordinates per control point, no twist), `samples_per_segment`
+    /// (Gauss points, 1..8), `drag` (force/(velocity·length)),
+    /// `curvature_threshold` (1/length, 0 = 1/rest length), `stretch`,
+    /// `bend`, `twist` (energy terms on/off), `roll` (θ per control point, rad).
+    straight(start: [f64; 3], end: [f64; 3]) => |c| {
+        build(c.apply(RodBuilder::straight(Vector3::from(start), Vector3::from(end)))?)
+    }
+);
+
+builder_fn!(
+    /// Circular helix about z starting at (radius, 0, 0): `radius` and
+    /// `pitch` (rise per turn; > 0 right-handed) in length unit, `turns`.
+    /// Keyword options as `straight`.
+    helix(radius: f64, pitch: f64, turns: f64) => |c| {
+        build(c.apply(RodBuilder::helix(radius, pitch, turns))?)
+    }
+);
+
+builder_fn!(
+    /// Rod along a curve given by arc length: `f(s)` → (x, y, z) for s in
+    /// [0, `length`] (length unit). Keyword options as `straight`.
+    curve(f: Bound<'py, PyAny>, length: f64) => |c| {
+        let func: Py<PyAny> = f.unbind();
+        let failure: Arc<Mutex<Option<PyErr>>> = Arc::new(Mutex::new(None));
+        let slot = failure.clone();
+        let b = RodBuilder::curve(length, move |s| {
+            Python::attach(|py| {
+                let r = func.call1(py, (s,)).and_then(|v| convert::vec3(v.bind(py), "curve f(s)"));
+                r.map(Vector3::from).unwrap_or_else(|e| {
+                    if let Ok(mut g) = slot.lock() {
+                        g.get_or_insert(e);
+                    }
+                    Vector3::repeat(f64::NAN)
+                })
+            })
+        });
+        let built = c.apply(b).and_then(build);
+        if let Some(e) = failure.lock().ok().and_then(|mut g| g.take()) {
+            return Err(e);
+        }
+        built
+    }
+);
+
+builder_fn!(
+    /// Rod through `points` (array (n, 3), length unit; roughly evenly
+    /// spaced): one control point per point, solved by interpolation.
+    /// Keyword options as `straight` (`n_control_points` is ignored).
+    through_points(points: Bound<'py, PyAny>) => |c| {
+        let (flat, n, _) = convert::matrix(&points, &[3], "points")?;
+        let pts = (0..n).map(|i| Vector3::new(flat[3 * i], flat[3 * i + 1], flat[3 * i + 2])).collect();
+        build(c.apply(RodBuilder::new(strandkit_core::rod::RodShape::ThroughPoints(pts)))?)
+    }
+);
+
+builder_fn!(
+    /// Rod from explicit control points: array (n, 3), or (n, 4) whose last
+    /// column is the roll θ (rad). Keyword options as `straight`.
+    from_control_points(points: Bound<'py, PyAny>) => |c| {
+        let (flat, n, d) = convert::matrix(&points, &[3, 4], "points")?;
+        let pts = (0..n).map(|i| Vector3::new(flat[d * i], flat[d * i + 1], flat[d * i + 2])).collect();
+        let mut b = c.apply(RodBuilder::new(strandkit_core::rod::RodShape::ControlPoints(pts)))?;
+        if d == 4 {
+            if c.roll.is_some() {
+                return Err(PyValueError::new_err("roll given twice: in the 4th column of points and as roll="));
+            }
+            b = b.roll((0..n).map(|i| flat[4 * i + 3]).collect());
+        }
+        build(b)
+    }
+);
+
+/// A rod from `Rod.to_json()` text (free).
+#[pyfunction]
+fn rod_from_json(text: &str) -> PyResult<PyRod> {
+    let mut r: Rod =
+        serde_json::from_str(text).map_err(|e| crate::err(Error::Io(format!("rod json: {e}"))))?;
+    guard(|| r.prepare())?;
+    Ok(PyRod::free(r))
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyRod>()?;
+    m.add_function(wrap_pyfunction!(straight, m)?)?;
+    m.add_function(wrap_pyfunction!(helix, m)?)?;
+    m.add_function(wrap_pyfunction!(curve, m)?)?;
+    m.add_function(wrap_pyfunction!(through_points, m)?)?;
+    m.add_function(wrap_pyfunction!(from_control_points, m)?)?;
+    m.add_function(wrap_pyfunction!(rod_from_json, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,187 @@
+"""Per-step logging of a world to numpy arrays and CSV.
+
+>>> rec = Recorder(world)
+>>> rec.point("tip", rod, rod.u_end)          # r(u) every record, length unit
+>>> rec.reaction("clamp", clamp_handle)       # force and torque
+>>> rec.run(1000)                             # steps the world, records each step
+>>> rec["tip"].shape, rec["time"].shape       # (1001, 3), (1001,)
+>>> rec.to_csv("out/run.csv")
+"""
+from __future__ import annotations
+
+import csv
+import os
+from typing import Callable, Dict, List
+
+import numpy as np
+
+from ._progress import progress
+
+__all__ = ["Recorder"]
+
+_SUFFIXES = {3: ("x", "y", "z"), 6: ("fx", "fy", "fz", "tx", "ty", "tz")}
+
+
+class Recorder:
+    """Records ``time`` plus named channels each time :meth:`record` is
+    called (``run`` and ``relax`` call it), and keeps every event.
+
+    A channel is a function ``f(world) -> float or 1-D array``; helpers add
+    the usual ones. ``rec[name]`` is a numpy array of shape (records,) or
+    (records, width). ``every``: record one step in ``every`` during ``run``.
+    """
+
+    def __init__(self, world, *, every: int = 1, energies: bool = True):
+        if every < 1:
+            raise ValueError(f"invalid input: every must be >= 1, got {every}")
+        self.world = world
+        self.every = int(every)
+        self._channels: Dict[str, Callable] = {}
+        self._data: Dict[str, List] = {"time": [], "step": []}
+        self.events: List[dict] = []
+        if energies:
+            self.add("elastic_energy", lambda w: sum(r.elastic_energy for r in w.rods()))
+            self.add("kinetic_energy", lambda w: sum(r.kinetic_energy for r in w.rods()))
+
+    # -- channels -------------------------------------------------------
+    def add(self, name: str, fn: Callable) -> "Recorder":
+        """A custom channel ``fn(world)`` → float or 1-D array."""
+        if name in self._data:
+            raise ValueError(f"invalid input: channel {name!r} exists already")
+        self._channels[name] = fn
+        self._data[name] = []
+        if self._data["time"]:
+            # Late channels start with NaN rows so that all columns align.
+            self._data[name] = [np.nan] * len(self._data["time"])
+        return self
+
+    def point(self, name: str, rod, u: float) -> "Recorder":
+        """Centreline point r(u) of ``rod`` (length unit): columns name_x, _y, _z."""
+        return self.add(name, lambda w: rod.position(u))
+
+    def tangent(self, name: str, rod, u: float) -> "Recorder":
+        """Unit tangent at u."""
+        return self.add(name, lambda w: rod.tangent(u))
+
+    def reaction(self, name: str, constraint) -> "Recorder":
+        """Force (force unit) and torque (force × length) of a constraint:
+        columns name_fx … name_tz."""
+
+        def f(w):
+            if not constraint.alive:  # removed or broken: NaN from then on
+                return np.full(6, np.nan)
+            r = constraint.reaction()
+            return np.concatenate([r.force, r.torque])
+
+        return self.add(name, f)
+
+    def multipliers(self, name: str, constraint) -> "Recorder":
+        """Raw multipliers of a constraint (force / torque units; NaN once it is gone)."""
+        width = len(constraint.multipliers)
+        return self.add(name, lambda w: constraint.multipliers if constraint.alive else np.full(width, np.nan))
+
+    def extension(self, name: str, rod) -> "Recorder":
+        """End-to-end distance |r(u_end) − r(u_start)| (length unit)."""
+        return self.add(name, lambda w: float(np.linalg.norm(rod.position(rod.u_end) - rod.position(rod.u_start))))
+
+    # -- recording --------------------------------------------------------
+    def record(self, report=None) -> None:
+        """Appends one row: time and every channel; events of ``report``."""
+        w = self.world
+        self._data["time"].append(w.time)
+        self._data["step"].append(w.n_steps)
+        for name, fn in self._channels.items():
+            v = fn(w)
+            self._data[name].append(np.array(v, dtype=float) if np.ndim(v) else float(v))
+        if report is not None:
+            for e in report.events:
+                d = dict(e.data)
+                d.update(kind=e.kind, step=w.n_steps, time_recorded=w.time)
+                self.events.append(d)
+
+    def run(self, steps: int, *, progress_bar: bool = True, callback: Callable | None = None, desc: str = "steps"):
+        """Steps the world ``steps`` times, recording the initial state (if
+        nothing is recorded yet) and every ``every``-th step. ``callback(world,
+        report)`` runs after each step. Returns the last StepReport."""
+        if not self._data["time"]:
+            self.record()
+        report = None
+        bar = progress(range(steps), desc=desc, enable=progress_bar)
+        for k in bar:
+            report = self.world.step()
+            if callback is not None:
+                callback(self.world, report)
+            if report.events or (k + 1) % self.every == 0 or k + 1 == steps:
+                self.record(report)
+        return report
+
+    def relax(self):
+        """Relaxes the world to equilibrium and records the result."""
+        report = self.world.relax()
+        self.record(report)
+        return report
+
+    # -- output -------------------------------------------------------------
+    @property
+    def names(self) -> List[str]:
+        return list(self._data)
+
+    def __len__(self) -> int:
+        return len(self._data["time"])
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        rows = self._data[name]
+        if rows and any(np.ndim(r) for r in rows):
+            width = max(np.size(r) for r in rows)
+            return np.array([np.full(width, np.nan) if np.ndim(r) == 0 and np.isnan(r) else r for r in rows], dtype=float)
+        return np.array(rows, dtype=float)
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._data
+
+    def to_numpy(self) -> Dict[str, np.ndarray]:
+        """Every channel as an array (time and step included)."""
+        return {k: self[k] for k in self._data}
+
+    def columns(self) -> Dict[str, np.ndarray]:
+        """Flat columns: vector channels split as name_x/_y/_z, name_fx…, or name_0…"""
+        out = {}
+        for k in self._data:
+            a = self[k]
+            if a.ndim == 1:
+                out[k] = a
+            else:
+                suf = _SUFFIXES.get(a.shape[1], tuple(str(i) for i in range(a.shape[1])))
+                for i, s in enumerate(suf):
+                    out[f"{k}_{s}"] = a[:, i]
+        return out
+
+    def to_csv(self, path: str) -> str:
+        """Writes the columns as CSV (and events, if any, to ``<path>.events.csv``)."""
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        cols = self.columns()
+        names = list(cols)
+        tmp = f"{path}.tmp{os.getpid()}"
+        with open(tmp, "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(names)
+            for i in range(len(self)):
+                w.writerow([repr(float(cols[n][i])) for n in names])
+        os.replace(tmp, path)
+        if self.events:
+            keys = sorted({k for e in self.events for k in e})
+            with open(tmp, "w", newline="") as f:
+                w = csv.writer(f)
+                w.writerow(keys)
+                for e in self.events:
+                    w.writerow([e.get(k, "") for k in keys])
+            os.replace(tmp, f"{os.path.splitext(path)[0]}.events.csv")
+        return path
+
+    def to_npz(self, path: str) -> str:
+        """Writes every channel to a numpy .npz archive."""
+        np.savez(path, **self.to_numpy())
+        return path
+
+    def __repr__(self) -> str:
+        return f"Recorder({len(self)} records, channels={[k for k in self._data if k not in ('time', 'step')]}, events={len(self.events)})"
