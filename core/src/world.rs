@@ -107,6 +107,18 @@ impl World {
     pub fn rods(&self) -> impl Iterator<Item = (RodHandle, &Rod)> {
         self.rods.iter().map(|(i, r)| (i.into(), r))
     }
+    /// Live constraints in handle order.
+    pub fn constraints(&self) -> impl Iterator<Item = (ConstraintHandle, &Constraint)> {
+        self.constraints.iter().map(|(i, c)| (i.into(), c))
+    }
+    /// Live beads in handle order.
+    pub fn beads(&self) -> impl Iterator<Item = (BeadHandle, &Bead)> {
+        self.beads.iter().map(|(i, b)| (i.into(), b))
+    }
+    /// Clips in handle order.
+    pub fn clips(&self) -> impl Iterator<Item = (ClipHandle, &Clip)> {
+        self.clips.iter().map(|(i, c)| (i.into(), c))
+    }
 
     /// Adds a hard (compliance 0) or compliant one-rod constraint. Errors:
     /// removed rod, abscissa outside the rod, non-finite target, duplicate,
