@@ -328,7 +328,7 @@ fn breakdown(n: usize, reps: usize) -> [f64; 8] {
     for i in 0..reps + 2 {
         sys.assemble(&layout, &rods, &ext, &[], &[], k, false).unwrap();
         let s = Instant::now();
-        sys.solve(&layout, |_| String::new()).unwrap();
+        sys.solve(&layout, strandkit_core::LinearSolver::Band, |_| String::new()).unwrap();
         if i >= 2 {
             t_solve_v.push(s.elapsed().as_secs_f64());
         }

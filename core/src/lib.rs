@@ -33,4 +33,5 @@ pub use load::Load;
 pub use material::Material;
 pub use rod::{Rod, RodBuilder, RodOptions};
 pub use section::Section;
+pub use system::LinearSolver;
 pub use world::{Breaking, Constraint, Event, World};

@@ -26,6 +26,7 @@ impl World {
             n_multipliers: self.ws.layout.n_rows,
             bandwidth: self.ws.layout.bandwidth,
             residual,
+            sparse: self.ws.sys.used_sparse,
             elastic_energy: energy,
             events,
         })

@@ -27,6 +27,9 @@ pub struct IntegrationParameters {
     /// tol radians on roll), constraint violation ≤ tol × rod length.
     pub relax_tolerance: f64,
     pub relax_max_iterations: usize,
+    /// Band LU, sparse, or chosen by the half-bandwidth (default).
+    #[serde(default)]
+    pub linear_solver: crate::system::LinearSolver,
 }
 
 impl Default for IntegrationParameters {
@@ -37,6 +40,7 @@ impl Default for IntegrationParameters {
             parallel: true,
             relax_tolerance: 1e-10,
             relax_max_iterations: 500,
+            linear_solver: crate::system::LinearSolver::Auto,
         }
     }
 }
@@ -66,6 +70,9 @@ pub struct StepReport {
     pub bandwidth: usize,
     /// Relative residual of the last linear solve.
     pub residual: f64,
+    /// The sparse factorisation solved it (else the band LU).
+    #[serde(default)]
+    pub sparse: bool,
     /// Elastic energy before the step.
     pub elastic_energy: f64,
     /// Constraints broken by this step, in handle order.
@@ -237,7 +244,7 @@ impl World {
         let ws = &mut self.ws;
         let (layout, rod_ids, con_ids) = (&ws.layout, &ws.rod_ids, &ws.con_ids);
         let describe = |g: usize| describe_unknown(layout, rod_ids, con_ids, g);
-        ws.sys.solve(layout, describe)
+        ws.sys.solve(layout, self.params.linear_solver, describe)
     }
 
     /// Applies the solution: q += ΔX (returns max |ΔX| over positions and

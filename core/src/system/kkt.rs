@@ -11,6 +11,19 @@ use super::layout::Layout;
 use crate::constraint::{ConstraintKind, Row, SlidingBlocks};
 use crate::error::{Error, Result};
 use crate::linalg::band::{solve_refined, BandLu, BandMatrix};
+use crate::linalg::sparse::{prefer_sparse, SparseLu};
+use serde::{Deserialize, Serialize};
+
+/// Which factorisation solves the KKT system (SPEC §5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LinearSolver {
+    /// Band LU for narrow bands, sparse LDLᵀ/LU (faer) from half-bandwidth
+    /// 40 on (measured crossover, `core/examples/band_vs_sparse.rs`).
+    #[default]
+    Auto,
+    Band,
+    Sparse,
+}
 use crate::rod::assemble::Need;
 use crate::rod::{Rod, SegBlock};
 
@@ -43,6 +56,9 @@ pub struct BeadRef {
 pub struct KktSystem {
     pub band: BandMatrix,
     pub lu: BandLu,
+    pub sparse: SparseLu,
+    /// Solver used by the last `solve`: true = sparse.
+    pub used_sparse: bool,
     pub rhs: Vec<f64>,
     pub sol: Vec<f64>,
     work: Vec<f64>,
@@ -258,14 +274,20 @@ impl KktSystem {
     /// Factorises and solves; returns the relative residual after one step of
     /// iterative refinement. Zero pivots become `Error::Singular` naming the
     /// unknown.
-    pub fn solve(&mut self, layout: &Layout, describe: impl Fn(usize) -> String) -> Result<f64> {
+    pub fn solve(&mut self, layout: &Layout, solver: LinearSolver, describe: impl Fn(usize) -> String) -> Result<f64> {
         // A right-hand side at underflow level (a system at exact rest) is
         // zero: its relative residual would only measure denormal noise.
         if self.rhs.iter().all(|b| b.abs() < f64::MIN_POSITIVE.sqrt()) {
             self.rhs.iter_mut().for_each(|b| *b = 0.0);
         }
         self.equilibrate(layout);
-        if let Err(e) = self.lu.factor(&self.band) {
+        self.used_sparse = match solver {
+            LinearSolver::Auto => prefer_sparse(layout.n, layout.bandwidth),
+            LinearSolver::Band => false,
+            LinearSolver::Sparse => true,
+        };
+        let factored = if self.used_sparse { self.sparse.factor(&self.band) } else { self.lu.factor(&self.band) };
+        if let Err(e) = factored {
             return Err(match e {
                 Error::Singular(msg) => {
                     let row = msg
@@ -280,7 +302,12 @@ impl KktSystem {
             });
         }
         self.sol.resize(self.rhs.len(), 0.0);
-        let res = solve_refined(&self.band, &self.lu, &self.rhs, &mut self.sol, &mut self.work, 1)?;
+        let res = if self.used_sparse {
+            self.sol.copy_from_slice(&self.rhs);
+            self.sparse.solve_refined_in_place(&mut self.sol)?
+        } else {
+            solve_refined(&self.band, &self.lu, &self.rhs, &mut self.sol, &mut self.work, 1)?
+        };
         // Each constraint row must hold on its own scale: contradictory
         // dependent rows are "solved" with huge multipliers and a violated
         // row, which the global relative residual hides.

@@ -2,5 +2,5 @@
 pub mod kkt;
 pub mod layout;
 
-pub use kkt::{Coefficients, KktSystem};
+pub use kkt::{Coefficients, KktSystem, LinearSolver};
 pub use layout::Layout;
