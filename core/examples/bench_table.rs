@@ -1,6 +1,6 @@
 //! Reproduces thesis table IV.1 (SPEC §11) on this machine:
 //!
-//!   cargo run --release -p strandkit-core --example bench_table [-- --quick]
+//!   cargo run --release -p strandkit-core --example bench_table [-- --quick] [--runs N] [--cantilever-only]
 //!
 //! One free rod (straight along x, L = 4 m, steel, circle R = 5 cm, 4
 //! coordinates per control point, 5 samples per segment, no gravity, no
@@ -11,8 +11,10 @@
 //! tangent) with a small tip load, and the time is that of `World::step`
 //! with dt = 1e6 (M/h² ≈ 1e-12 M: negligible, the step is a Newton iteration).
 //!
-//! Timings: warm-up, then each step is timed individually and the median is
-//! reported (≥ 20 repetitions and ≥ 1 s, or ≥ 5 repetitions for 40000 cp).
+//! Timings: warm-up, then each step is timed individually; one figure is the
+//! median of ≥ 20 steps and ≥ 1 s (≥ 7 steps at 40000 cp), and the table shows
+//! the smallest of N such medians (passes interleaved in time; default N = 3,
+//! 1 with --quick) because the machine may be shared. Results: BENCHMARKS.md.
 //! The state is reset to the pre-deformed shape every 50 steps (outside the
 //! timed region) so that every step does representative work.
 //! Then: a breakdown (segment kernels / scatter / factorisation / solve /
