@@ -229,13 +229,7 @@ mod tests {
     }
 
     fn general() -> KnotVector {
-        KnotVector::from_knots(
-            vec![
-                -1.0, 0.0, 0.5, 1.0, 1.7, 2.0, 2.0, 3.5, 3.5, 3.5, 4.0, 4.2, 5.0, 5.0, 5.0, 5.0,
-            ],
-            12,
-        )
-        .unwrap()
+        super::super::test_fixtures::general()
     }
 
     /// Both curves agree on [lo, hi]: values and derivatives up to `max_d`

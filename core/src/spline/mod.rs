@@ -13,3 +13,15 @@ pub use knots::{eval, KnotKind, KnotVector, KnotVectorData};
 pub const DEGREE: usize = 3;
 /// Order (degree + 1) = number of control points per segment.
 pub const ORDER: usize = 4;
+
+/// Fixtures shared by the spline tests.
+#[cfg(test)]
+pub(crate) mod test_fixtures {
+    use super::KnotVector;
+
+    /// Non-uniform, a double and a triple interior knot, unclamped start, clamped end.
+    pub fn general() -> KnotVector {
+        KnotVector::from_knots(vec![-1.0, 0.0, 0.5, 1.0, 1.7, 2.0, 2.0, 3.5, 3.5, 3.5, 4.0, 4.2, 5.0, 5.0, 5.0, 5.0], 12)
+            .expect("valid knot vector") // a fixed, valid test fixture
+    }
+}
