@@ -27,6 +27,7 @@ impl World {
             bandwidth: self.ws.layout.bandwidth,
             residual,
             sparse: self.ws.sys.used_sparse,
+            factor_entries: self.ws.sys.factor_entries(),
             elastic_energy: energy,
             events,
         })

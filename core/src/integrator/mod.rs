@@ -73,6 +73,10 @@ pub struct StepReport {
     /// The sparse factorisation solved it (else the band LU).
     #[serde(default)]
     pub sparse: bool,
+    /// Entries stored by the factorisation (fill included): n (2 kl + ku + 1)
+    /// for the band LU, the factor's nonzeros for the sparse path.
+    #[serde(default)]
+    pub factor_entries: usize,
     /// Elastic energy before the step.
     pub elastic_energy: f64,
     /// Constraints broken by this step, in handle order.

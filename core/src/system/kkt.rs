@@ -233,6 +233,15 @@ impl KktSystem {
         Ok(())
     }
 
+    /// Entries stored by the last factorisation, fill included.
+    pub fn factor_entries(&self) -> usize {
+        if self.used_sparse {
+            self.sparse.factor_nnz().unwrap_or(0)
+        } else {
+            self.band.n() * (2 * self.band.kl() + self.band.ku() + 1)
+        }
+    }
+
     /// Symmetric scaling D A D: unit diagonal on coordinates, rows of unit
     /// max-norm on multipliers. Without it the multiplier pivots, O(L²/A),
     /// are ~1e-20 of the largest entry of a stiff rod and look singular.
