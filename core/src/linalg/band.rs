@@ -416,17 +416,7 @@ fn inf_norm(v: &[f64]) -> f64 {
 mod tests {
     use super::*;
 
-    /// Small deterministic generator (no `rand` dependency).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        }
-    }
+    use crate::linalg::test_util::Lcg;
 
     /// Dense Gaussian elimination with partial pivoting (reference).
     fn dense_solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {

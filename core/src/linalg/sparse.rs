@@ -654,17 +654,7 @@ mod tests {
     use super::*;
     use crate::linalg::band::BandLu;
 
-    /// Small deterministic generator (no `rand` dependency).
-    struct Lcg(u64);
-    impl Lcg {
-        fn next(&mut self) -> f64 {
-            self.0 = self
-                .0
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-        }
-    }
+    use crate::linalg::test_util::Lcg;
 
     /// Symmetric entries `(i, j, v)` (added both ways unless `i == j`) summed into a band matrix.
     struct Builder {
