@@ -77,15 +77,7 @@ fn write_obj(
     radius_scale: f64,
     caps: bool,
 ) -> PyResult<()> {
-    let m = mesh_of(
-        obj,
-        &TubeOptions {
-            rings_per_segment,
-            points_per_ring,
-            radius_scale,
-            caps,
-        },
-    )?;
+    let m = mesh_of(obj, &TubeOptions { rings_per_segment, points_per_ring, radius_scale, caps })?;
     guard(|| m.write_obj(&path))
 }
 
@@ -100,15 +92,7 @@ fn write_vtk(
     radius_scale: f64,
     caps: bool,
 ) -> PyResult<()> {
-    let m = mesh_of(
-        obj,
-        &TubeOptions {
-            rings_per_segment,
-            points_per_ring,
-            radius_scale,
-            caps,
-        },
-    )?;
+    let m = mesh_of(obj, &TubeOptions { rings_per_segment, points_per_ring, radius_scale, caps })?;
     guard(|| m.write_vtk(&path))
 }
 

@@ -298,18 +298,7 @@ impl BandLu {
         }
         let (n, kl, ldab) = (self.n, self.kl, self.ldab);
         let kv = kl + self.ku;
-        if b.len() != n {
-            return Err(Error::InvalidInput(format!(
-                "right-hand side has length {}, the matrix has {n} rows",
-                b.len()
-            )));
-        }
-        if let Some(i) = b.iter().position(|v| !v.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "right-hand side entry {i} is {}",
-                b[i]
-            )));
-        }
+        super::check_rhs(b, n)?;
         // Forward: apply P and L (unit lower, kl multipliers per column).
         if kl > 0 {
             for j in 0..n.saturating_sub(1) {

@@ -4,6 +4,18 @@ pub mod sparse;
 
 pub use band::{solve_refined, BandLu, BandMatrix};
 
+/// A right-hand side must have `n` finite entries.
+pub(crate) fn check_rhs(b: &[f64], n: usize) -> crate::error::Result<()> {
+    use crate::error::Error;
+    if b.len() != n {
+        return Err(Error::InvalidInput(format!("right-hand side has length {}, the matrix has {n} rows", b.len())));
+    }
+    if let Some(i) = b.iter().position(|v| !v.is_finite()) {
+        return Err(Error::InvalidInput(format!("right-hand side entry {i} is {}", b[i])));
+    }
+    Ok(())
+}
+
 /// Helpers shared by the linear-algebra tests.
 #[cfg(test)]
 pub(crate) mod test_util {

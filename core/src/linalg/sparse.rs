@@ -207,18 +207,7 @@ impl SparseLu {
             ));
         };
         let n = self.n;
-        if b.len() != n {
-            return Err(Error::InvalidInput(format!(
-                "right-hand side has length {}, the matrix has {n} rows",
-                b.len()
-            )));
-        }
-        if let Some(i) = b.iter().position(|v| !v.is_finite()) {
-            return Err(Error::InvalidInput(format!(
-                "right-hand side entry {i} is {}",
-                b[i]
-            )));
-        }
+        super::check_rhs(b, n)?;
         if n == 0 {
             return Ok(0.0);
         }
