@@ -13,9 +13,26 @@ use crate::error::{finite, positive, Error, Result};
 /// disables a side.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct StrainLimits {
+    #[serde(with = "limit_pair")]
     pub stretch: (f64, f64),
+    #[serde(with = "limit_pair")]
     pub bend: (f64, f64),
+    #[serde(with = "limit_pair")]
     pub twist: (f64, f64),
+}
+
+/// JSON has no infinity: a disabled side (±∞) is written as `null` and read
+/// back as −∞ (first) / +∞ (second), so snapshots round-trip exactly.
+mod limit_pair {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+    pub fn serialize<S: Serializer>(p: &(f64, f64), s: S) -> Result<S::Ok, S::Error> {
+        let f = |x: f64| if x.is_finite() { Some(x) } else { None };
+        (f(p.0), f(p.1)).serialize(s)
+    }
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<(f64, f64), D::Error> {
+        let (a, b) = <(Option<f64>, Option<f64>)>::deserialize(d)?;
+        Ok((a.unwrap_or(f64::NEG_INFINITY), b.unwrap_or(f64::INFINITY)))
+    }
 }
 
 impl StrainLimits {
@@ -319,6 +336,14 @@ mod tests {
         // Edge values accepted.
         Material::new("rubber", 1e6, 0.5, 1100.0).unwrap();
         Material::new("auxetic", 1e6, -0.99, 100.0).unwrap();
+    }
+
+    #[test]
+    fn infinite_limits_round_trip_through_json() {
+        let y = StrainLimits { stretch: (-0.01, f64::INFINITY), bend: (f64::NEG_INFINITY, 2.0), twist: (-3.0, 3.0) };
+        let m = Material::preset("copper").unwrap().with_yield(y).unwrap().with_rupture(StrainLimits::unlimited()).unwrap();
+        let back: Material = serde_json::from_str(&serde_json::to_string(&m).unwrap()).unwrap();
+        assert_eq!(back, m);
     }
 
     #[test]

@@ -348,7 +348,7 @@ impl Section {
     }
 
     /// Sizes in declaration order, padded with zeros.
-    fn sizes(&self) -> [f64; 4] {
+    pub(crate) fn sizes(&self) -> [f64; 4] {
         match *self {
             Section::Circle { radius } => [radius, 0.0, 0.0, 0.0],
             Section::Tube {
@@ -368,7 +368,7 @@ impl Section {
     }
 
     /// Same shape as `self` with the given sizes (inverse of `sizes`).
-    fn with_sizes(&self, v: [f64; 4]) -> Section {
+    pub(crate) fn with_sizes(&self, v: [f64; 4]) -> Section {
         match self {
             Section::Circle { .. } => Section::Circle { radius: v[0] },
             Section::Tube { .. } => Section::Tube {

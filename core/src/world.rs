@@ -48,6 +48,20 @@ pub enum Event {
     ClipCaptured { clip: ClipHandle, rod: RodHandle, constraint: ConstraintHandle, u: f64, time: f64 },
     /// A clip released its rod: the pull-out force exceeded its resistance.
     ClipReleased { clip: ClipHandle, rod: RodHandle, force: f64, time: f64 },
+    /// Material rupture (SPEC §6): `rod` was cut at abscissa `u` where its
+    /// relative strain in `mode` passed `limit`. An open rod keeps the piece
+    /// on [start, u] under its handle and the piece on [u, end] becomes
+    /// `new_rod`; a ring is opened into one rod (new_rod None) whose abscissa
+    /// s is the ring's u + s.
+    RodRuptured {
+        rod: RodHandle,
+        new_rod: Option<RodHandle>,
+        u: f64,
+        time: f64,
+        mode: crate::rod::StrainMode,
+        strain: f64,
+        limit: f64,
+    },
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]

@@ -175,6 +175,34 @@ impl ConstraintKind {
         }
     }
 
+    /// Every abscissa of the constraint with the side it lies on (0: first
+    /// rod, 1: second rod of a relative kind), for moving a constraint to
+    /// another rod (rupture).
+    pub(crate) fn abscissae_mut(&mut self) -> Vec<(u8, &mut f64)> {
+        use ConstraintKind::*;
+        match self {
+            Position { u, .. }
+            | Tangent { u, .. }
+            | MaterialRoll { u, .. }
+            | Distance { u, .. }
+            | Plane { u, .. }
+            | Axis { u, .. }
+            | Curvature { u, .. }
+            | SlidingPoint { u, .. }
+            | OrientedSlidingPoint { u, .. } => vec![(0, u)],
+            RelativePosition { ua, ub, .. }
+            | RelativeOrientation { ua, ub, .. }
+            | RelativeDistance { ua, ub, .. }
+            | Contact { ua, ub, .. }
+            | CoplanarClamp { ua, ub, .. } => vec![(0, ua), (1, ub)],
+            Barycentric { points, driven, .. } => {
+                let mut v: Vec<(u8, &mut f64)> = points.iter_mut().map(|p| (0, &mut p.0)).collect();
+                v.push((0, driven));
+                v
+            }
+        }
+    }
+
     pub fn n_rows(&self) -> usize {
         match self {
             ConstraintKind::Position { axes, .. } => axes.iter().filter(|a| **a).count(),

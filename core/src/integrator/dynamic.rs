@@ -20,6 +20,7 @@ impl World {
         events.extend(self.beads_advance(h)?);
         events.extend(self.break_constraints()?);
         events.extend(self.update_clips()?);
+        let inelastic = self.inelastic_update(&mut events)?;
         Ok(StepReport {
             time: self.time,
             n_unknowns: self.ws.layout.n,
@@ -29,6 +30,7 @@ impl World {
             sparse: self.ws.sys.used_sparse,
             factor_entries: self.ws.sys.factor_entries(),
             elastic_energy: energy,
+            plastic_samples: inelastic.yielded,
             events,
         })
     }

@@ -3,6 +3,7 @@
 mod beads;
 mod definedness;
 mod dynamic;
+pub mod quasi_dynamic;
 mod statics;
 
 use crate::error::{Error, Result};
@@ -79,7 +80,11 @@ pub struct StepReport {
     pub factor_entries: usize,
     /// Elastic energy before the step.
     pub elastic_energy: f64,
-    /// Constraints broken by this step, in handle order.
+    /// Samples whose plastic offset moved after this step (SPEC §6).
+    #[serde(default)]
+    pub plastic_samples: usize,
+    /// What happened in this step (broken constraints, departed sliders,
+    /// clips, ruptures), in the order it happened.
     pub events: Vec<crate::world::Event>,
 }
 
@@ -95,7 +100,12 @@ pub struct RelaxReport {
     pub potential: f64,
     pub bandwidth: usize,
     pub n_unknowns: usize,
-    /// Constraints broken at the equilibrium found.
+    /// Samples whose plastic offset moved during the solve (counted at
+    /// every intermediate equilibrium) (SPEC §6).
+    #[serde(default)]
+    pub plastic_samples: usize,
+    /// What happened at the equilibrium found (broken constraints, clips,
+    /// a rupture — which ends the solve).
     pub events: Vec<crate::world::Event>,
 }
 

@@ -102,6 +102,15 @@ impl World {
             report.increment = dx;
             report.violation = violation;
             if newton && dx <= tol * length && dth <= tol && violation <= tol * length && dbead <= tol * 1e3 {
+                // Plastic flow at this equilibrium moves it: relax again
+                // until the offsets stop moving (or a rupture ends the solve).
+                let inelastic = self.inelastic_update(&mut report.events)?;
+                report.plastic_samples += inelastic.yielded;
+                if inelastic.max_increment > tol && !inelastic.ruptured {
+                    potential = self.potential();
+                    lambda = 1e-6;
+                    continue;
+                }
                 report.potential = potential;
                 report.bandwidth = self.ws.layout.bandwidth;
                 report.n_unknowns = self.ws.layout.n;

@@ -4,12 +4,18 @@
 //! Generalised coordinates are stored flat: control point i owns
 //! `q[i*dofs .. i*dofs+dofs]` = (x, y, z[, θ]). Positions are in the world's
 //! length unit, θ in radians; velocities likewise per time unit.
+mod arc;
 pub mod assemble;
 pub mod build;
+mod plastic;
+mod poisson;
 mod samples;
+mod split;
 
 pub use assemble::SegBlock;
 pub use build::{RodBuilder, RodShape};
+pub use plastic::{PlasticUpdate, RuptureSite, StrainMode};
+pub use split::Cut;
 pub(crate) use samples::Cache;
 
 use crate::energy::{self, invariants::LocalState, EnergyTerms, FrameModel, Strains};
@@ -38,6 +44,10 @@ pub struct RodOptions {
     /// Viscous drag coefficient c_d (force per unit velocity per unit length):
     /// distributed force −c_d v, D_ij = ∫ c_d b_i b_j ds0 (III.10).
     pub drag: f64,
+    /// Poisson contraction of the section with stretch (II.59), updated
+    /// after every solve; off by default.
+    #[serde(default)]
+    pub poisson_update: bool,
 }
 
 impl Default for RodOptions {
@@ -48,6 +58,7 @@ impl Default for RodOptions {
             model: FrameModel::Frenet,
             curvature_threshold: 0.0,
             drag: 0.0,
+            poisson_update: false,
         }
     }
 }
@@ -61,6 +72,10 @@ pub struct Rod {
     pub(crate) q_rest: Vec<f64>,
     /// One section per control point, blended with the basis (II.26).
     pub(crate) sections: Vec<Section>,
+    /// Unstrained sections when a Poisson update changed `sections`
+    /// (empty: same as `sections`). Mass and inertia use these.
+    #[serde(default)]
+    pub(crate) rest_sections: Vec<Section>,
     pub(crate) material: Material,
     pub(crate) opts: RodOptions,
     /// Per-sample plastic offsets (SPEC §6); empty when the rod never yielded.
@@ -130,6 +145,7 @@ impl Rod {
             material,
             opts,
             plastic: Vec::new(),
+            rest_sections: Vec::new(),
             cache: Cache::default(),
         };
         rod.prepare()?;
@@ -139,7 +155,29 @@ impl Rod {
     /// Rebuilds the per-sample cache (after construction or deserialisation).
     pub fn prepare(&mut self) -> Result<()> {
         self.cache = Cache::build(self)?;
+        if !self.rest_sections.is_empty() {
+            self.cache.refresh_stiffness(&self.sections, self.material.young, self.material.shear_modulus())?;
+        }
         Ok(())
+    }
+
+    /// Curvature κ_ε below which the Frenet torsion is regularised (1/length):
+    /// the option, or 1 / rest length when the option is 0.
+    pub fn curvature_threshold(&self) -> f64 {
+        if self.opts.curvature_threshold > 0.0 {
+            self.opts.curvature_threshold
+        } else {
+            1.0 / self.rest_length()
+        }
+    }
+
+    /// Sections at rest (before any Poisson contraction), one per control point.
+    pub fn rest_sections(&self) -> &[Section] {
+        if self.rest_sections.is_empty() {
+            &self.sections
+        } else {
+            &self.rest_sections
+        }
     }
 
     pub fn knots(&self) -> &KnotVector {

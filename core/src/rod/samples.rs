@@ -4,7 +4,7 @@
 //! the blended section, rest curvatures and twist, and the per-segment
 //! consistent mass, roll inertia and drag blocks (II.70–II.75, III.10).
 use super::Rod;
-use crate::energy::{self, invariants::LocalState, SampleConsts};
+use crate::energy::{self, invariants::LocalState, SampleConsts, Strains};
 use crate::error::{Error, Result};
 use crate::quadrature::gauss_legendre;
 use crate::section::Section;
@@ -19,6 +19,8 @@ pub(crate) struct Sample {
     /// Quadrature weight in rest arc length (length unit).
     pub w: f64,
     pub consts: SampleConsts,
+    /// Elastic rest values (κ1⁰, κ2⁰, ω⁰) without plastic offsets.
+    pub rest: [f64; 3],
 }
 
 pub(crate) type Block4 = [[f64; 4]; 4];
@@ -119,26 +121,15 @@ impl Cache {
         c.seg_len_weight = vec![[0.0; 4]; nseg];
         for (idx, (seg, u, basis, wt, s0, speed0)) in raw.into_iter().enumerate() {
             let ctrl = c.seg_ctrl[seg];
-            let sec = Section::blend(
-                [&rod.sections[ctrl[0]], &rod.sections[ctrl[1]], &rod.sections[ctrl[2]], &rod.sections[ctrl[3]]],
-                basis[0],
-            )?;
+            let secs = rod.rest_sections();
+            let sec = Section::blend([&secs[ctrl[0]], &secs[ctrl[1]], &secs[ctrl[2]], &secs[ctrl[3]]], basis[0])?;
             let p = sec.props()?;
             let delta = kappa_eps * speed0 * speed0 * speed0;
             let (k1, k2, om) = energy::rest_values(&s0, delta, rod.opts.model);
-            let plastic = rod.plastic.get(idx).copied().unwrap_or_default();
-            let consts = SampleConsts {
-                ea: e * p.area,
-                ei1: e * p.i1,
-                ei2: e * p.i2,
-                gj: g * p.j,
-                speed0,
-                kappa1: k1 + plastic.kappa1,
-                kappa2: k2 + plastic.kappa2,
-                omega: om + plastic.omega,
-                eps_p: plastic.eps,
-                delta,
-            };
+            let mut consts = SampleConsts { speed0, delta, ..Default::default() };
+            set_stiffness(&mut consts, &p, e, g);
+            let rest = [k1, k2, om];
+            set_plastic(&mut consts, &rest, &rod.plastic.get(idx).copied().unwrap_or_default());
             let mu = rho * p.area;
             let rho_i0 = rho * p.i0;
             c.mass += wt * mu;
@@ -152,8 +143,46 @@ impl Cache {
                     c.seg_drag[seg][k][l] += rod.opts.drag * bb;
                 }
             }
-            c.samples.push(Sample { seg, u, basis, w: wt, consts });
+            c.samples.push(Sample { seg, u, basis, w: wt, consts, rest });
         }
         Ok(c)
     }
+
+    /// Re-derives the plastic part of every sample's constants from the
+    /// rod's offsets (after a plastic update, SPEC §6).
+    pub fn refresh_plastic(&mut self, plastic: &[Strains]) {
+        for (i, s) in self.samples.iter_mut().enumerate() {
+            set_plastic(&mut s.consts, &s.rest, &plastic.get(i).copied().unwrap_or_default());
+        }
+    }
+
+    /// Re-derives the stiffnesses from the rod's current sections (after a
+    /// Poisson radius update, II.59); mass and inertia stay those of the
+    /// rest sections (mass is conserved).
+    pub fn refresh_stiffness(&mut self, rod_sections: &[Section], e: f64, g: f64) -> Result<()> {
+        for s in self.samples.iter_mut() {
+            let ctrl = self.seg_ctrl[s.seg];
+            let sec = Section::blend(
+                [&rod_sections[ctrl[0]], &rod_sections[ctrl[1]], &rod_sections[ctrl[2]], &rod_sections[ctrl[3]]],
+                s.basis[0],
+            )?;
+            set_stiffness(&mut s.consts, &sec.props()?, e, g);
+        }
+        Ok(())
+    }
+}
+
+fn set_stiffness(c: &mut SampleConsts, p: &crate::section::SectionProps, e: f64, g: f64) {
+    c.ea = e * p.area;
+    c.ei1 = e * p.i1;
+    c.ei2 = e * p.i2;
+    c.gj = g * p.j;
+}
+
+/// W uses rest + plastic offsets: κ⁰ + κ_p, ω⁰ + ω_p, ε_p (II.104).
+fn set_plastic(c: &mut SampleConsts, rest: &[f64; 3], p: &Strains) {
+    c.kappa1 = rest[0] + p.kappa1;
+    c.kappa2 = rest[1] + p.kappa2;
+    c.omega = rest[2] + p.omega;
+    c.eps_p = p.eps;
 }
