@@ -106,7 +106,10 @@ impl World {
                 // until the offsets stop moving (or a rupture ends the solve).
                 let inelastic = self.inelastic_update(&mut report.events)?;
                 report.plastic_samples += inelastic.yielded;
-                if inelastic.max_increment > tol && !inelastic.ruptured {
+                if std::env::var_os("STRANDKIT_DEBUG").is_some() {
+                    eprintln!("relax plastic: {} samples, max increment {:.3e}", inelastic.yielded, inelastic.max_increment);
+                }
+                if inelastic.max_increment > self.params.plastic_tolerance && !inelastic.ruptured {
                     potential = self.potential();
                     lambda = 1e-6;
                     continue;
