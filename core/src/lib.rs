@@ -33,7 +33,7 @@ pub use integrator::quasi_dynamic::{Clock, FrameReport, Mode, QuasiDynamic, Quas
 pub use integrator::{IntegrationParameters, RelaxReport, StepReport};
 pub use load::Load;
 pub use material::Material;
-pub use rod::{Rod, RodBuilder, RodOptions};
+pub use rod::{Cut, Rod, RodBuilder, RodOptions, StrainMode};
 pub use section::Section;
 pub use system::LinearSolver;
 pub use world::{Breaking, Constraint, Event, World};

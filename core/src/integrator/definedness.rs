@@ -153,3 +153,63 @@ impl World {
         Ok(())
     }
 }
+
+impl World {
+    /// The thesis' rule for switching to quasi-statics (IV.B): every rod is
+    /// held at ≥ 2 points, or at one point with an orientation. A point is
+    /// a position constraint on x, y and z (or a full relative position /
+    /// coplanar clamp to a rod that is itself held); an orientation is a
+    /// tangent constraint, an oriented slider, or a relative orientation to
+    /// a held rod. Stricter than [`Self::check_statically_defined`], which
+    /// also accepts motions held by the stiffness of a stressed rod (a
+    /// pendulum hanging under its weight has a static equilibrium, but its
+    /// swing is dynamics the quasi-static switch must keep).
+    pub(crate) fn check_anchored(&self) -> Result<()> {
+        use crate::handles::RodHandle;
+        let rods: Vec<RodHandle> = self.rods().map(|(h, _)| h).collect();
+        let mut held: Vec<bool> = vec![false; rods.len()];
+        let idx = |h: RodHandle| rods.iter().position(|r| *r == h);
+        // Links count once their other rod is held: iterate to a fixed point.
+        loop {
+            let mut changed = false;
+            for (i, &h) in rods.iter().enumerate() {
+                if held[i] {
+                    continue;
+                }
+                let (mut points, mut orient) = (Vec::<f64>::new(), 0usize);
+                for (_, c) in self.constraints() {
+                    let other_held = |o: Option<RodHandle>, me: RodHandle| {
+                        let o = o.unwrap_or(me);
+                        o != me && idx(o).is_some_and(|j| held[j])
+                    };
+                    let peer = if c.rod == h { c.other } else if c.other == Some(h) { Some(c.rod) } else { continue };
+                    let u = if c.rod == h { c.kind.u() } else { crate::constraint::relative::abscissae(&c.kind).map_or(c.kind.u(), |p| p.1) };
+                    match &c.kind {
+                        ConstraintKind::Position { axes, .. } if axes[..3].iter().all(|a| *a) => points.push(u),
+                        ConstraintKind::Tangent { .. } | ConstraintKind::OrientedSlidingPoint { .. } => orient += 1,
+                        ConstraintKind::RelativePosition { axes, .. } if axes[..3].iter().all(|a| *a) && other_held(peer, h) => points.push(u),
+                        ConstraintKind::CoplanarClamp { .. } if other_held(peer, h) => points.push(u),
+                        ConstraintKind::RelativeOrientation { .. } if other_held(peer, h) => orient += 1,
+                        _ => {}
+                    }
+                }
+                points.sort_by(f64::total_cmp);
+                points.dedup_by(|a, b| (*a - *b).abs() <= 1e-12 * (1.0 + a.abs()));
+                if points.len() >= 2 || (points.len() == 1 && orient >= 1) {
+                    held[i] = true;
+                    changed = true;
+                }
+            }
+            if !changed {
+                break;
+            }
+        }
+        match held.iter().position(|x| !x) {
+            None => Ok(()),
+            Some(i) => Err(Error::Singular(format!(
+                "rod {} is held neither at two points nor at one point with an orientation (IV.B): it stays dynamic",
+                rods[i].index
+            ))),
+        }
+    }
+}

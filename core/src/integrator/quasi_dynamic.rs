@@ -7,9 +7,9 @@
 //!   with an injectable [`Clock`]: to quasi-static above `to_static` (95 %)
 //!   of the budget, back to dynamic below `to_dynamic` (90 %); in between the
 //!   mode is kept (hysteresis).
-//! - Never quasi-static when the world is not statically defined (≥ 2
-//!   constrained points, or one point plus an orientation — checked on the
-//!   rigid modes of every rod), nor when the static system is singular.
+//! - Never quasi-static when a rod is not held at ≥ 2 points or one point
+//!   plus an orientation (the thesis' rule), when the rigid modes are not
+//!   all held (the check of `relax`), or when the static system is singular.
 //! - Time step: Δt = (l_free / l_initial) Δt0 (IV.15), l_free the longest
 //!   stretch of rod between constrained abscissae (or ends), l_initial the
 //!   longest rod's rest length at creation.
@@ -234,6 +234,7 @@ impl World {
         let statics = Coefficients { mass: 0.0, drag: 0.0, momentum: 0.0 };
         self.beads_static_load();
         self.assemble(statics)?;
+        self.check_anchored()?;
         self.check_statically_defined()?;
         self.solve_system()?;
         let full = self.ws.layout.cp_index.iter().zip(self.rods.iter()).fold(0.0f64, |m, (cps, (_, rod))| {
