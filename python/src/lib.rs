@@ -12,6 +12,7 @@ use strandkit_core::Error;
 mod convert;
 mod io;
 mod props;
+mod quasi;
 mod rod;
 mod world;
 
@@ -74,6 +75,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     props::register(m)?;
     rod::register(m)?;
     world::register(m)?;
+    quasi::register(m)?;
     io::register(m)?;
     Ok(())
 }

@@ -13,7 +13,7 @@ use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use std::sync::{Arc, Mutex};
-use strandkit_core::energy::EnergyTerms;
+use strandkit_core::energy::{EnergyTerms, Strains};
 use strandkit_core::io::mesh::{self, TubeOptions};
 use strandkit_core::spline::KnotKind;
 use strandkit_core::{frames, Error, Material, Rod, RodBuilder, RodHandle, RodOptions, Section};
@@ -84,6 +84,10 @@ impl PyRod {
             }
         }
     }
+}
+
+fn strains_flat(s: &[Strains]) -> Vec<f64> {
+    s.iter().flat_map(|x| [x.eps, x.kappa1, x.kappa2, x.omega]).collect()
 }
 
 /// Parameters given as a float or an array: (values, was_scalar).
@@ -214,13 +218,45 @@ impl PyRod {
     /// material curvatures κ1, κ2 and twist ω (1/length).
     fn strains<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
         let s = self.with(py, |r| Ok(r.strains()))?;
-        array2(
-            py,
-            s.iter()
-                .flat_map(|x| [x.eps, x.kappa1, x.kappa2, x.omega])
-                .collect(),
-            4,
-        )
+        array2(py, strains_flat(&s), 4)
+    }
+    /// Relative strains ε_r = ε − ε⁰ at the sample points, shape (m, 4):
+    /// stretch (dimensionless), κ1 − κ1⁰, κ2 − κ2⁰, ω − ω⁰ (1/length). These
+    /// are what the yield and rupture limits are compared with (SPEC §6).
+    fn relative_strains<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let s = self.with(py, |r| Ok(r.relative_strains()))?;
+        array2(py, strains_flat(&s), 4)
+    }
+    /// Plastic offsets Δε_p at the sample points, shape (m, 4), same columns
+    /// and units as `strains`. Assignable (an array of that shape).
+    #[getter]
+    fn plastic_offsets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let s = self.with(py, |r| Ok(r.plastic_offsets()))?;
+        array2(py, strains_flat(&s), 4)
+    }
+    #[setter]
+    fn set_plastic_offsets(&mut self, py: Python<'_>, value: &Bound<'_, PyAny>) -> PyResult<()> {
+        let (flat, _, _) = convert::matrix(value, &[4], "plastic_offsets")?;
+        let s: Vec<Strains> = flat
+            .chunks(4)
+            .map(|c| Strains { eps: c[0], kappa1: c[1], kappa2: c[2], omega: c[3] })
+            .collect();
+        self.with_mut(py, |r| guard(|| r.set_plastic_offsets(&s)))
+    }
+    /// Replaces the yield and rupture strain limits, each a dict
+    /// {'stretch': x, 'bend': 1/length, 'twist': 1/length} of symmetric
+    /// limits (missing or inf: no limit) or None (purely elastic / never
+    /// breaks). Plastic offsets already accumulated are kept.
+    #[pyo3(signature = (*, yield_limits = None, rupture_limits = None))]
+    fn set_strain_limits(
+        &mut self,
+        py: Python<'_>,
+        yield_limits: Option<&Bound<'_, PyAny>>,
+        rupture_limits: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<()> {
+        let y = yield_limits.map(crate::props::limits_arg).transpose()?;
+        let b = rupture_limits.map(crate::props::limits_arg).transpose()?;
+        self.with_mut(py, |r| guard(|| r.set_strain_limits(y, b)))
     }
     /// Internal generalised forces −∂U/∂q, shape like `control_points`.
     fn internal_forces<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
@@ -478,6 +514,7 @@ struct Common<'a, 'py> {
     curvature_threshold: f64,
     terms: (bool, bool, bool),
     roll: Option<&'a Bound<'py, PyAny>>,
+    poisson_update: bool,
 }
 
 impl Common<'_, '_> {
@@ -495,6 +532,7 @@ impl Common<'_, '_> {
                 },
                 curvature_threshold: self.curvature_threshold,
                 drag: self.drag,
+                poisson_update: self.poisson_update,
                 ..Default::default()
             });
         match (self.section, self.sections) {
@@ -540,7 +578,7 @@ macro_rules! builder_fn {
         #[pyfunction]
         #[pyo3(signature = ($($arg),*, *, section = None, material = None, n_control_points = 20, knots = "clamped",
             with_roll = true, samples_per_segment = 5, drag = 0.0, curvature_threshold = 0.0,
-            stretch = true, bend = true, twist = true, roll = None, sections = None))]
+            stretch = true, bend = true, twist = true, roll = None, sections = None, poisson_update = false))]
         #[allow(clippy::too_many_arguments)]
         fn $name<'py>(
             $($arg: $ty,)*
@@ -557,10 +595,11 @@ macro_rules! builder_fn {
             twist: bool,
             roll: Option<&Bound<'py, PyAny>>,
             sections: Option<&Bound<'py, PyAny>>,
+            poisson_update: bool,
         ) -> PyResult<PyRod> {
             let $c = Common {
                 section, sections, material, n_control_points, knots, with_roll, samples_per_segment, drag,
-                curvature_threshold, terms: (stretch, bend, twist), roll,
+                curvature_threshold, terms: (stretch, bend, twist), roll, poisson_update,
             };
             $body
         }
@@ -581,7 +620,8 @@ builder_fn!(
     /// coordinates per control point, no twist), `samples_per_segment`
     /// (Gauss points, 1..8), `drag` (force/(velocity·length)),
     /// `curvature_threshold` (1/length, 0 = 1/rest length), `stretch`,
-    /// `bend`, `twist` (energy terms on/off), `roll` (θ per control point, rad).
+    /// `bend`, `twist` (energy terms on/off), `roll` (θ per control point, rad),
+    /// `poisson_update` (sections contract with stretch, II.59).
     straight(start: [f64; 3], end: [f64; 3]) => |c| {
         build(c.apply(RodBuilder::straight(Vector3::from(start), Vector3::from(end)))?)
     }

@@ -123,7 +123,7 @@ fn event<'py>(slf: &Bound<'py, PyWorld>, e: &strandkit_core::Event) -> PyResult<
             let b: Option<BeadHandle> =
                 as_handle(k.contains("bead")).and_then(|v| serde_json::from_value(v).ok());
             let r: Option<RodHandle> =
-                as_handle(k == "rod").and_then(|v| serde_json::from_value(v).ok());
+                as_handle(k == "rod" || k == "new_rod").and_then(|v| serde_json::from_value(v).ok());
             match (c, b, r) {
                 (Some(h), _, _) => data.set_item(k, PyWorld::handle_c(slf, h))?,
                 (None, Some(h), _) => data.set_item(
@@ -149,6 +149,12 @@ fn event<'py>(slf: &Bound<'py, PyWorld>, e: &strandkit_core::Event) -> PyResult<
 
 fn events<'py>(slf: &Bound<'py, PyWorld>, es: &[strandkit_core::Event]) -> PyResult<Vec<PyEvent>> {
     es.iter().map(|e| event(slf, e)).collect()
+}
+
+/// Events as Python `Event` objects (for other modules' reports).
+pub(crate) fn events_of(slf: &Bound<'_, PyWorld>, es: &[strandkit_core::Event]) -> PyResult<Vec<Py<PyAny>>> {
+    let py = slf.py();
+    es.iter().map(|e| Ok(Bound::new(py, event(slf, e)?)?.into_any().unbind())).collect()
 }
 
 #[pymethods]
@@ -900,7 +906,12 @@ impl PyStepReport {
     fn elastic_energy(&self) -> f64 {
         self.inner.elastic_energy
     }
-    /// Constraints broken by this step.
+    /// Samples whose plastic offset moved after this step.
+    #[getter]
+    fn plastic_samples(&self) -> usize {
+        self.inner.plastic_samples
+    }
+    /// What happened: broken constraints, departed sliders, clips, ruptures.
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         events_list(py, &self.events)
@@ -976,6 +987,11 @@ impl PyRelaxReport {
     #[getter]
     fn n_unknowns(&self) -> usize {
         self.inner.n_unknowns
+    }
+    /// Samples whose plastic offset moved during the solve.
+    #[getter]
+    fn plastic_samples(&self) -> usize {
+        self.inner.plastic_samples
     }
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {

@@ -22,8 +22,10 @@ from ._native import (
     ConvergenceError,
     DcdWriter,
     Event,
+    FrameReport,
     LoadHandle,
     Material,
+    QuasiDynamic,
     Reaction,
     RelaxReport,
     Rod,
@@ -74,7 +76,7 @@ __version__ = _native.__version__
 
 __all__ = [
     # world and rods
-    "World", "Rod", "Section", "Material", "straight", "helix", "curve", "through_points",
+    "World", "Rod", "Section", "Material", "QuasiDynamic", "FrameReport", "straight", "helix", "curve", "through_points",
     "from_control_points", "rod_from_json",
     # constraints and loads
     "Kind", "kind", "position", "tangent", "material_roll", "distance", "plane", "axis", "curvature",

@@ -1,0 +1,183 @@
+//! Quasi-dynamic driver (thesis algorithm 11) for Python: one frame per
+//! `step()`, dynamic or quasi-static by the previous frame's compute time.
+use crate::convert::from_json;
+use crate::guard;
+use crate::world::{events_of, PyWorld};
+use pyo3::prelude::*;
+use strandkit_core::{Clock, FrameReport, Mode, QuasiDynamic, QuasiDynamicParameters, WallClock};
+
+/// Drives a World frame by frame (thesis IV.B.2): dynamic while a frame's
+/// compute time stays under `to_dynamic` × budget, quasi-static (one
+/// incomplete Newton iteration per frame) above `to_static` × budget,
+/// never quasi-static for a rod held at fewer than two points (or one
+/// point without an orientation).
+///
+/// Keyword arguments: `dt0` (time step of the free configuration, time
+/// unit), `time_budget` (wall-clock seconds per frame; None = real time,
+/// the frame's dt), `to_static` (0.95), `to_dynamic` (0.90),
+/// `newton_fraction` (1/3), `scale_with_free_length` (True: dt = dt0 ×
+/// free length / initial length, IV.15).
+#[pyclass(name = "QuasiDynamic", module = "strandkit._native")]
+pub struct PyQuasiDynamic {
+    inner: QuasiDynamic,
+    world: Py<PyWorld>,
+}
+
+/// A Python callable returning seconds, as a core clock; the first error
+/// it raises is kept and re-raised after the frame.
+struct PyClock<'py> {
+    f: Bound<'py, PyAny>,
+    error: Option<PyErr>,
+    last: f64,
+}
+
+impl Clock for PyClock<'_> {
+    fn now(&mut self) -> f64 {
+        match self.f.call0().and_then(|v| v.extract::<f64>()) {
+            Ok(t) => self.last = t,
+            Err(e) => {
+                self.error.get_or_insert(e);
+            }
+        }
+        self.last
+    }
+}
+
+#[pymethods]
+impl PyQuasiDynamic {
+    #[new]
+    #[pyo3(signature = (world, *, dt0 = 1e-3, time_budget = None, to_static = 0.95, to_dynamic = 0.90,
+        newton_fraction = 1.0 / 3.0, scale_with_free_length = true))]
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        world: Bound<'_, PyWorld>,
+        dt0: f64,
+        time_budget: Option<f64>,
+        to_static: f64,
+        to_dynamic: f64,
+        newton_fraction: f64,
+        scale_with_free_length: bool,
+    ) -> PyResult<Self> {
+        let p = QuasiDynamicParameters { dt0, time_budget, to_static, to_dynamic, newton_fraction, scale_with_free_length };
+        let inner = guard(|| QuasiDynamic::new(&world.borrow().inner, p))?;
+        Ok(PyQuasiDynamic { inner, world: world.unbind() })
+    }
+
+    /// One frame. `clock`: a callable returning seconds (default: the
+    /// process' monotonic clock); tests pass a scripted one.
+    #[pyo3(signature = (clock = None))]
+    fn step(&mut self, py: Python<'_>, clock: Option<Bound<'_, PyAny>>) -> PyResult<PyFrameReport> {
+        let world = self.world.bind(py).clone();
+        let rep = {
+            let mut w = world.try_borrow_mut()?;
+            match clock {
+                None => guard(|| self.inner.step(&mut w.inner, &mut WallClock::default()))?,
+                Some(f) => {
+                    let mut c = PyClock { f, error: None, last: 0.0 };
+                    let r = guard(|| self.inner.step(&mut w.inner, &mut c));
+                    if let Some(e) = c.error {
+                        return Err(e);
+                    }
+                    r?
+                }
+            }
+        };
+        let events = events_of(&world, &rep.events)?;
+        Ok(PyFrameReport { inner: rep, events })
+    }
+
+    /// "dynamic" or "quasi_static".
+    #[getter]
+    fn mode(&self) -> &'static str {
+        mode_name(self.inner.mode())
+    }
+    fn __repr__(&self) -> String {
+        let p = &self.inner.params;
+        format!(
+            "QuasiDynamic(mode={}, dt0={}, time_budget={:?}, to_static={}, to_dynamic={})",
+            self.mode(),
+            p.dt0,
+            p.time_budget,
+            p.to_static,
+            p.to_dynamic
+        )
+    }
+}
+
+fn mode_name(m: Mode) -> &'static str {
+    match m {
+        Mode::Dynamic => "dynamic",
+        Mode::QuasiStatic => "quasi_static",
+    }
+}
+
+/// What a frame did: `mode`, `switched`, `static_refused`, `dt` (time
+/// unit), `free_length` (length unit), `compute_time` and `slack` (seconds
+/// of the clock; a real-time caller sleeps `slack` when positive),
+/// `motion` (largest control-point displacement, length unit), `events`.
+#[pyclass(name = "FrameReport", module = "strandkit._native", frozen)]
+pub struct PyFrameReport {
+    inner: FrameReport,
+    events: Vec<Py<PyAny>>,
+}
+
+#[pymethods]
+impl PyFrameReport {
+    #[getter]
+    fn mode(&self) -> &'static str {
+        mode_name(self.inner.mode)
+    }
+    #[getter]
+    fn switched(&self) -> bool {
+        self.inner.switched
+    }
+    #[getter]
+    fn static_refused(&self) -> bool {
+        self.inner.static_refused
+    }
+    #[getter]
+    fn dt(&self) -> f64 {
+        self.inner.dt
+    }
+    #[getter]
+    fn free_length(&self) -> f64 {
+        self.inner.free_length
+    }
+    #[getter]
+    fn compute_time(&self) -> f64 {
+        self.inner.compute_time
+    }
+    #[getter]
+    fn slack(&self) -> f64 {
+        self.inner.slack
+    }
+    #[getter]
+    fn motion(&self) -> f64 {
+        self.inner.motion
+    }
+    #[getter]
+    fn events(&self, py: Python<'_>) -> Vec<Py<PyAny>> {
+        self.events.iter().map(|e| e.clone_ref(py)).collect()
+    }
+    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        from_json(py, &serde_json::to_value(&self.inner).unwrap_or_default())
+    }
+    fn __repr__(&self) -> String {
+        let r = &self.inner;
+        format!(
+            "FrameReport(mode={}, switched={}, dt={:.3e}, compute_time={:.3e}, motion={:.3e}, events={})",
+            mode_name(r.mode),
+            r.switched,
+            r.dt,
+            r.compute_time,
+            r.motion,
+            self.events.len()
+        )
+    }
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyQuasiDynamic>()?;
+    m.add_class::<PyFrameReport>()?;
+    Ok(())
+}

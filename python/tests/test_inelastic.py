@@ -1,0 +1,94 @@
+"""Plasticity, rupture and quasi-dynamics from Python (SPEC §6, IV.B)."""
+import numpy as np
+import pytest
+
+import strandkit as sk
+
+
+def wire(material, n=8, **kw):
+    return sk.straight((0, 0, 0), (1, 0, 0), section=0.005, material=material, n_control_points=n,
+                       with_roll=False, **kw)
+
+
+def test_stretch_past_yield_leaves_a_permanent_elongation():
+    m = sk.Material("wire", young=1e9, poisson=0.3, density=8000.0).with_yield(stretch=0.01)
+    w = sk.World()
+    rod = w.add_rod(wire(m))
+    sk.clamp(w, rod)
+    end = w.add_constraint(rod, sk.position(rod.u_end, (1.0, 0, 0)))
+    for k in range(1, 5):
+        w.set_constraint(end, sk.position(rod.u_end, (1.0 + 0.005 * k, 0, 0)))
+        report = w.relax()
+    assert report.plastic_samples == len(rod.sample_points())  # every sample yielded again
+    offsets = rod.plastic_offsets
+    assert offsets.shape == (len(rod.sample_points()), 4)
+    np.testing.assert_allclose(offsets[:, 0], 0.01, atol=1e-6)
+    w.remove_constraint(end)
+    w.relax()
+    assert rod.position(rod.u_end)[0] == pytest.approx(1.01, abs=1e-4)
+    # Offsets can be reset by hand (shape and finiteness checked).
+    rod.plastic_offsets = np.zeros_like(offsets)
+    with pytest.raises(ValueError, match="one per sample"):
+        rod.plastic_offsets = np.zeros((3, 4))
+
+
+def test_rupture_event_gives_both_pieces():
+    m = sk.Material("rubber", young=1e6, poisson=0.45, density=1000.0).with_rupture(stretch=0.05)
+    w = sk.World(parallel=False)
+    rod = w.add_rod(wire(m, n=12, drag=20.0))
+    sk.clamp(w, rod)
+    u1 = rod.u_end
+    end = w.add_constraint(rod, sk.position(u1, (1.0, 0, 0)))
+    bead = w.add_bead(rod, u=rod.u_start + 0.9 * (u1 - rod.u_start), mass=1e-3)
+    event = None
+    for k in range(1, 400):
+        w.set_constraint(end, sk.position(u1, (1.0 + 5e-4 * k, 0, 0)))
+        events = [e for e in w.step().events if e.kind == "RodRuptured"]
+        if events:
+            event = events[0]
+            break
+    assert event is not None, "the strand never broke"
+    assert event.rod == rod and event.mode == "Stretch" and event.strain > event.limit == 0.05
+    piece = event.new_rod
+    assert isinstance(piece, sk.Rod) and piece.domain == (pytest.approx(event.u), pytest.approx(u1))
+    assert rod.domain[1] == pytest.approx(event.u)
+    np.testing.assert_allclose(rod.position(event.u), piece.position(event.u), atol=1e-12)
+    assert "RodRuptured" in repr(event)
+
+
+def test_quasi_dynamic_switches_on_an_injected_clock():
+    w = sk.World(parallel=False)
+    rod = w.add_rod(sk.straight((0, 0, 0), (4, 0, 0), section=0.05, material="carbon_steel", n_control_points=10))
+    sk.clamp(w, rod)
+    w.add_load(sk.point_force(rod, rod.u_end, (0, -1e4, 0)))
+    qd = sk.QuasiDynamic(w, dt0=1e-3, time_budget=0.01)
+    costs = [0.005] * 5 + [0.01] * 5 + [0.005] * 5  # seconds per frame
+    t = {"now": 0.0, "calls": 0}
+
+    def clock():
+        if t["calls"] % 2 == 1:
+            t["now"] += costs[t["calls"] // 2]
+        t["calls"] += 1
+        return t["now"]
+
+    modes = [qd.step(clock).mode for _ in range(15)]
+    assert modes == ["dynamic"] * 6 + ["quasi_static"] * 5 + ["dynamic"] * 4
+    assert "QuasiDynamic(mode=dynamic" in repr(qd)
+    r = qd.step()  # the wall clock
+    assert r.dt == pytest.approx(1e-3) and r.free_length == pytest.approx(4.0)
+
+
+def test_quasi_dynamic_bad_input():
+    w = sk.World()
+    w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon"))
+    with pytest.raises(ValueError, match="dt0"):
+        sk.QuasiDynamic(w, dt0=-1.0)
+    with pytest.raises(ValueError, match="hysteresis"):
+        sk.QuasiDynamic(w, to_static=0.5, to_dynamic=0.9)
+    qd = sk.QuasiDynamic(w)
+
+    def broken():
+        raise RuntimeError("clock failed")
+
+    with pytest.raises(RuntimeError, match="clock failed"):
+        qd.step(broken)
