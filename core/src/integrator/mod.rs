@@ -117,6 +117,11 @@ pub struct RelaxReport {
     /// every intermediate equilibrium) (SPEC §6).
     #[serde(default)]
     pub plastic_samples: usize,
+    /// Largest plastic offset increment of the last round (see
+    /// `IntegrationParameters::plastic_tolerance`); above the tolerance when
+    /// the flow stagnated (a plastic distribution left indeterminate).
+    #[serde(default)]
+    pub plastic_increment: f64,
     /// What happened at the equilibrium found (broken constraints, clips,
     /// a rupture — which ends the solve).
     pub events: Vec<crate::world::Event>,

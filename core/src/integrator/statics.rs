@@ -109,7 +109,13 @@ impl World {
                 if std::env::var_os("STRANDKIT_DEBUG").is_some() {
                     eprintln!("relax plastic: {} samples, max increment {:.3e}", inelastic.yielded, inelastic.max_increment);
                 }
-                if inelastic.max_increment > self.params.plastic_tolerance && !inelastic.ruptured {
+                // Stop when the flow has converged, or when it stagnates: a
+                // rod at yield all along (uniform moment) has an indeterminate
+                // plastic distribution, and the rounds then trade a constant
+                // small increment between samples (reported, not an error).
+                let stagnant = inelastic.max_increment > 0.99 * report.plastic_increment && report.plastic_increment > 0.0;
+                report.plastic_increment = inelastic.max_increment;
+                if inelastic.max_increment > self.params.plastic_tolerance && !inelastic.ruptured && !stagnant {
                     potential = self.potential();
                     lambda = 1e-6;
                     continue;
