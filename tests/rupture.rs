@@ -170,3 +170,49 @@ fn pulled_past_rupture_splits_at_the_most_strained_sample() {
     assert!(gap > 0.02);
     assert!(a_strain < 0.01);
 }
+
+/// A ring (sliding point) just left of the thin spot: after the rupture the
+/// clamped piece retracts through it, and the slider that falls off its
+/// piece is reported.
+#[test]
+fn slider_falling_off_a_broken_piece_is_reported() {
+    let (mut w, h, end, _, _) = pulled_strand();
+    let rod = w.rod(h).unwrap();
+    let (u0, u1) = rod.domain();
+    // The strand breaks at u ≈ 11.05 (thin control point 12 of 20), about
+    // 4 % stretched; the ring sits 5 mm beyond where that point is at rest,
+    // so the clamped piece, relaxing to its rest length, slides out of it.
+    let at = |x: f64| {
+        let (mut a, mut b) = (u0, u1);
+        for _ in 0..100 {
+            let m = 0.5 * (a + b);
+            if rod.position(m).unwrap().x < x { a = m } else { b = m }
+        }
+        0.5 * (a + b)
+    };
+    let x = rod.position(11.05).unwrap().x + 0.005;
+    let ring = w.add_constraint(h, ConstraintKind::SlidingPoint { u: at(x), point: [x, 0.0, 0.0], friction: 0.0 }, 0.0).unwrap();
+    let mut broke = None;
+    let mut left = None;
+    for k in 1..=1500 {
+        if broke.is_none() {
+            let xe = 1.0 + 0.5 * w.params.dt * k as f64;
+            w.set_constraint(end, ConstraintKind::Position { u: u1, axes: [true, true, true, false], target: [xe, 0.0, 0.0, 0.0] }).unwrap();
+        }
+        for e in w.step().unwrap().events {
+            match e {
+                Event::RodRuptured { u, .. } => broke = Some(u),
+                Event::SliderLeft { constraint, .. } if constraint == ring => left = Some(k),
+                _ => {}
+            }
+        }
+        if left.is_some() {
+            break;
+        }
+    }
+    let u = broke.expect("the strand never broke");
+    let end_x = w.rod(h).unwrap().position(u).unwrap().x;
+    println!("ring at x = {x:.4} m; cut at u = {u:.4}; clamped piece's end at x = {end_x:.4}; slider left at step {left:?}");
+    assert!(left.is_some(), "the ring never came off the retracting piece");
+    assert!(w.constraint(ring).is_err());
+}
