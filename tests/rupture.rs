@@ -216,3 +216,29 @@ fn slider_falling_off_a_broken_piece_is_reported() {
     assert!(left.is_some(), "the ring never came off the retracting piece");
     assert!(w.constraint(ring).is_err());
 }
+
+/// In statics the rupture ends the solve: relax returns the event with
+/// the equilibrium reached just before the cut.
+#[test]
+fn relax_stops_at_a_rupture_and_reports_it() {
+    let (mut w, h, end, lb, rb) = pulled_strand();
+    w.remove_bead(lb).unwrap();
+    w.remove_bead(rb).unwrap();
+    let u1 = w.rod(h).unwrap().domain().1;
+    let pull = |x: f64| ConstraintKind::Position { u: u1, axes: [true, true, true, false], target: [x, 0.0, 0.0, 0.0] };
+    w.set_constraint(end, pull(1.02)).unwrap();
+    assert!(w.relax().unwrap().events.is_empty());
+    w.set_constraint(end, pull(1.06)).unwrap();
+    let r = w.relax().unwrap();
+    let ruptures: Vec<_> = r.events.iter().filter(|e| matches!(e, Event::RodRuptured { .. })).collect();
+    println!("{:?}", ruptures);
+    assert_eq!(ruptures.len(), 1);
+    assert_eq!(w.rods().count(), 2);
+    // Relaxing again unloads both pieces (the pinned piece keeps its
+    // direction: its swing is neutral once unstressed).
+    w.relax().unwrap();
+    for (_, r) in w.rods() {
+        let max = r.relative_strains().iter().map(|s| s.eps.abs()).fold(0.0, f64::max);
+        assert!(max < 1e-9, "piece still strained: {max}");
+    }
+}

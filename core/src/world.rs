@@ -410,6 +410,10 @@ impl World {
     pub fn bead(&self, h: BeadHandle) -> Result<&Bead> {
         self.beads.get(h.into()).ok_or_else(|| Error::InvalidHandle(format!("bead {h:?} does not exist (removed?)")))
     }
+    /// Takes a bead off its rod.
+    pub fn remove_bead(&mut self, h: BeadHandle) -> Result<Bead> {
+        self.beads.remove(h.into()).ok_or_else(|| Error::InvalidHandle(format!("bead {h:?} does not exist (removed?)")))
+    }
     /// Sets the external force on a bead (besides gravity; force unit).
     pub fn set_bead_force(&mut self, h: BeadHandle, force: [f64; 3]) -> Result<()> {
         crate::constraint::finite3(&force, "bead force")?;

@@ -483,6 +483,15 @@ impl PyWorld {
             handle: b,
         })
     }
+    /// Takes a bead off its rod.
+    fn remove_bead(slf: &Bound<'_, Self>, bead: &Bound<'_, PyBeadHandle>) -> PyResult<()> {
+        let b = bead.get();
+        if !b.world.bind(slf.py()).is(slf) {
+            return Err(bad("this bead belongs to another world"));
+        }
+        let mut w = slf.try_borrow_mut()?;
+        guard(|| w.inner.remove_bead(b.handle).map(|_| ()))
+    }
     /// External force on a bead besides gravity (force unit, 3 values).
     fn set_bead_force(
         slf: &Bound<'_, Self>,

@@ -54,6 +54,9 @@ def test_rupture_event_gives_both_pieces():
     assert rod.domain[1] == pytest.approx(event.u)
     np.testing.assert_allclose(rod.position(event.u), piece.position(event.u), atol=1e-12)
     assert "RodRuptured" in repr(event)
+    w.remove_bead(bead)
+    with pytest.raises(ValueError, match="does not exist"):
+        w.remove_bead(bead)
 
 
 def test_quasi_dynamic_switches_on_an_injected_clock():
