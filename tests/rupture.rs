@@ -32,7 +32,7 @@ fn deformed_helix(knots: KnotKind) -> Rod {
         .build()
         .unwrap();
     let q: Vec<f64> = rod.coords().iter().enumerate().map(|(i, x)| x + 0.01 * ((i * 7 % 11) as f64 / 11.0 - 0.5)).collect();
-    let v: Vec<f64> = (0..q.len()).map(|i| ((i * 5 % 13) as f64 / 13.0 - 0.5)).collect();
+    let v: Vec<f64> = (0..q.len()).map(|i| (i * 5 % 13) as f64 / 13.0 - 0.5).collect();
     rod.set_coords(&q).unwrap();
     rod.set_velocities(&v).unwrap();
     rod
