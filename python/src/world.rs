@@ -26,7 +26,14 @@ use strandkit_core::{
 /// default 0), `parallel` (assemble with threads, default True),
 /// `relax_tolerance` (relative: increment ≤ tol × rod length, default
 /// 1e-10), `relax_max_iterations` (default 500). Any other field of the core's
-/// IntegrationParameters can be set with `set_params(**fields)`.
+/// IntegrationParameters can be set with `set_params(**fields)`, e.g.
+/// `plastic_tolerance` (relax with plastic flow: largest offset increment
+/// per round, strain or curvature × rest length, default 1e-6) or
+/// `linear_solver` ("Auto" | "Band" | "Sparse").
+///
+/// Rods whose material has yield or rupture limits flow plastically and
+/// break after every step (and at every relax equilibrium); a rupture is a
+/// `RodRuptured` event whose `rod` and `new_rod` are the two pieces.
 #[pyclass(name = "World", module = "strandkit._native")]
 pub struct PyWorld {
     pub inner: World,
