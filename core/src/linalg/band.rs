@@ -1,6 +1,9 @@
-//! General band matrix in LAPACK `dgbtrf` storage and a hand-written band LU
+//! General band matrix in LAPACK `dgbtrf` storage, a hand-written band LU
 //! with partial pivoting (SPEC §5: the KKT matrix is banded, symmetric but
-//! indefinite, so Cholesky/LDLᵀ without pivoting hits zero pivots).
+//! indefinite once it has multiplier rows, so Cholesky/LDLᵀ without pivoting
+//! hits zero pivots), and an unpivoted band LDLᵀ ([`BandLdlt`]) for the
+//! symmetric positive definite systems without multiplier rows, which
+//! declines anything else so that the caller falls back to the LU.
 //!
 //! Storage (LAPACK, 0-based): `A[i][j]` lives at row `kl + ku + i - j` of
 //! column `j` of an `ldab × n` column-major array, `ldab = 2 kl + ku + 1`.
@@ -342,21 +345,236 @@ impl BandLu {
     }
 }
 
+/// Relative pivot threshold of [`BandLdlt`]: pivot `d_j` must exceed
+/// `LDLT_TOL * a_jj`. A smaller pivot means cancellation of 8+ digits in that
+/// direction (cond(A) ≥ a_jj / d_j ≥ 1e8): such systems, singular ones and
+/// indefinite ones go to the pivoting [`BandLu`], which keeps its
+/// diagnostics (zero-pivot rows) unchanged.
+const LDLT_TOL: f64 = 1e-8;
+
+/// Why [`BandLdlt::factor`] declined a matrix (the caller falls back to [`BandLu`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LdltDecline {
+    /// `kl != ku`: not the band of a symmetric matrix.
+    NotSymmetricBand,
+    /// An entry of the lower band is NaN or infinite.
+    NonFinite,
+    /// Pivot `d` at row `row` is `<= LDLT_TOL * a_jj` (or NaN): not safely
+    /// positive definite.
+    Pivot { row: usize, d: f64 },
+}
+
+/// `A = L D Lᵀ` of a symmetric positive definite [`BandMatrix`] (no pivoting;
+/// L unit lower with `kd = kl` sub-diagonals, D > 0). SPEC §5: a KKT matrix
+/// without multiplier rows is `c_m M + c_d D + K`, symmetric and, after the
+/// unit-diagonal equilibration, positive definite whenever the step is well
+/// posed, so the symmetric factorisation (n·kd² flops against the LU's
+/// 2·n·kl·(kl+ku)) applies; anything else is declined and the caller uses
+/// [`BandLu`]. Only the lower band of `A` is read: the caller guarantees
+/// symmetry (the KKT assembly adds every off-diagonal entry twice), and
+/// [`solve_refined`]'s residual against the full `A` checks it.
+#[derive(Clone, Debug, Default)]
+pub struct BandLdlt {
+    n: usize,
+    kd: usize,
+    /// `kd + 1`: column j holds D_j then L[j+1..=j+kd][j] (LAPACK `pbtrf` 'L' layout).
+    ld: usize,
+    l: Vec<f64>,
+    /// ‖A‖_inf, from the copy pass (A symmetric: row sums = column sums).
+    anorm: f64,
+    rows: Vec<f64>,
+    factored: bool,
+    pivot_ratio: f64,
+}
+
+impl BandLdlt {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Copies the lower band of `a` (with ‖A‖_inf and a finiteness check in the
+    /// same pass) and factors it in place. Allocates only when `a` is larger
+    /// than any matrix factored before by this object.
+    pub fn factor(&mut self, a: &BandMatrix) -> std::result::Result<(), LdltDecline> {
+        self.factored = false;
+        if a.kl != a.ku {
+            return Err(LdltDecline::NotSymmetricBand);
+        }
+        let (n, kd) = (a.n, a.kl);
+        let ld = kd + 1;
+        self.n = n;
+        self.kd = kd;
+        self.ld = ld;
+        self.copy_lower(a)?;
+        let mut d_min = f64::INFINITY;
+        let mut d_max = 0.0f64;
+        for j in 0..n {
+            let d = self.eliminate(j);
+            let ajj = a.data[j * a.ldab + a.kl + a.ku];
+            if !(d > LDLT_TOL * ajj) {
+                return Err(LdltDecline::Pivot { row: j, d });
+            }
+            d_min = d_min.min(d);
+            d_max = d_max.max(d);
+        }
+        self.pivot_ratio = if n == 0 { 1.0 } else { d_min / d_max };
+        self.factored = true;
+        Ok(())
+    }
+
+    /// Lower band of `a` into `l` (column j: A[j..=j+kd][j], contiguous in
+    /// both layouts), accumulating the absolute row sums on the way.
+    fn copy_lower(&mut self, a: &BandMatrix) -> std::result::Result<(), LdltDecline> {
+        let (n, kd, ld) = (self.n, self.kd, self.ld);
+        let kv = a.kl + a.ku;
+        self.l.clear();
+        self.l.resize(n * ld, 0.0);
+        self.rows.clear();
+        self.rows.resize(n, 0.0);
+        for (j, dst) in self.l.chunks_exact_mut(ld).enumerate() {
+            let m = kd.min(n - 1 - j);
+            let src = &a.data[j * a.ldab + kv..=j * a.ldab + kv + m];
+            dst[..=m].copy_from_slice(src);
+            // Row j gets the whole column (symmetry: row j's upper part is
+            // column j's lower part); rows below get their entry in column j.
+            let mut col_sum = 0.0;
+            for (r, &v) in self.rows[j + 1..=j + m].iter_mut().zip(&src[1..]) {
+                *r += v.abs();
+                col_sum += v.abs();
+            }
+            self.rows[j] += col_sum + src[0].abs();
+        }
+        // NaN and ±inf propagate into the sums of absolute values.
+        let mut anorm = 0.0f64;
+        for &r in &self.rows {
+            if !r.is_finite() {
+                return Err(LdltDecline::NonFinite);
+            }
+            anorm = anorm.max(r);
+        }
+        self.anorm = anorm;
+        Ok(())
+    }
+
+    /// Step j of the right-looking LDLᵀ: D_j = updated a_jj; the trailing
+    /// block gets A[j+c..][j+c] −= A[j+c..][j] A[j+c][j] / D_j; column j is
+    /// then scaled to L[·][j] = A[·][j] / D_j. Returns D_j (unchecked).
+    #[inline]
+    fn eliminate(&mut self, j: usize) -> f64 {
+        let (kd, ld) = (self.kd, self.ld);
+        let km = kd.min(self.n - 1 - j);
+        let (head, tail) = self.l.split_at_mut((j + 1) * ld);
+        let col = &mut head[j * ld..];
+        let d = col[0];
+        let inv = 1.0 / d;
+        // Column j + c of the trailing block starts (c − 1) * ld into `tail`;
+        // rows j + c ..= j + km of it are updated (lengths ≤ kd).
+        for c in 1..=km {
+            let t = col[c] * inv;
+            if t != 0.0 {
+                let dst = &mut tail[(c - 1) * ld..(c - 1) * ld + km - c + 1];
+                for (x, &v) in dst.iter_mut().zip(&col[c..=km]) {
+                    *x -= t * v;
+                }
+            }
+        }
+        for v in &mut col[1..=km] {
+            *v *= inv;
+        }
+        d
+    }
+
+    /// Smallest D_j / largest D_j of the last successful factorisation.
+    pub fn pivot_ratio(&self) -> f64 {
+        if self.factored {
+            self.pivot_ratio
+        } else {
+            0.0
+        }
+    }
+
+    /// Overwrites `b` with `A⁻¹ b`: L y = b, y /= D, Lᵀ x = y.
+    pub fn solve_in_place(&self, b: &mut [f64]) -> Result<()> {
+        if !self.factored {
+            return Err(Error::InvalidInput(
+                "BandLdlt::solve_in_place called without a successful factor()".into(),
+            ));
+        }
+        let (n, kd, ld) = (self.n, self.kd, self.ld);
+        super::check_rhs(b, n)?;
+        // Forward (column axpy: L's columns are contiguous).
+        for j in 0..n {
+            let km = kd.min(n - 1 - j);
+            let bj = b[j];
+            if bj != 0.0 {
+                let c = &self.l[j * ld + 1..=j * ld + km];
+                for (bi, &m) in b[j + 1..=j + km].iter_mut().zip(c) {
+                    *bi -= m * bj;
+                }
+            }
+        }
+        for (bj, col) in b.iter_mut().zip(self.l.chunks_exact(ld)) {
+            *bj /= col[0];
+        }
+        // Backward (dot products with the same columns).
+        for j in (0..n).rev() {
+            let km = kd.min(n - 1 - j);
+            let c = &self.l[j * ld + 1..=j * ld + km];
+            let s: f64 = b[j + 1..=j + km].iter().zip(c).map(|(x, m)| x * m).sum();
+            b[j] -= s;
+        }
+        Ok(())
+    }
+}
+
+/// A factorisation [`solve_refined`] can use.
+pub trait BandFactor {
+    /// Overwrites `b` with `A⁻¹ b`.
+    fn solve_in_place(&self, b: &mut [f64]) -> Result<()>;
+    /// True when this is a successful factorisation of a matrix of `a`'s shape.
+    fn fits(&self, a: &BandMatrix) -> bool;
+    /// ‖A‖_inf if the factorisation already computed it (saves a pass).
+    fn anorm(&self) -> Option<f64> {
+        None
+    }
+}
+
+impl BandFactor for BandLu {
+    fn solve_in_place(&self, b: &mut [f64]) -> Result<()> {
+        BandLu::solve_in_place(self, b)
+    }
+    fn fits(&self, a: &BandMatrix) -> bool {
+        self.factored && self.n == a.n && self.kl == a.kl && self.ku == a.ku
+    }
+}
+
+impl BandFactor for BandLdlt {
+    fn solve_in_place(&self, b: &mut [f64]) -> Result<()> {
+        BandLdlt::solve_in_place(self, b)
+    }
+    fn fits(&self, a: &BandMatrix) -> bool {
+        self.factored && self.n == a.n && self.kd == a.kl && a.kl == a.ku
+    }
+    fn anorm(&self) -> Option<f64> {
+        Some(self.anorm)
+    }
+}
+
 /// Solve `A x = b` with the factorisation `lu` of `a`, then `refine` steps of
 /// iterative refinement (stopping early once the residual is at rounding
 /// level). Returns the final relative residual
 /// `||A x - b||_inf / (||A||_inf ||x||_inf + ||b||_inf)` (0 when that is 0/0).
 /// `work` is scratch space, grown to `2 n` on first use.
-pub fn solve_refined(
+pub fn solve_refined<F: BandFactor>(
     a: &BandMatrix,
-    lu: &BandLu,
+    lu: &F,
     b: &[f64],
     x: &mut [f64],
     work: &mut Vec<f64>,
     refine: usize,
 ) -> Result<f64> {
     let n = a.n;
-    if !lu.factored || lu.n != n || lu.kl != a.kl || lu.ku != a.ku {
+    if !lu.fits(a) {
         return Err(Error::InvalidInput(
             "solve_refined: the factorisation does not belong to this matrix (factor it first)"
                 .into(),
@@ -372,7 +590,10 @@ pub fn solve_refined(
     work.clear();
     work.resize(2 * n, 0.0);
     let (r, rows) = work.split_at_mut(n);
-    let anorm = a.norm_inf(rows);
+    let anorm = match lu.anorm() {
+        Some(v) => v,
+        None => a.norm_inf(rows),
+    };
     let bnorm = inf_norm(b);
     x.copy_from_slice(b);
     lu.solve_in_place(x)?;
@@ -728,6 +949,102 @@ mod tests {
         let res = solve_refined(&a, &lu, &[1.0; 3], &mut x, &mut w, 1).unwrap();
         assert_eq!(x, [0.5; 3]);
         assert_eq!(res, 0.0);
+    }
+
+    /// Random symmetric band matrix, positive definite by diagonal dominance
+    /// when `shift` > 0, plus its dense copy.
+    fn random_spd(rng: &mut Lcg, n: usize, k: usize, shift: f64) -> (BandMatrix, Vec<Vec<f64>>) {
+        let mut d = vec![vec![0.0; n]; n];
+        for i in 0..n {
+            for j in i.saturating_sub(k)..i {
+                let v = rng.next();
+                d[i][j] = v;
+                d[j][i] = v;
+            }
+        }
+        for i in 0..n {
+            let off: f64 = d[i].iter().map(|v| v.abs()).sum();
+            d[i][i] = off + shift * (1.0 + rng.next().abs());
+        }
+        let mut m = BandMatrix::new(n, k, k);
+        for i in 0..n {
+            for j in i.saturating_sub(k)..(i + k + 1).min(n) {
+                m.set(i, j, d[i][j]);
+            }
+        }
+        (m, d)
+    }
+
+    #[test]
+    fn ldlt_matches_lu_on_random_spd_band() {
+        let mut rng = Lcg(21);
+        for &(n, k) in &[(1, 0), (2, 1), (10, 0), (17, 3), (60, 7), (200, 15), (40, 45)] {
+            let (a, d) = random_spd(&mut rng, n, k, 0.5);
+            let b: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+            let mut lu = BandLu::new();
+            lu.factor(&a).unwrap();
+            let mut xlu = b.clone();
+            lu.solve_in_place(&mut xlu).unwrap();
+            let mut ldlt = BandLdlt::new();
+            ldlt.factor(&a).unwrap();
+            let mut x = b.clone();
+            ldlt.solve_in_place(&mut x).unwrap();
+            let scale = inf_norm(&xlu).max(1.0);
+            for (xi, ri) in x.iter().zip(&xlu) {
+                assert!((xi - ri).abs() <= 1e-12 * scale, "n={n} k={k}: {xi} vs {ri}");
+            }
+            // ‖A‖_inf from the copy pass equals the full-band one.
+            let mut rows = vec![0.0; n];
+            assert!((ldlt.anorm - a.norm_inf(&mut rows)).abs() <= 1e-14 * ldlt.anorm);
+            let (mut x2, mut w) = (vec![0.0; n], Vec::new());
+            let res = solve_refined(&a, &ldlt, &b, &mut x2, &mut w, 1).unwrap();
+            assert!(res < 1e-15, "relative residual {res}");
+            assert!(ldlt.pivot_ratio() > 0.0 && ldlt.pivot_ratio() <= 1.0);
+            let xref = dense_solve(d, b);
+            for (xi, ri) in x2.iter().zip(&xref) {
+                assert!((xi - ri).abs() <= 1e-12 * scale);
+            }
+        }
+    }
+
+    #[test]
+    fn ldlt_declines_indefinite_singular_and_non_finite() {
+        let mut rng = Lcg(4);
+        // Indefinite: one negative diagonal entry deep inside the band.
+        let (mut a, _) = random_spd(&mut rng, 30, 4, 0.5);
+        let v = a.get(17, 17);
+        a.set(17, 17, -v);
+        let mut ldlt = BandLdlt::new();
+        match ldlt.factor(&a) {
+            Err(LdltDecline::Pivot { row, d }) => assert!(row <= 17 && d < 1e-8 * v, "{row} {d}"),
+            other => panic!("expected a declined pivot, got {other:?}"),
+        }
+        assert!(ldlt.solve_in_place(&mut [0.0; 30]).is_err());
+        assert_eq!(ldlt.pivot_ratio(), 0.0);
+        // The pivoting LU still solves it.
+        let mut lu = BandLu::new();
+        lu.factor(&a).unwrap();
+        let (mut x, mut w) = (vec![0.0; 30], Vec::new());
+        assert!(solve_refined(&a, &lu, &[1.0; 30], &mut x, &mut w, 1).unwrap() < 1e-14);
+        // Saddle point (KKT with a multiplier row): zero diagonal.
+        let d = saddle_point(&mut rng, 12, 3);
+        assert!(matches!(BandLdlt::new().factor(&to_band(&d)), Err(LdltDecline::Pivot { .. })));
+        // Singular positive semi-definite: [[1, 1], [1, 1]].
+        let mut s = BandMatrix::new(2, 1, 1);
+        for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+            s.set(i, j, 1.0);
+        }
+        assert!(matches!(ldlt.factor(&s), Err(LdltDecline::Pivot { row: 1, .. })));
+        // Unsymmetric band shape, non-finite entries.
+        assert_eq!(ldlt.factor(&BandMatrix::new(3, 1, 2)), Err(LdltDecline::NotSymmetricBand));
+        let (mut a, _) = random_spd(&mut rng, 8, 2, 0.5);
+        a.set(5, 4, f64::NAN);
+        assert_eq!(ldlt.factor(&a), Err(LdltDecline::NonFinite));
+        a.set(5, 4, f64::INFINITY);
+        assert_eq!(ldlt.factor(&a), Err(LdltDecline::NonFinite));
+        // Empty matrix.
+        ldlt.factor(&BandMatrix::new(0, 2, 2)).unwrap();
+        ldlt.solve_in_place(&mut []).unwrap();
     }
 
     /// Timing of the SPEC §5 hot case (run with `--release -- --ignored --nocapture`).
