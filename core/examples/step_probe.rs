@@ -112,6 +112,62 @@ fn main() {
         .split(',')
         .filter_map(|s| s.parse().ok())
         .collect();
+    // --kernel N: smallest of N timings of the segment kernels alone
+    // (Rod::assemble with Hessians) and of a whole step; minima of many short
+    // timings are robust to other processes on a shared machine.
+    if let Some(reps) = arg("--kernel").and_then(|v| v.parse::<usize>().ok()) {
+        for row in rows.chars() {
+            for &n in &sizes {
+                let (mut w, h, q0) = setup(n, row);
+                let _ = w.step();
+                let rod = w.rod(h).unwrap().clone();
+                let mut blocks = Vec::new();
+                let mut kmin = f64::INFINITY;
+                for _ in 0..reps {
+                    let s = Instant::now();
+                    rod.assemble(&mut blocks, strandkit_core::rod::assemble::Need::Hessian, false);
+                    kmin = kmin.min(s.elapsed().as_secs_f64());
+                }
+                let mut smin = f64::INFINITY;
+                for i in 0..reps {
+                    if i % 50 == 0 {
+                        reset(&mut w, h, &q0);
+                    }
+                    let s = Instant::now();
+                    let _ = w.step();
+                    smin = smin.min(s.elapsed().as_secs_f64());
+                }
+                println!("row {row} n={n:6}: kernels {:.1} µs, step {:.1} µs (minima of {reps})", kmin * 1e6, smin * 1e6);
+            }
+        }
+        return;
+    }
+    // --fixed N: exactly N steps per (row, size) and no timing, for
+    // `perf stat -e cycles:u` (cycle counts are not inflated by other
+    // processes holding the CPU, unlike wall time on a shared machine).
+    if let Some(steps) = arg("--fixed").and_then(|v| v.parse::<usize>().ok()) {
+        for row in rows.chars() {
+            for &n in &sizes {
+                let (mut w, h, q0) = setup(n, row);
+                let mut t = Vec::with_capacity(steps);
+                for i in 0..steps {
+                    if i % 50 == 0 {
+                        reset(&mut w, h, &q0);
+                    }
+                    let s = Instant::now();
+                    let _ = w.step();
+                    t.push(s.elapsed().as_secs_f64());
+                }
+                if std::env::args().any(|a| a == "--dist") {
+                    for (i, x) in t.iter().enumerate().take(100) {
+                        eprint!("{i}:{:.0} ", x * 1e6);
+                    }
+                    eprintln!();
+                }
+            }
+        }
+        return;
+    }
     for row in rows.chars() {
         let mut per_cp = Vec::new();
         for &n in &sizes {
