@@ -178,35 +178,35 @@ impl ChainAcc {
     #[inline(always)]
     fn add_sample_any(&mut self, h: &Mat11, b: &[[f64; 4]; 4], w: f64, np: usize, th: bool, th1: bool) {
         // T[r][l] = (H B)[r][(l, ·)] for the rows K reads: active position
-        // slots, then θ, θ′ (H is symmetric: row r is column r, contiguous
-        // in nalgebra's storage).
+        // slots, then θ, θ′. Formed as 4-wide axpys over l (the basis rows
+        // b[·] are 4-vectors), T[r][γ][l] = Σ_c H[r][3c+γ] b^(c+1)_l, then
+        // transposed so that K's axpys run over γ. H is symmetric: row r is
+        // column r, contiguous in nalgebra's storage.
         let mut t = [[[0.0f64; 4]; 4]; 11];
         let hs = h.as_slice();
-        let row_t = |r: usize, tr: &mut [[f64; 4]; 4]| {
+        let mut rows = [0usize; 11];
+        let mut nr = 0;
+        for r in (0..3 * np).chain(th.then_some(TH)).chain(th1.then_some(TH1)) {
+            rows[nr] = r;
+            nr += 1;
+        }
+        for &r in &rows[..nr] {
             let hr = &hs[11 * r..11 * r + 11];
-            for (l, v) in tr.iter_mut().enumerate() {
-                for c in 0..np {
-                    let bc = b[c + 1][l];
-                    v[0] += bc * hr[3 * c];
-                    v[1] += bc * hr[3 * c + 1];
-                    v[2] += bc * hr[3 * c + 2];
-                }
-                if th {
-                    v[3] += b[0][l] * hr[TH];
-                }
-                if th1 {
-                    v[3] += b[1][l] * hr[TH1];
+            let mut tt = [[0.0f64; 4]; 4];
+            for c in 0..np {
+                for (g, tg) in tt.iter_mut().take(3).enumerate() {
+                    axpy4(tg, hr[3 * c + g], &b[c + 1]);
                 }
             }
-        };
-        for r in 0..3 * np {
-            row_t(r, &mut t[r]);
-        }
-        if th {
-            row_t(TH, &mut t[TH]);
-        }
-        if th1 {
-            row_t(TH1, &mut t[TH1]);
+            if th {
+                axpy4(&mut tt[3], hr[TH], &b[0]);
+            }
+            if th1 {
+                axpy4(&mut tt[3], hr[TH1], &b[1]);
+            }
+            for (l, tl) in t[r].iter_mut().enumerate() {
+                *tl = [tt[0][l], tt[1][l], tt[2][l], tt[3][l]];
+            }
         }
         // K[(k, α)][l] += w Σ_a β^a_k T[3a+α][l] on the upper blocks l ≥ k.
         for k in 0..4 {
