@@ -444,7 +444,7 @@ impl BandLdlt {
     fn copy_lower(&mut self, a: &BandMatrix) -> std::result::Result<(), LdltDecline> {
         let (n, kd, ld) = (self.n, self.kd, self.ld);
         let kv = a.ku;
-        self.l.clear();
+        // Every entry of `l` is written below (no zero-fill pass first).
         self.l.resize(n * ld, 0.0);
         self.rows.clear();
         self.rows.resize(n, 0.0);
@@ -452,6 +452,7 @@ impl BandLdlt {
             let m = kd.min(n - 1 - j);
             let src = &a.data[j * a.ldab + kv..=j * a.ldab + kv + m];
             dst[..=m].copy_from_slice(src);
+            dst[m + 1..].fill(0.0);
             // Row j gets the whole column (symmetry: row j's upper part is
             // column j's lower part); rows below get their entry in column j.
             let mut col_sum = 0.0;

@@ -92,6 +92,8 @@ pub struct KktSystem {
     pub sol: Vec<f64>,
     work: Vec<f64>,
     scale: Vec<f64>,
+    /// Scratch of `equilibrate`: unknown i is a multiplier row.
+    is_row: Vec<bool>,
     /// The last assembly had a positive mass coefficient c_m.
     inertia: bool,
     /// Kernel outputs of one batch of segments (reused).
@@ -273,7 +275,9 @@ impl KktSystem {
         let n = layout.n;
         self.scale.clear();
         self.scale.resize(n, 1.0);
-        let mut is_row = vec![false; 0];
+        // Reused across steps: no allocation in the time loop.
+        let mut is_row = std::mem::take(&mut self.is_row);
+        is_row.clear();
         is_row.resize(n, false);
         for (c, &r0) in layout.row_index.iter().enumerate() {
             for i in 0..layout.row_count[c] {
@@ -298,6 +302,7 @@ impl KktSystem {
                 self.scale[i] = 1.0 / m;
             }
         }
+        self.is_row = is_row;
         self.band.scale_symmetric(&self.scale);
         for (b, d) in self.rhs.iter_mut().zip(&self.scale) {
             *b *= d;
