@@ -24,7 +24,7 @@ use nalgebra::Vector3;
 use std::time::{Duration, Instant};
 use strandkit_core::energy::invariants::LocalState;
 use strandkit_core::energy::{density, EnergyTerms, FrameModel, SampleConsts};
-use strandkit_core::linalg::BandLu;
+use strandkit_core::linalg::{BandLdlt, BandLu};
 use strandkit_core::rod::assemble::{Need, SegBlock};
 use strandkit_core::system::{Coefficients, KktSystem, Layout};
 use strandkit_core::*;
@@ -226,7 +226,7 @@ fn fmt_s(t: f64) -> String {
 }
 
 /// Breakdown of one full (stretch+bend+twist) dynamic step, single thread.
-fn breakdown(n: usize, reps: usize) -> [f64; 8] {
+fn breakdown(n: usize, reps: usize) -> [f64; 7] {
     let mut b = Bench::dynamic(n, EnergyTerms::default(), false);
     let t_step = b.measure(n, &Budget { min_time: Duration::from_millis(300), min_reps: reps, big_reps: reps, max_reps: 4 * reps }).time;
     let rod = b.world.rod(b.h).unwrap().clone();
@@ -273,58 +273,20 @@ fn breakdown(n: usize, reps: usize) -> [f64; 8] {
     let t_sys = time_median(reps, || {
         sys.assemble(&layout, &rods, &ext, &[], &[], k, false).unwrap();
     });
-    // (3) LU factorisation alone (copy + dgbtf2), on the assembled band.
+    // (3) the factorisation the step uses here (no multiplier rows, c_m > 0):
+    // band LDLᵀ (copy of the lower band + elimination), on the assembled band;
+    // (3') for comparison, the pivoting band LU (the fallback, and the path of
+    // systems with constraint rows).
     sys.assemble(&layout, &rods, &ext, &[], &[], k, false).unwrap();
     let band = sys.band.clone();
+    let mut ldlt = BandLdlt::new();
+    let mut ldlt_ok = true;
+    let t_factor = time_median(reps, || ldlt_ok &= ldlt.factor(&band).is_ok());
+    if !ldlt_ok {
+        eprintln!("breakdown n={n}: BandLdlt declined the assembled matrix (the step fell back to the LU)");
+    }
     let mut lu = BandLu::new();
-    let t_factor = time_median(reps, || lu.factor(&band).unwrap());
-    // (3') what-if: banded Cholesky of the same (symmetric, here positive
-    // definite) matrix, lower band only, no pivoting — example-side code.
-    let bw = layout.bandwidth;
-    let nn = layout.n;
-    let mut lower = vec![0.0; nn * (bw + 1)];
-    for i in 0..nn {
-        for j in i.saturating_sub(bw)..=i {
-            lower[i * (bw + 1) + bw + j - i] = band.get(i, j);
-        }
-    }
-    let mut chol = lower.clone();
-    let mut chol_ok = true;
-    let t_chol = time_median(reps, || {
-        chol.copy_from_slice(&lower);
-        chol_ok &= band_cholesky(&mut chol, nn, bw);
-    });
-    if chol_ok {
-        // Check the factor: solve L Lᵀ x = b and report the residual.
-        let b: Vec<f64> = (0..nn).map(|i| ((i * 7919) % 13) as f64 - 6.0).collect();
-        let st = bw + 1;
-        let mut x = b.clone();
-        for i in 0..nn {
-            for k in i.saturating_sub(bw)..i {
-                x[i] -= chol[i * st + bw + k - i] * x[k];
-            }
-            x[i] /= chol[i * st + bw];
-        }
-        for i in (0..nn).rev() {
-            x[i] /= chol[i * st + bw];
-            for k in i.saturating_sub(bw)..i {
-                x[k] -= chol[i * st + bw + k - i] * x[i];
-            }
-        }
-        let mut ax = vec![0.0; nn];
-        band.matvec(&x, &mut ax);
-        let (mut r, mut bn, mut xn, mut an) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-        for i in 0..nn {
-            r = r.max((ax[i] - b[i]).abs());
-            bn = bn.max(b[i].abs());
-            xn = xn.max(x[i].abs());
-            let row: f64 = (i.saturating_sub(bw)..(i + bw + 1).min(nn)).map(|j| band.get(i, j).abs()).sum();
-            an = an.max(row);
-        }
-        // Same measure as `solve_refined`: ‖Ax − b‖ / (‖A‖ ‖x‖ + ‖b‖).
-        eprintln!("what-if Cholesky n={n}: relative residual {:.1e} (no refinement)", r / (an * xn + bn));
-    }
-    CHOL.with(|c| c.set((t_chol, chol_ok)));
+    let t_lu = time_median(reps, || lu.factor(&band).unwrap());
     // (4) full solve = equilibration + factorisation + solve + 1 refinement.
     let mut t_solve_v = Vec::new();
     for i in 0..reps + 2 {
@@ -336,15 +298,14 @@ fn breakdown(n: usize, reps: usize) -> [f64; 8] {
         }
     }
     let t_solve = median(&mut t_solve_v);
-    let (t_chol, chol_ok) = CHOL.with(|c| c.get());
-    [t_step, t_kernel, t_density, t_sys, t_factor, t_solve, t_chol, if chol_ok { 1.0 } else { 0.0 }]
+    [t_step, t_kernel, t_density, t_sys, t_factor, t_solve, t_lu]
 }
 
-fn print_breakdown(n: usize, b: &[f64; 8]) {
-    let [t_step, t_kernel, t_density, t_sys, t_factor, t_solve, t_chol, ok] = *b;
+fn print_breakdown(n: usize, b: &[f64; 7]) {
+    let [t_step, t_kernel, t_density, t_sys, t_factor, t_solve, t_lu] = *b;
     let pct = |t: f64| 100.0 * t / t_step;
     println!(
-        "| {n} | {} | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {}{} ({:.0} %) |",
+        "| {n} | {} | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) | {} ({:.0} %) |",
         fmt_s(t_step),
         fmt_s(t_kernel),
         pct(t_kernel),
@@ -360,9 +321,8 @@ fn print_breakdown(n: usize, b: &[f64; 8]) {
         pct(t_solve),
         fmt_s(t_step - t_sys - t_solve),
         pct(t_step - t_sys - t_solve),
-        fmt_s(t_chol),
-        if ok > 0.0 { "" } else { " (FAILED: not SPD)" },
-        pct(t_chol),
+        fmt_s(t_lu),
+        pct(t_lu),
     );
 }
 
@@ -384,37 +344,6 @@ fn cpu_ticks() -> Option<(f64, f64, f64)> {
 /// Cores used by others (other processes + steal) between two samples.
 fn others_load(a: (f64, f64, f64), z: (f64, f64, f64), wall: f64) -> f64 {
     ((z.0 - a.0) - (z.2 - a.2) + (z.1 - a.1)) / 100.0 / wall.max(1e-3)
-}
-
-thread_local! {
-    static CHOL: std::cell::Cell<(f64, bool)> = const { std::cell::Cell::new((0.0, false)) };
-}
-
-/// In-place banded Cholesky L Lᵀ; row i of `a` holds A[i][i-bw..=i] (stride
-/// bw + 1, right-aligned). Returns false on a non-positive pivot.
-fn band_cholesky(a: &mut [f64], n: usize, bw: usize) -> bool {
-    let st = bw + 1;
-    for i in 0..n {
-        let j0 = i.saturating_sub(bw);
-        for j in j0..=i {
-            // L[i][j] = (A[i][j] − Σ_{k<j} L[i][k] L[j][k]) / L[j][j]
-            let k0 = j0.max(j.saturating_sub(bw));
-            let mut sum = a[i * st + bw + j - i];
-            let (ri, rj) = (i * st + bw - i, j * st + bw - j);
-            for k in k0..j {
-                sum -= a[ri + k] * a[rj + k];
-            }
-            if j == i {
-                if !(sum > 0.0) {
-                    return false;
-                }
-                a[i * st + bw] = sum.sqrt();
-            } else {
-                a[ri + j] = sum / a[rj + j];
-            }
-        }
-    }
-    true
 }
 
 fn cantilever(force: f64, drag: f64) -> (World, RodHandle) {
@@ -612,23 +541,20 @@ fn main() {
     println!();
     println!("kernels = `Rod::assemble(.., Need::Hessian, false)` (energy, gradient, 16×16 Hessian per segment);");
     println!("density = `energy::density` alone at the 5 samples of every segment (part of kernels);");
-    println!("scatter = `KktSystem::assemble` − kernels (band scatter, mass/drag, rhs); factor = `BandLu::factor`;");
-    println!("solve−factor = equilibration, triangular solves, 1 refinement (matvec + solve); world = step − assemble − solve");
-    println!("(layout, external forces, apply solution, allocations).");
+    println!("scatter = `KktSystem::assemble` − kernels (band scatter, mass/drag, rhs); factor = `BandLdlt::factor` (the path of");
+    println!("this system: no multiplier rows); solve−factor = equilibration, triangular solves, residual (refinement only if needed);");
+    println!("world = step − assemble − solve (layout, external forces, apply solution).");
+    println!("LU factor = `BandLu::factor` of the same matrix, for comparison (the fallback, and the path of constrained systems).");
     println!();
-    println!("what-if Cholesky = a banded Cholesky L Lᵀ (no pivoting, lower band only) of the same assembled matrix,");
-    println!("written in this example (not library code), to size the gain of a symmetric factorisation over `BandLu::factor`.");
-    println!();
-    println!("| cp | step | kernels | density | scatter | factor | solve − factor | solve total | world overhead | what-if Cholesky |");
+    println!("| cp | step | kernels | density | scatter | factor (LDLᵀ) | solve − factor | solve total | world overhead | LU factor (not used here) |");
     println!("|---|---|---|---|---|---|---|---|---|---|");
     for n in [20, 100, 400, 4000, 40000] {
-        let mut best = [f64::INFINITY; 8];
+        let mut best = [f64::INFINITY; 7];
         for _ in 0..runs {
             let b = breakdown(n, if n >= 40000 { 5 } else if n >= 4000 { 20 } else { 200 });
             for k in 0..7 {
                 best[k] = best[k].min(b[k]);
             }
-            best[7] = b[7];
         }
         print_breakdown(n, &best);
     }

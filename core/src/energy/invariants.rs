@@ -129,9 +129,61 @@ fn add_sym_block(h: &mut Mat11, r: usize, c: usize, b: &Matrix3<f64>) {
 
 /// Value, gradient and Hessian of W(d) from F's derivatives with respect to
 /// the invariants: the chain rule of the module doc.
+///
+/// J = ∂q/∂d is sparse (a depends on r′ only, c2 on r′ and r″, θ and θ′ are
+/// unit rows: 20 non-zeros of 55, see [`LocalState::jacobian`]), so
+/// Jᵀ F_qq J is formed as M = F_qq J (5 dense rows) and then Jᵀ M, one
+/// axpy per non-zero of J: ≈ 320 multiply-adds instead of ≈ 880 dense.
 pub fn compose(s: &LocalState, fq: &Vec5, fqq: &Mat5, grad: &mut Vec11, hess: &mut Mat11) {
-    let j = s.jacobian();
-    *grad += j.transpose() * fq;
+    let c = s.cross();
+    // The 3-vector blocks of J: (invariant, first slot, ∂q/∂slot).
+    let blocks: [(usize, usize, Vector3<f64>); 6] = [
+        (QA, R1, 2.0 * s.r1),
+        (QC2, R1, 2.0 * s.r2.cross(&c)),
+        (QC2, R2, 2.0 * c.cross(&s.r1)),
+        (QP, R1, s.r2.cross(&s.r3)),
+        (QP, R2, s.r3.cross(&s.r1)),
+        (QP, R3, c),
+    ];
+    // The unit entries of J: (invariant, slot).
+    let units = [(QTH, TH), (QTH1, TH1)];
+    for &(k, off, v) in &blocks {
+        let mut g = grad.fixed_rows_mut::<3>(off);
+        g += fq[k] * v;
+    }
+    for &(k, slot) in &units {
+        grad[slot] += fq[k];
+    }
     s.add_invariant_hessians(fq, hess);
-    *hess += j.transpose() * (fqq * j);
+    // M = F_qq J, row k over the 11 slots.
+    let mut m = [[0.0f64; 11]; 5];
+    for (k, mk) in m.iter_mut().enumerate() {
+        for &(l, off, v) in &blocks {
+            let f = fqq[(k, l)];
+            if f != 0.0 {
+                for a in 0..3 {
+                    mk[off + a] += f * v[a];
+                }
+            }
+        }
+        for &(l, slot) in &units {
+            mk[slot] += fqq[(k, l)];
+        }
+    }
+    // Jᵀ M is symmetric: add its row i (Σ_k J[k][i] M[k]) as column i,
+    // which is contiguous in nalgebra's column-major storage.
+    for &(k, off, v) in &blocks {
+        for a in 0..3 {
+            let mut col = hess.column_mut(off + a);
+            for (h, &mv) in col.iter_mut().zip(&m[k]) {
+                *h += v[a] * mv;
+            }
+        }
+    }
+    for &(k, slot) in &units {
+        let mut col = hess.column_mut(slot);
+        for (h, &mv) in col.iter_mut().zip(&m[k]) {
+            *h += mv;
+        }
+    }
 }

@@ -76,6 +76,38 @@ pub struct LocalEnergy {
     pub hess: Mat11,
 }
 
+/// Which slots of d = (r′, r″, r‴, θ, θ′) the energy depends on, so that the
+/// chain rule through the basis can skip rows and columns of ∇W, ∇²W that
+/// are identically zero (the thesis' benchmark switches terms off).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ActiveSlots {
+    /// Position derivatives r′ … r^(n) for n = `positions` (0 to 3).
+    pub positions: usize,
+    pub theta: bool,
+    pub theta1: bool,
+}
+
+impl ActiveSlots {
+    /// Stretch F(a) uses r′ only; Frenet bending F(a, c2, θ) adds r″ and θ
+    /// (c2 = |r′×r″|²); Frenet twist F(a, c2, p, θ′) adds r‴ (p = (r′×r″)·r‴)
+    /// and θ′ (SPEC §2, [`invariants`]).
+    pub fn of(terms: EnergyTerms, model: FrameModel) -> ActiveSlots {
+        match model {
+            FrameModel::Frenet => ActiveSlots {
+                positions: if terms.twist {
+                    3
+                } else if terms.bend {
+                    2
+                } else {
+                    usize::from(terms.stretch)
+                },
+                theta: terms.bend,
+                theta1: terms.twist,
+            },
+        }
+    }
+}
+
 /// W(d) and, if `derivs`, its gradient and Hessian (otherwise left at zero).
 pub fn density(
     s: &LocalState,

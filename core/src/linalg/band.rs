@@ -1,11 +1,17 @@
-//! General band matrix in LAPACK `dgbtrf` storage and a hand-written band LU
+//! General band matrix in LAPACK `dgbtrf` storage, a hand-written band LU
 //! with partial pivoting (SPEC §5: the KKT matrix is banded, symmetric but
-//! indefinite, so Cholesky/LDLᵀ without pivoting hits zero pivots).
+//! indefinite once it has multiplier rows, so Cholesky/LDLᵀ without pivoting
+//! hits zero pivots), and an unpivoted band LDLᵀ ([`BandLdlt`]) for the
+//! symmetric positive definite systems without multiplier rows, which
+//! declines anything else so that the caller falls back to the LU.
 //!
-//! Storage (LAPACK, 0-based): `A[i][j]` lives at row `kl + ku + i - j` of
-//! column `j` of an `ldab × n` column-major array, `ldab = 2 kl + ku + 1`.
-//! The first `kl` rows of every column are zero in a [`BandMatrix`]; the
-//! factorisation uses them for the fill-in of U caused by row interchanges.
+//! Storage (LAPACK `dgbmv`, 0-based): in a [`BandMatrix`], `A[i][j]` lives at
+//! row `ku + i - j` of column `j` of an `ldab × n` column-major array,
+//! `ldab = kl + ku + 1`. [`BandLu`] copies it into the `dgbtrf` layout
+//! (`2 kl + ku + 1` rows, `A[i][j]` at row `kl + ku + i - j`), whose first `kl`
+//! rows take the fill-in of U caused by row interchanges; keeping those rows
+//! out of the matrix itself saves a third of the memory traffic of every
+//! pass over it (assembly, equilibration, matvec).
 
 use crate::error::{Error, Result};
 
@@ -20,7 +26,7 @@ pub struct BandMatrix {
     n: usize,
     kl: usize,
     ku: usize,
-    /// `2 kl + ku + 1`.
+    /// `kl + ku + 1`.
     ldab: usize,
     /// Column-major, `ldab * n` entries.
     data: Vec<f64>,
@@ -40,7 +46,7 @@ impl BandMatrix {
         self.n = n;
         self.kl = kl;
         self.ku = ku;
-        self.ldab = 2 * kl + ku + 1;
+        self.ldab = kl + ku + 1;
         self.data.clear();
         self.data.resize(self.ldab * n, 0.0);
     }
@@ -69,8 +75,8 @@ impl BandMatrix {
     /// Index of `(i, j)` in `data`; caller guarantees `in_band(i, j)`.
     #[inline]
     fn idx(&self, i: usize, j: usize) -> usize {
-        // kl + ku + i - j >= kl >= 0 because j <= i + ku.
-        j * self.ldab + self.kl + self.ku + i - j
+        // ku + i - j >= 0 because j <= i + ku.
+        j * self.ldab + self.ku + i - j
     }
 
     /// Entry `(i, j)`; 0 outside the band or the matrix.
@@ -126,7 +132,6 @@ impl BandMatrix {
             "BandMatrix::matvec: length mismatch"
         );
         y.fill(0.0);
-        let kv = self.kl + self.ku;
         // Column-oriented axpy: each column's band is contiguous.
         for (j, &xj) in x.iter().enumerate() {
             if xj == 0.0 {
@@ -134,7 +139,7 @@ impl BandMatrix {
             }
             let i0 = j.saturating_sub(self.ku);
             let i1 = (j + self.kl).min(self.n - 1);
-            let base = j * self.ldab + kv - j;
+            let base = j * self.ldab + self.ku - j;
             let col = &self.data[base + i0..=base + i1];
             for (yi, &a) in y[i0..=i1].iter_mut().zip(col) {
                 *yi += a * xj;
@@ -150,11 +155,10 @@ impl BandMatrix {
     /// `||A||_inf` (largest absolute row sum).
     fn norm_inf(&self, rows: &mut [f64]) -> f64 {
         rows.fill(0.0);
-        let kv = self.kl + self.ku;
         for j in 0..self.n {
             let i0 = j.saturating_sub(self.ku);
             let i1 = (j + self.kl).min(self.n - 1);
-            let base = j * self.ldab + kv - j;
+            let base = j * self.ldab + self.ku - j;
             for (r, &a) in rows[i0..=i1]
                 .iter_mut()
                 .zip(&self.data[base + i0..=base + i1])
@@ -195,37 +199,37 @@ impl BandLu {
     /// `<= 1e-15 * max|a_ij|` (column/unknown `k` depends linearly on the
     /// previous ones).
     pub fn factor(&mut self, a: &BandMatrix) -> Result<()> {
-        let (n, kl, ku, ldab) = (a.n, a.kl, a.ku, a.ldab);
+        let (n, kl, ku) = (a.n, a.kl, a.ku);
         let kv = kl + ku;
+        let ldab = 2 * kl + ku + 1;
         self.factored = false;
         self.n = n;
         self.kl = kl;
         self.ku = ku;
         self.ldab = ldab;
-        self.ab.clear();
-        self.ab.extend_from_slice(&a.data);
-        self.ipiv.clear();
-        self.ipiv.resize(n, 0);
-
         let mut amax = 0.0f64;
-        for (k, &v) in self.ab.iter().enumerate() {
+        for (k, &v) in a.data.iter().enumerate() {
             if !v.is_finite() {
-                let (j, r) = (k / ldab, k % ldab);
-                let i = (r + j) as isize - kv as isize;
+                let (j, r) = (k / a.ldab, k % a.ldab);
+                let i = (r + j) as isize - ku as isize;
                 return Err(Error::InvalidInput(format!(
                     "band matrix entry ({i}, {j}) is {v}"
                 )));
             }
             amax = amax.max(v.abs());
         }
+        // dgbtrf layout: kl zero rows of fill room above each column's band.
+        self.ab.clear();
+        self.ab.resize(ldab * n, 0.0);
+        for (dst, src) in self.ab.chunks_exact_mut(ldab).zip(a.data.chunks_exact(a.ldab)) {
+            dst[kl..].copy_from_slice(src);
+        }
+        self.ipiv.clear();
+        self.ipiv.resize(n, 0);
         if n == 0 {
             self.factored = true;
             self.pivot_ratio = 1.0;
             return Ok(());
-        }
-        // The fill rows must start at zero (BandMatrix keeps them zero; be robust anyway).
-        for col in self.ab.chunks_exact_mut(ldab) {
-            col[..kl].fill(0.0);
         }
         let tol = PIVOT_TOL * amax;
 
@@ -342,21 +346,253 @@ impl BandLu {
     }
 }
 
+/// Relative pivot threshold of [`BandLdlt`]: pivot `d_j` must exceed
+/// `LDLT_TOL * a_jj`. LDLᵀ of a positive definite matrix is backward stable
+/// whatever the pivots, so this only sends numerically singular and
+/// indefinite matrices to the pivoting [`BandLu`] (whose own threshold is
+/// 1e-15 of the largest entry, i.e. of the unit diagonal after the KKT
+/// equilibration), which then reports them as before. Legitimate pivots are
+/// small: a 40000-point steel rod at dt = 1e-3 has d_j / a_jj ≈ 1e-9.5
+/// (mass / h² against EA / Δs).
+const LDLT_TOL: f64 = 1e-14;
+
+/// Once a pivot is negative (A indefinite: e.g. a compressed string whose
+/// negative geometric stiffness exceeds its mass term, or a quasi-definite
+/// ordering), LDLᵀ without pivoting is no longer backward stable by itself:
+/// entries of L grow like 1/|d_j|. Every pivot from there on must then
+/// satisfy `|d_j| > LDLT_INDEF_TOL * a_jj` (growth ≤ 1e6); the caller's
+/// residual check after refinement decides whether the result is kept.
+const LDLT_INDEF_TOL: f64 = 1e-6;
+
+/// Why [`BandLdlt::factor`] declined a matrix (the caller falls back to [`BandLu`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum LdltDecline {
+    /// `kl != ku`: not the band of a symmetric matrix.
+    NotSymmetricBand,
+    /// An entry of the lower band is NaN or infinite.
+    NonFinite,
+    /// Pivot `d` at row `row` is too small: `d <= LDLT_TOL * a_jj` while A
+    /// looks positive definite, `|d| <= LDLT_INDEF_TOL * a_jj` once a negative
+    /// pivot was met, or NaN.
+    Pivot { row: usize, d: f64 },
+}
+
+/// `A = L D Lᵀ` of a symmetric [`BandMatrix`] without pivoting (L unit lower
+/// with `kd = kl` sub-diagonals, D diagonal). SPEC §5: a KKT matrix without
+/// multiplier rows is `c_m M + c_d D + K`, symmetric and, for a well-posed
+/// dynamic step, positive definite, so the symmetric factorisation (n·kd²
+/// flops against the LU's 2·n·kl·(kl+ku)) applies. Mildly indefinite
+/// matrices are factored too (see `LDLT_INDEF_TOL`); small pivots are
+/// declined and the caller uses [`BandLu`]. Only the lower band of `A` is
+/// read: the caller guarantees symmetry (the KKT assembly adds every
+/// off-diagonal entry twice), and must check the residual against the full
+/// `A` (as [`solve_refined`] reports it) before trusting the solution.
+#[derive(Clone, Debug, Default)]
+pub struct BandLdlt {
+    n: usize,
+    kd: usize,
+    /// `kd + 1`: column j holds D_j then L[j+1..=j+kd][j] (LAPACK `pbtrf` 'L' layout).
+    ld: usize,
+    l: Vec<f64>,
+    /// ‖A‖_inf, from the copy pass (A symmetric: row sums = column sums).
+    anorm: f64,
+    rows: Vec<f64>,
+    factored: bool,
+    pivot_ratio: f64,
+}
+
+impl BandLdlt {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Copies the lower band of `a` (with ‖A‖_inf and a finiteness check in the
+    /// same pass) and factors it in place. Allocates only when `a` is larger
+    /// than any matrix factored before by this object.
+    pub fn factor(&mut self, a: &BandMatrix) -> std::result::Result<(), LdltDecline> {
+        self.factored = false;
+        if a.kl != a.ku {
+            return Err(LdltDecline::NotSymmetricBand);
+        }
+        let (n, kd) = (a.n, a.kl);
+        let ld = kd + 1;
+        self.n = n;
+        self.kd = kd;
+        self.ld = ld;
+        self.copy_lower(a)?;
+        let mut d_min = f64::INFINITY;
+        let mut d_max = 0.0f64;
+        let mut indefinite = false;
+        for j in 0..n {
+            let d = self.eliminate(j);
+            let ajj = a.data[j * a.ldab + a.ku].abs();
+            indefinite |= d < 0.0;
+            let tol = if indefinite { LDLT_INDEF_TOL } else { LDLT_TOL };
+            if !(d.abs() > tol * ajj) {
+                return Err(LdltDecline::Pivot { row: j, d });
+            }
+            d_min = d_min.min(d.abs());
+            d_max = d_max.max(d.abs());
+        }
+        self.pivot_ratio = if n == 0 { 1.0 } else { d_min / d_max };
+        self.factored = true;
+        Ok(())
+    }
+
+    /// Lower band of `a` into `l` (column j: A[j..=j+kd][j], contiguous in
+    /// both layouts), accumulating the absolute row sums on the way.
+    fn copy_lower(&mut self, a: &BandMatrix) -> std::result::Result<(), LdltDecline> {
+        let (n, kd, ld) = (self.n, self.kd, self.ld);
+        let kv = a.ku;
+        // Every entry of `l` is written below (no zero-fill pass first).
+        self.l.resize(n * ld, 0.0);
+        self.rows.clear();
+        self.rows.resize(n, 0.0);
+        for (j, dst) in self.l.chunks_exact_mut(ld).enumerate() {
+            let m = kd.min(n - 1 - j);
+            let src = &a.data[j * a.ldab + kv..=j * a.ldab + kv + m];
+            dst[..=m].copy_from_slice(src);
+            dst[m + 1..].fill(0.0);
+            // Row j gets the whole column (symmetry: row j's upper part is
+            // column j's lower part); rows below get their entry in column j.
+            let mut col_sum = 0.0;
+            for (r, &v) in self.rows[j + 1..=j + m].iter_mut().zip(&src[1..]) {
+                *r += v.abs();
+                col_sum += v.abs();
+            }
+            self.rows[j] += col_sum + src[0].abs();
+        }
+        // NaN and ±inf propagate into the sums of absolute values.
+        let mut anorm = 0.0f64;
+        for &r in &self.rows {
+            if !r.is_finite() {
+                return Err(LdltDecline::NonFinite);
+            }
+            anorm = anorm.max(r);
+        }
+        self.anorm = anorm;
+        Ok(())
+    }
+
+    /// Step j of the right-looking LDLᵀ: D_j = updated a_jj; the trailing
+    /// block gets A[j+c..][j+c] −= A[j+c..][j] A[j+c][j] / D_j; column j is
+    /// then scaled to L[·][j] = A[·][j] / D_j. Returns D_j (unchecked).
+    #[inline]
+    fn eliminate(&mut self, j: usize) -> f64 {
+        let (kd, ld) = (self.kd, self.ld);
+        let km = kd.min(self.n - 1 - j);
+        let (head, tail) = self.l.split_at_mut((j + 1) * ld);
+        let col = &mut head[j * ld..];
+        let d = col[0];
+        let inv = 1.0 / d;
+        // Column j + c of the trailing block starts (c − 1) * ld into `tail`;
+        // rows j + c ..= j + km of it are updated (lengths ≤ kd).
+        for c in 1..=km {
+            let t = col[c] * inv;
+            if t != 0.0 {
+                let dst = &mut tail[(c - 1) * ld..(c - 1) * ld + km - c + 1];
+                for (x, &v) in dst.iter_mut().zip(&col[c..=km]) {
+                    *x -= t * v;
+                }
+            }
+        }
+        for v in &mut col[1..=km] {
+            *v *= inv;
+        }
+        d
+    }
+
+    /// Smallest |D_j| / largest |D_j| of the last successful factorisation.
+    pub fn pivot_ratio(&self) -> f64 {
+        if self.factored {
+            self.pivot_ratio
+        } else {
+            0.0
+        }
+    }
+
+    /// Overwrites `b` with `A⁻¹ b`: L y = b, y /= D, Lᵀ x = y.
+    pub fn solve_in_place(&self, b: &mut [f64]) -> Result<()> {
+        if !self.factored {
+            return Err(Error::InvalidInput(
+                "BandLdlt::solve_in_place called without a successful factor()".into(),
+            ));
+        }
+        let (n, kd, ld) = (self.n, self.kd, self.ld);
+        super::check_rhs(b, n)?;
+        // Forward (column axpy: L's columns are contiguous).
+        for j in 0..n {
+            let km = kd.min(n - 1 - j);
+            let bj = b[j];
+            if bj != 0.0 {
+                let c = &self.l[j * ld + 1..=j * ld + km];
+                for (bi, &m) in b[j + 1..=j + km].iter_mut().zip(c) {
+                    *bi -= m * bj;
+                }
+            }
+        }
+        for (bj, col) in b.iter_mut().zip(self.l.chunks_exact(ld)) {
+            *bj /= col[0];
+        }
+        // Backward (dot products with the same columns).
+        for j in (0..n).rev() {
+            let km = kd.min(n - 1 - j);
+            let c = &self.l[j * ld + 1..=j * ld + km];
+            let s: f64 = b[j + 1..=j + km].iter().zip(c).map(|(x, m)| x * m).sum();
+            b[j] -= s;
+        }
+        Ok(())
+    }
+}
+
+/// A factorisation [`solve_refined`] can use.
+pub trait BandFactor {
+    /// Overwrites `b` with `A⁻¹ b`.
+    fn solve_in_place(&self, b: &mut [f64]) -> Result<()>;
+    /// True when this is a successful factorisation of a matrix of `a`'s shape.
+    fn fits(&self, a: &BandMatrix) -> bool;
+    /// ‖A‖_inf if the factorisation already computed it (saves a pass).
+    fn anorm(&self) -> Option<f64> {
+        None
+    }
+}
+
+impl BandFactor for BandLu {
+    fn solve_in_place(&self, b: &mut [f64]) -> Result<()> {
+        BandLu::solve_in_place(self, b)
+    }
+    fn fits(&self, a: &BandMatrix) -> bool {
+        self.factored && self.n == a.n && self.kl == a.kl && self.ku == a.ku
+    }
+}
+
+impl BandFactor for BandLdlt {
+    fn solve_in_place(&self, b: &mut [f64]) -> Result<()> {
+        BandLdlt::solve_in_place(self, b)
+    }
+    fn fits(&self, a: &BandMatrix) -> bool {
+        self.factored && self.n == a.n && self.kd == a.kl && a.kl == a.ku
+    }
+    fn anorm(&self) -> Option<f64> {
+        Some(self.anorm)
+    }
+}
+
 /// Solve `A x = b` with the factorisation `lu` of `a`, then `refine` steps of
 /// iterative refinement (stopping early once the residual is at rounding
 /// level). Returns the final relative residual
 /// `||A x - b||_inf / (||A||_inf ||x||_inf + ||b||_inf)` (0 when that is 0/0).
 /// `work` is scratch space, grown to `2 n` on first use.
-pub fn solve_refined(
+pub fn solve_refined<F: BandFactor>(
     a: &BandMatrix,
-    lu: &BandLu,
+    lu: &F,
     b: &[f64],
     x: &mut [f64],
     work: &mut Vec<f64>,
     refine: usize,
 ) -> Result<f64> {
     let n = a.n;
-    if !lu.factored || lu.n != n || lu.kl != a.kl || lu.ku != a.ku {
+    if !lu.fits(a) {
         return Err(Error::InvalidInput(
             "solve_refined: the factorisation does not belong to this matrix (factor it first)"
                 .into(),
@@ -372,7 +608,10 @@ pub fn solve_refined(
     work.clear();
     work.resize(2 * n, 0.0);
     let (r, rows) = work.split_at_mut(n);
-    let anorm = a.norm_inf(rows);
+    let anorm = match lu.anorm() {
+        Some(v) => v,
+        None => a.norm_inf(rows),
+    };
     let bnorm = inf_norm(b);
     x.copy_from_slice(b);
     lu.solve_in_place(x)?;
@@ -730,6 +969,142 @@ mod tests {
         assert_eq!(res, 0.0);
     }
 
+    /// Random symmetric band matrix, positive definite by diagonal dominance
+    /// when `shift` > 0, plus its dense copy.
+    fn random_spd(rng: &mut Lcg, n: usize, k: usize, shift: f64) -> (BandMatrix, Vec<Vec<f64>>) {
+        let mut d = vec![vec![0.0; n]; n];
+        for i in 0..n {
+            for j in i.saturating_sub(k)..i {
+                let v = rng.next();
+                d[i][j] = v;
+                d[j][i] = v;
+            }
+        }
+        for i in 0..n {
+            let off: f64 = d[i].iter().map(|v| v.abs()).sum();
+            d[i][i] = off + shift * (1.0 + rng.next().abs());
+        }
+        let mut m = BandMatrix::new(n, k, k);
+        for i in 0..n {
+            for j in i.saturating_sub(k)..(i + k + 1).min(n) {
+                m.set(i, j, d[i][j]);
+            }
+        }
+        (m, d)
+    }
+
+    #[test]
+    fn ldlt_matches_lu_on_random_spd_band() {
+        let mut rng = Lcg(21);
+        for &(n, k) in &[(1, 0), (2, 1), (10, 0), (17, 3), (60, 7), (200, 15), (40, 45)] {
+            let (a, d) = random_spd(&mut rng, n, k, 0.5);
+            let b: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+            let mut lu = BandLu::new();
+            lu.factor(&a).unwrap();
+            let mut xlu = b.clone();
+            lu.solve_in_place(&mut xlu).unwrap();
+            let mut ldlt = BandLdlt::new();
+            ldlt.factor(&a).unwrap();
+            let mut x = b.clone();
+            ldlt.solve_in_place(&mut x).unwrap();
+            let scale = inf_norm(&xlu).max(1.0);
+            for (xi, ri) in x.iter().zip(&xlu) {
+                assert!((xi - ri).abs() <= 1e-12 * scale, "n={n} k={k}: {xi} vs {ri}");
+            }
+            // ‖A‖_inf from the copy pass equals the full-band one.
+            let mut rows = vec![0.0; n];
+            assert!((ldlt.anorm - a.norm_inf(&mut rows)).abs() <= 1e-14 * ldlt.anorm);
+            let (mut x2, mut w) = (vec![0.0; n], Vec::new());
+            let res = solve_refined(&a, &ldlt, &b, &mut x2, &mut w, 1).unwrap();
+            assert!(res < 1e-15, "relative residual {res}");
+            assert!(ldlt.pivot_ratio() > 0.0 && ldlt.pivot_ratio() <= 1.0);
+            let xref = dense_solve(d, b);
+            for (xi, ri) in x2.iter().zip(&xref) {
+                assert!((xi - ri).abs() <= 1e-12 * scale);
+            }
+        }
+    }
+
+    #[test]
+    fn ldlt_declines_small_pivots_and_non_finite() {
+        let mut rng = Lcg(4);
+        let mut ldlt = BandLdlt::new();
+        let mut lu = BandLu::new();
+        let (mut x, mut w) = (vec![0.0; 30], Vec::new());
+        // Mildly indefinite (one negative diagonal entry deep inside the
+        // band): factored, same solution as the LU.
+        let (mut a, _) = random_spd(&mut rng, 30, 4, 0.5);
+        let v = a.get(17, 17);
+        a.set(17, 17, -v);
+        ldlt.factor(&a).unwrap();
+        let b: Vec<f64> = (0..30).map(|_| rng.next()).collect();
+        assert!(solve_refined(&a, &ldlt, &b, &mut x, &mut w, 1).unwrap() < 1e-15);
+        lu.factor(&a).unwrap();
+        let mut xlu = b.clone();
+        lu.solve_in_place(&mut xlu).unwrap();
+        for (xi, ri) in x.iter().zip(&xlu) {
+            assert!((xi - ri).abs() <= 1e-12 * inf_norm(&xlu).max(1.0));
+        }
+        // Zero leading pivot (a saddle point ordered with the multiplier
+        // first): declined, and the pivoting LU still solves it.
+        let mut k = BandMatrix::new(2, 1, 1);
+        k.set(0, 1, 1.0);
+        k.set(1, 0, 1.0);
+        k.set(1, 1, 2.0);
+        assert_eq!(ldlt.factor(&k), Err(LdltDecline::Pivot { row: 0, d: 0.0 }));
+        assert!(ldlt.solve_in_place(&mut [0.0; 2]).is_err());
+        assert_eq!(ldlt.pivot_ratio(), 0.0);
+        lu.factor(&k).unwrap();
+        // Singular positive semi-definite [[1, 1], [1, 1]], and a tiny
+        // negative pivot (indefinite, growth 1e9): declined.
+        let mut s = BandMatrix::new(2, 1, 1);
+        for (i, j) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+            s.set(i, j, 1.0);
+        }
+        assert!(matches!(ldlt.factor(&s), Err(LdltDecline::Pivot { row: 1, .. })));
+        s.set(1, 1, 1.0 - 1e-9);
+        assert!(matches!(ldlt.factor(&s), Err(LdltDecline::Pivot { row: 1, d }) if d < 0.0));
+        // A tiny positive pivot on a positive definite matrix is accepted
+        // (LDLᵀ of an SPD matrix is backward stable).
+        s.set(1, 1, 1.0 + 1e-12);
+        ldlt.factor(&s).unwrap();
+        // Unsymmetric band shape, non-finite entries.
+        assert_eq!(ldlt.factor(&BandMatrix::new(3, 1, 2)), Err(LdltDecline::NotSymmetricBand));
+        let (mut a, _) = random_spd(&mut rng, 8, 2, 0.5);
+        a.set(5, 4, f64::NAN);
+        assert_eq!(ldlt.factor(&a), Err(LdltDecline::NonFinite));
+        a.set(5, 4, f64::INFINITY);
+        assert_eq!(ldlt.factor(&a), Err(LdltDecline::NonFinite));
+        // Empty matrix.
+        ldlt.factor(&BandMatrix::new(0, 2, 2)).unwrap();
+        ldlt.solve_in_place(&mut []).unwrap();
+    }
+
+    #[test]
+    fn add_sym_block_matches_entrywise_adds() {
+        let mut rng = Lcg(8);
+        let upper: Vec<f64> = (0..36).map(|_| rng.next()).collect();
+        // In-band (contiguous, and with a gap) and out-of-band index sets.
+        for idx in [vec![3usize, 4, 5, 6, 7, 8], vec![2, 3, 5, 6, 7, 9], vec![0, 1, 2, 3, 4, 9]] {
+            if idx[5] - idx[0] > 7 && cfg!(debug_assertions) {
+                continue; // out-of-band adds trip BandMatrix::add's debug assertion
+            }
+            let mut a = BandMatrix::new(12, 7, 7);
+            let mut r = BandMatrix::new(12, 7, 7);
+            a.add_sym_block(&idx, &upper, 6);
+            for p in 0..6 {
+                for q in 0..6 {
+                    let v = upper[p.min(q) * 6 + p.max(q)];
+                    if r.in_band(idx[p], idx[q]) {
+                        r.add(idx[p], idx[q], v);
+                    }
+                }
+            }
+            // Out-of-band entries are dropped, as by `add` in release builds.
+            assert_eq!(a.data, r.data, "{idx:?}");
+        }
+    }
+
     /// Timing of the SPEC §5 hot case (run with `--release -- --ignored --nocapture`).
     #[test]
     #[ignore]
@@ -765,13 +1140,53 @@ impl BandMatrix {
     /// A ← D A D for the diagonal D = diag(d): symmetric equilibration of a
     /// KKT matrix before factorisation (entries outside the band stay zero).
     pub fn scale_symmetric(&mut self, d: &[f64]) {
-        let kv = self.kl + self.ku;
+        let ku = self.ku;
         for j in 0..self.n {
-            let lo = j.saturating_sub(self.ku);
+            let lo = j.saturating_sub(ku);
             let hi = (j + self.kl).min(self.n - 1);
-            let col = &mut self.data[j * self.ldab..(j + 1) * self.ldab];
-            for i in lo..=hi {
-                col[kv + i - j] *= d[i] * d[j];
+            let dj = d[j];
+            let col = &mut self.data[j * self.ldab + ku + lo - j..=j * self.ldab + ku + hi - j];
+            for (a, &di) in col.iter_mut().zip(&d[lo..=hi]) {
+                *a *= di * dj;
+            }
+        }
+    }
+
+    /// `A[idx[a]][idx[b]] += S[a][b]` for every a, b < m = `idx.len()`, where S
+    /// is symmetric and given by its upper half, row-major with stride
+    /// `stride` (`S[a][b] = upper[a * stride + b]` for a ≤ b). This is how the
+    /// KKT assembly adds a segment's stiffness block (SPEC §4). When all the
+    /// indices lie within one band width of each other (always, for a segment
+    /// of a rod: its control points are consecutive in the layout) the
+    /// entries go straight into their columns; otherwise entry by entry with
+    /// the out-of-band policy of [`BandMatrix::add`].
+    pub fn add_sym_block(&mut self, idx: &[usize], upper: &[f64], stride: usize) {
+        let m = idx.len();
+        let (lo, hi) = idx.iter().fold((usize::MAX, 0), |(l, h), &g| (l.min(g), h.max(g)));
+        if m == 0 {
+            return;
+        }
+        if hi >= self.n || hi - lo > self.kl.min(self.ku) {
+            for a in 0..m {
+                for b in a..m {
+                    let v = upper[a * stride + b];
+                    self.add(idx[a], idx[b], v);
+                    if a != b {
+                        self.add(idx[b], idx[a], v);
+                    }
+                }
+            }
+            return;
+        }
+        let ku = self.ku;
+        for (b, &gj) in idx.iter().enumerate() {
+            // Row gi of column gj sits at ku + gi - gj >= 0 (gj - gi <= hi - lo <= ku).
+            let col = &mut self.data[gj * self.ldab..(gj + 1) * self.ldab];
+            for (a, &gi) in idx[..=b].iter().enumerate() {
+                col[ku + gi - gj] += upper[a * stride + b];
+            }
+            for (&gi, &v) in idx[b + 1..].iter().zip(&upper[b * stride + b + 1..b * stride + m]) {
+                col[ku + gi - gj] += v;
             }
         }
     }

@@ -2,7 +2,7 @@
 pub mod band;
 pub mod sparse;
 
-pub use band::{solve_refined, BandLu, BandMatrix};
+pub use band::{solve_refined, BandFactor, BandLdlt, BandLu, BandMatrix, LdltDecline};
 
 /// A right-hand side must have `n` finite entries.
 pub(crate) fn check_rhs(b: &[f64], n: usize) -> crate::error::Result<()> {

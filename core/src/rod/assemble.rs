@@ -3,11 +3,13 @@
 //!   ∂U/∂q_(k,α) = Σ_s w Σ_a β_k^a ∂W/∂d_(a,α),
 //!   K_(kα)(lβ)  = Σ_s w Σ_{a,b} β_k^a β_l^b ∂²W/∂d_(a,α)∂d_(b,β),
 //! where slot a of a position coordinate takes r', r'', r''' (β = b', b'', b''')
-//! and of θ takes θ, θ' (β = b, b'). Only the upper half of each 16×16
-//! (12×12) block is computed; segments run in parallel (rayon).
+//! and of θ takes θ, θ' (β = b, b'). Only the slots the energy terms use
+//! are visited ([`ActiveSlots`]); the upper half of each 16×16 (12×12) block
+//! is returned; segments run in parallel (rayon).
 use super::samples::local_state;
 use super::Rod;
-use crate::energy::density;
+use crate::energy::invariants::{Mat11, TH, TH1};
+use crate::energy::{density, ActiveSlots};
 use rayon::prelude::*;
 
 /// One segment's contribution. Local index k*dofs + α (k = 0..4).
@@ -39,10 +41,21 @@ impl Rod {
     /// `parallel` spreads segments over rayon's pool.
     pub fn assemble(&self, blocks: &mut Vec<SegBlock>, need: Need, parallel: bool) {
         blocks.resize(self.n_segments(), SegBlock::default());
+        self.assemble_range(0, blocks, need, parallel);
+    }
+
+    /// Evaluates segments `first .. first + blocks.len()` into `blocks`, so
+    /// that a caller can assemble in cache-sized batches (a 40000-point rod's
+    /// blocks would take 87 MB). `parallel` spreads them over rayon's pool.
+    ///
+    /// # Panics
+    /// If the range goes past the last segment (a programming error).
+    pub fn assemble_range(&self, first: usize, blocks: &mut [SegBlock], need: Need, parallel: bool) {
+        assert!(first + blocks.len() <= self.n_segments(), "Rod::assemble_range: segment range out of bounds");
         if parallel {
-            blocks.par_iter_mut().enumerate().with_min_len(16).for_each(|(s, b)| self.segment(s, b, need));
+            blocks.par_iter_mut().enumerate().with_min_len(16).for_each(|(s, b)| self.segment(first + s, b, need));
         } else {
-            blocks.iter_mut().enumerate().for_each(|(s, b)| self.segment(s, b, need));
+            blocks.iter_mut().enumerate().for_each(|(s, b)| self.segment(first + s, b, need));
         }
     }
 
@@ -79,9 +92,11 @@ impl Rod {
         if need != Need::Energy {
             out.grad[..nl].iter_mut().for_each(|g| *g = 0.0);
         }
-        if need == Need::Hessian {
-            out.hess.iter_mut().for_each(|h| *h = 0.0);
-        }
+        let act = ActiveSlots::of(self.opts.terms, self.opts.model);
+        // Roll slots carry nothing without a roll coordinate.
+        let (th, th1) = (dofs == 4 && act.theta, dofs == 4 && act.theta1);
+        let np = act.positions;
+        let mut acc = ChainAcc::default();
         let c = &self.cache;
         let ctrl = &c.seg_ctrl[seg];
         for s in &c.samples[c.seg_start[seg]..c.seg_start[seg + 1]] {
@@ -92,37 +107,143 @@ impl Rod {
             if need == Need::Energy {
                 continue;
             }
-            // slots[c] = the (d-index, β) pairs that local coordinate c feeds.
-            let mut slots = [[(0usize, 0.0f64); 3]; 16];
+            // ∂U/∂q_(k,α) = w Σ_a β_k^a ∂W/∂d_(a,α).
+            let g = &e.grad;
             for k in 0..4 {
-                for a in 0..3 {
-                    slots[k * dofs + a] = [(a, b[1][k]), (3 + a, b[2][k]), (6 + a, b[3][k])];
+                for al in 0..3 {
+                    let v: f64 = (0..np).map(|a| b[a + 1][k] * g[3 * a + al]).sum();
+                    out.grad[k * dofs + al] += s.w * v;
                 }
                 if dofs == 4 {
-                    slots[k * 4 + 3] = [(9, b[0][k]), (10, b[1][k]), (10, 0.0)];
+                    out.grad[k * 4 + 3] += s.w * (b[0][k] * g[TH] + b[1][k] * g[TH1]);
                 }
             }
-            for (ci, sl) in slots.iter().enumerate().take(nl) {
-                out.grad[ci] += s.w * sl.iter().map(|&(a, beta)| beta * e.grad[a]).sum::<f64>();
+            if need == Need::Hessian {
+                acc.add_sample(&e.hess, b, s.w, np, th, th1);
             }
-            if need != Need::Hessian {
-                continue;
+        }
+        if need == Need::Hessian {
+            acc.write_upper(out, dofs);
+        }
+    }
+}
+
+/// The Hessian chain rule of the module doc for one segment, laid out so
+/// that every inner operation is a 4-wide axpy over the segment's control
+/// points l (basis rows b[·] are 4-vectors): with β^a = b^(a+1) for the
+/// position slots (r′, r″, r‴) and ρ^0 = b, ρ^1 = b′ for θ, θ′,
+///   T[r][γ][l] = Σ_c H[r][3c+γ] β^c_l          (γ < 3: position column (l, γ))
+///   T[r][3][l] = H[r][θ] ρ^0_l + H[r][θ′] ρ^1_l (roll column l)
+///   K[(k,α)][γ][l] += w Σ_a β^a_k T[3a+α][γ][l],  K[(k,3)][γ][l] += w Σ_s ρ^s_k T[s][γ][l].
+/// The position part of the basis is b ⊗ I₃, so T needs 11 axpys per row of
+/// H instead of a dense 11×16 product; only active slots are visited.
+#[derive(Default)]
+struct ChainAcc {
+    /// K[(k, α)][l][γ] with row k·4 + α (α = 3: roll), summed over samples;
+    /// only the blocks l ≥ k are formed.
+    k: [[[f64; 4]; 4]; 16],
+}
+
+#[inline(always)]
+fn axpy4(y: &mut [f64; 4], a: f64, x: &[f64; 4]) {
+    for (yi, xi) in y.iter_mut().zip(x) {
+        *yi += a * xi;
+    }
+}
+
+impl ChainAcc {
+    /// Dispatches to a version compiled for the active slots (fixed loop
+    /// bounds let the compiler unroll and vectorise the 4-wide axpys).
+    fn add_sample(&mut self, h: &Mat11, b: &[[f64; 4]; 4], w: f64, np: usize, th: bool, th1: bool) {
+        match (np, th, th1) {
+            (3, true, true) => self.add_sample_fixed::<3, true, true>(h, b, w),
+            (3, false, true) => self.add_sample_fixed::<3, false, true>(h, b, w),
+            (2, true, false) => self.add_sample_fixed::<2, true, false>(h, b, w),
+            (2, false, false) => self.add_sample_fixed::<2, false, false>(h, b, w),
+            (1, false, false) => self.add_sample_fixed::<1, false, false>(h, b, w),
+            _ => self.add_sample_any(h, b, w, np, th, th1),
+        }
+    }
+
+    #[inline(always)]
+    fn add_sample_fixed<const NP: usize, const TH_ON: bool, const TH1_ON: bool>(
+        &mut self,
+        h: &Mat11,
+        b: &[[f64; 4]; 4],
+        w: f64,
+    ) {
+        self.add_sample_any(h, b, w, NP, TH_ON, TH1_ON);
+    }
+
+    #[inline(always)]
+    fn add_sample_any(&mut self, h: &Mat11, b: &[[f64; 4]; 4], w: f64, np: usize, th: bool, th1: bool) {
+        // T[r][l] = (H B)[r][(l, ·)] for the rows K reads: active position
+        // slots, then θ, θ′. Formed as 4-wide axpys over l (the basis rows
+        // b[·] are 4-vectors), T[r][γ][l] = Σ_c H[r][3c+γ] b^(c+1)_l, then
+        // transposed so that K's axpys run over γ. H is symmetric: row r is
+        // column r, contiguous in nalgebra's storage.
+        let mut t = [[[0.0f64; 4]; 4]; 11];
+        let hs = h.as_slice();
+        let mut rows = [0usize; 11];
+        let mut nr = 0;
+        for r in (0..3 * np).chain(th.then_some(TH)).chain(th1.then_some(TH1)) {
+            rows[nr] = r;
+            nr += 1;
+        }
+        for &r in &rows[..nr] {
+            let hr = &hs[11 * r..11 * r + 11];
+            let mut tt = [[0.0f64; 4]; 4];
+            for c in 0..np {
+                for (g, tg) in tt.iter_mut().take(3).enumerate() {
+                    axpy4(tg, hr[3 * c + g], &b[c + 1]);
+                }
             }
-            // T = H B (11 × nl), then K = Bᵀ T on the upper half.
-            let mut t = [[0.0f64; 11]; 16];
-            for (ci, sl) in slots.iter().enumerate().take(nl) {
-                for &(a, beta) in sl {
-                    let col = e.hess.column(a);
-                    for r in 0..11 {
-                        t[ci][r] += beta * col[r];
+            if th {
+                axpy4(&mut tt[3], hr[TH], &b[0]);
+            }
+            if th1 {
+                axpy4(&mut tt[3], hr[TH1], &b[1]);
+            }
+            for (l, tl) in t[r].iter_mut().enumerate() {
+                *tl = [tt[0][l], tt[1][l], tt[2][l], tt[3][l]];
+            }
+        }
+        // K[(k, α)][l] += w Σ_a β^a_k T[3a+α][l] on the upper blocks l ≥ k.
+        for k in 0..4 {
+            for a in 0..np {
+                let wb = w * b[a + 1][k];
+                for al in 0..3 {
+                    let (row, tr) = (&mut self.k[k * 4 + al], &t[3 * a + al]);
+                    for l in k..4 {
+                        axpy4(&mut row[l], wb, &tr[l]);
                     }
                 }
             }
-            for (ci, sl) in slots.iter().enumerate().take(nl) {
-                let row = &mut out.hess[ci * 16..ci * 16 + 16];
-                for cj in ci..nl {
-                    let tj = &t[cj];
-                    row[cj] += s.w * sl.iter().map(|&(a, beta)| beta * tj[a]).sum::<f64>();
+            for (on, slot, basis) in [(th, TH, &b[0]), (th1, TH1, &b[1])] {
+                if on {
+                    let wb = w * basis[k];
+                    let (row, tr) = (&mut self.k[k * 4 + 3], &t[slot]);
+                    for l in k..4 {
+                        axpy4(&mut row[l], wb, &tr[l]);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Upper half of the 4·dofs block, row-major with stride 16.
+    fn write_upper(&self, out: &mut SegBlock, dofs: usize) {
+        for k in 0..4 {
+            for al in 0..dofs {
+                let ci = k * dofs + al;
+                let row = &self.k[k * 4 + al];
+                for l in k..4 {
+                    for g in 0..dofs {
+                        let cj = l * dofs + g;
+                        if cj >= ci {
+                            out.hess[ci * 16 + cj] = row[l][g];
+                        }
+                    }
                 }
             }
         }

@@ -10,7 +10,7 @@
 use super::layout::Layout;
 use crate::constraint::{ConstraintKind, Row, SlidingBlocks};
 use crate::error::{Error, Result};
-use crate::linalg::band::{solve_refined, BandLu, BandMatrix};
+use crate::linalg::band::{solve_refined, BandLdlt, BandLu, BandMatrix};
 use crate::linalg::sparse::{prefer_sparse, SparseLu};
 use serde::{Deserialize, Serialize};
 
@@ -52,10 +52,39 @@ pub struct BeadRef {
     pub mass: f64,
 }
 
+/// Segments per kernel batch: one thread keeps 16 × 2.2 KB in L1; with
+/// rayon a batch must be large enough to split across the pool.
+const SEQ_BATCH: usize = 16;
+const PAR_BATCH: usize = 512;
+
+/// Adds c_m M + c_d D on each axis (II.70–II.75, III.10) to the upper half of
+/// a segment's block (M, J, D are symmetric, so the upper half carries them).
+fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4], j: &[[f64; 4]; 4], dr: &[[f64; 4]; 4]) {
+    for kk in 0..4 {
+        for l in kk..4 {
+            let t = k.mass * m[kk][l] + k.drag * dr[kk][l];
+            for a in 0..3 {
+                blk.hess[(kk * d + a) * 16 + l * d + a] += t;
+            }
+            if d == 4 {
+                blk.hess[(kk * 4 + 3) * 16 + l * 4 + 3] += k.mass * j[kk][l];
+            }
+        }
+    }
+}
+
+/// Largest relative residual accepted from the LDLᵀ path (after one step of
+/// refinement) before falling back to the LU: an SPD solve lands at ~1e-17,
+/// as the pivoting LU does; far above means A was not symmetric, or too
+/// indefinite for the unpivoted factorisation.
+const LDLT_MAX_RESIDUAL: f64 = 1e-14;
+
 #[derive(Clone, Debug, Default)]
 pub struct KktSystem {
     pub band: BandMatrix,
     pub lu: BandLu,
+    /// Symmetric factorisation tried first when there are no multiplier rows.
+    pub ldlt: BandLdlt,
     pub sparse: SparseLu,
     /// Solver used by the last `solve`: true = sparse.
     pub used_sparse: bool,
@@ -63,7 +92,12 @@ pub struct KktSystem {
     pub sol: Vec<f64>,
     work: Vec<f64>,
     scale: Vec<f64>,
-    blocks: Vec<Vec<SegBlock>>,
+    /// Scratch of `equilibrate`: unknown i is a multiplier row.
+    is_row: Vec<bool>,
+    /// The last assembly had a positive mass coefficient c_m.
+    inertia: bool,
+    /// Kernel outputs of one batch of segments (reused).
+    blocks: Vec<SegBlock>,
     rows: Vec<Row>,
     mv: Vec<f64>,
 }
@@ -82,14 +116,13 @@ impl KktSystem {
         parallel: bool,
     ) -> Result<f64> {
         let bw = layout.bandwidth;
+        self.inertia = k.mass > 0.0;
         self.band.reshape(layout.n, bw, bw);
         self.rhs.clear();
         self.rhs.resize(layout.n, 0.0);
-        self.blocks.resize_with(rods.len(), Vec::new);
         let mut energy = 0.0;
+        let blocks = &mut self.blocks;
         for (r, rod) in rods.iter().enumerate() {
-            let blocks = &mut self.blocks[r];
-            rod.assemble(blocks, Need::Hessian, parallel);
             let d = rod.dofs;
             let nl = 4 * d;
             let cache = &rod.cache;
@@ -105,37 +138,30 @@ impl KktSystem {
                         ext[r][local] + if k.momentum != 0.0 { k.momentum * self.mv[local] } else { 0.0 };
                 }
             }
-            for (s, blk) in blocks.iter().enumerate() {
-                energy += blk.energy;
-                let ctrl = &cache.seg_ctrl[s];
-                let mut idx = [0usize; 16];
-                for kk in 0..4 {
-                    for a in 0..d {
-                        idx[kk * d + a] = layout.cp_index[r][ctrl[kk]] + a;
-                    }
-                }
-                for ci in 0..nl {
-                    self.rhs[idx[ci]] -= blk.grad[ci];
-                    let row = &blk.hess[ci * 16..ci * 16 + 16];
-                    self.band.add(idx[ci], idx[ci], row[ci]);
-                    for cj in ci + 1..nl {
-                        self.band.add(idx[ci], idx[cj], row[cj]);
-                        self.band.add(idx[cj], idx[ci], row[cj]);
-                    }
-                }
-                // c_m M + c_d D on each axis (II.70–II.75, III.10).
-                let (m, j, dr) = (&cache.seg_mass[s], &cache.seg_inertia[s], &cache.seg_drag[s]);
-                for kk in 0..4 {
-                    for l in 0..4 {
-                        let t = k.mass * m[kk][l] + k.drag * dr[kk][l];
-                        for a in 0..3 {
-                            self.band.add(idx[kk * d + a], idx[l * d + a], t);
-                        }
-                        if d == 4 {
-                            self.band.add(idx[kk * 4 + 3], idx[l * 4 + 3], k.mass * j[kk][l]);
+            // Kernels in batches that stay in cache, each scattered at once.
+            let nseg = rod.n_segments();
+            let batch = if parallel { PAR_BATCH } else { SEQ_BATCH }.min(nseg);
+            blocks.resize(batch, SegBlock::default());
+            let mut first = 0;
+            while first < nseg {
+                let m = batch.min(nseg - first);
+                rod.assemble_range(first, &mut blocks[..m], Need::Hessian, parallel);
+                for (s, blk) in (first..).zip(blocks[..m].iter_mut()) {
+                    energy += blk.energy;
+                    let ctrl = &cache.seg_ctrl[s];
+                    let mut idx = [0usize; 16];
+                    for kk in 0..4 {
+                        for a in 0..d {
+                            idx[kk * d + a] = layout.cp_index[r][ctrl[kk]] + a;
                         }
                     }
+                    for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
+                        self.rhs[gi] -= g;
+                    }
+                    add_inertia(blk, d, k, &cache.seg_mass[s], &cache.seg_inertia[s], &cache.seg_drag[s]);
+                    self.band.add_sym_block(&idx[..nl], &blk.hess, 16);
                 }
+                first += m;
             }
         }
         // Point masses (beads) on x, y, z: c_m m b_i b_j and c_v m b_i v(u).
@@ -249,7 +275,9 @@ impl KktSystem {
         let n = layout.n;
         self.scale.clear();
         self.scale.resize(n, 1.0);
-        let mut is_row = vec![false; 0];
+        // Reused across steps: no allocation in the time loop.
+        let mut is_row = std::mem::take(&mut self.is_row);
+        is_row.clear();
         is_row.resize(n, false);
         for (c, &r0) in layout.row_index.iter().enumerate() {
             for i in 0..layout.row_count[c] {
@@ -274,6 +302,7 @@ impl KktSystem {
                 self.scale[i] = 1.0 / m;
             }
         }
+        self.is_row = is_row;
         self.band.scale_symmetric(&self.scale);
         for (b, d) in self.rhs.iter_mut().zip(&self.scale) {
             *b *= d;
@@ -295,6 +324,22 @@ impl KktSystem {
             LinearSolver::Band => false,
             LinearSolver::Sparse => true,
         };
+        self.sol.resize(self.rhs.len(), 0.0);
+        // Without multiplier rows and with inertia (c_m > 0: dynamics and
+        // pseudo-transient statics), A = c_m M + c_d D + K is symmetric and,
+        // for a well-posed step, positive definite (mildly indefinite when
+        // compression softens K): LDLᵀ does ¼ of the LU's work. It declines
+        // small pivots, and a poor residual (which would betray an asymmetric
+        // or badly indefinite A) also sends the system to the pivoting LU, so
+        // diagnostics are as before. Pure
+        // Newton statics (c_m = 0) keep the LU: a free rod's K is singular
+        // only up to rounding, which the LU's zero-pivot test reports.
+        if !self.used_sparse && layout.n_rows == 0 && self.inertia && self.ldlt.factor(&self.band).is_ok() {
+            let res = solve_refined(&self.band, &self.ldlt, &self.rhs, &mut self.sol, &mut self.work, 1)?;
+            if res <= LDLT_MAX_RESIDUAL {
+                return Ok(self.finish_solve(res));
+            }
+        }
         let factored = if self.used_sparse { self.sparse.factor(&self.band) } else { self.lu.factor(&self.band) };
         if let Err(e) = factored {
             return Err(match e {
@@ -310,7 +355,6 @@ impl KktSystem {
                 other => other,
             });
         }
-        self.sol.resize(self.rhs.len(), 0.0);
         let res = if self.used_sparse {
             self.sol.copy_from_slice(&self.rhs);
             self.sparse.solve_refined_in_place(&mut self.sol)?
@@ -339,16 +383,20 @@ impl KktSystem {
                 }
             }
         }
-        for (x, d) in self.sol.iter_mut().zip(&self.scale) {
-            *x *= d;
-        }
-        // Restore the unscaled right-hand side (callers read violations from it).
-        for (b, d) in self.rhs.iter_mut().zip(&self.scale) {
-            *b /= d;
-        }
+        let res = self.finish_solve(res);
         if !(res < 1e-6) {
             return Err(Error::Singular(format!("linear solve residual {res:.3e}: system numerically singular")));
         }
         Ok(res)
+    }
+
+    /// Undoes the equilibration on the solution and the right-hand side
+    /// (callers read constraint violations from the latter); returns `res`.
+    fn finish_solve(&mut self, res: f64) -> f64 {
+        for ((x, b), d) in self.sol.iter_mut().zip(self.rhs.iter_mut()).zip(&self.scale) {
+            *x *= d;
+            *b /= d;
+        }
+        res
     }
 }

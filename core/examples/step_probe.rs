@@ -1,0 +1,189 @@
+//! Quick per-step probe used while optimising (not the reference benchmark,
+//! see `bench_table` and BENCHMARKS.md):
+//!
+//!   cargo run --release -p strandkit-core --example step_probe [-- --runs N] [--rows sbtd] [--sizes 100,400,40000]
+//!
+//! Prints, for each energy row (s = stretch only, b = stretch+bend, t = full
+//! static, d = full dynamic) and size, the smallest of N medians of the
+//! per-step wall time (1 thread) and µs per control point, with the same
+//! rod, pre-deformation and reset policy as `bench_table`.
+use nalgebra::Vector3;
+use std::time::{Duration, Instant};
+use strandkit_core::energy::EnergyTerms;
+use strandkit_core::*;
+
+const LENGTH: f64 = 4.0;
+
+fn rod(n: usize, terms: EnergyTerms) -> Rod {
+    RodBuilder::straight(Vector3::zeros(), Vector3::new(LENGTH, 0.0, 0.0))
+        .control_points(n)
+        .section(Section::circle(0.05).unwrap())
+        .material(Material::new("steel", 200e9, 0.3, 7800.0).unwrap())
+        .options(RodOptions { samples_per_segment: 5, terms, ..Default::default() })
+        .build()
+        .unwrap()
+}
+
+fn deformed(q: &[f64]) -> Vec<f64> {
+    let mut q = q.to_vec();
+    let pi = std::f64::consts::PI;
+    for c in q.chunks_exact_mut(4) {
+        let s = c[0] / LENGTH;
+        c[1] += 0.001 * (pi * s).sin();
+        c[2] += 0.0005 * (2.0 * pi * s).sin();
+        c[3] += 0.005 * (pi * s).sin();
+    }
+    q
+}
+
+fn setup(n: usize, row: char) -> (World, RodHandle, Vec<f64>) {
+    let terms = match row {
+        's' => EnergyTerms { stretch: true, bend: false, twist: false },
+        'b' => EnergyTerms { stretch: true, bend: true, twist: false },
+        _ => EnergyTerms::default(),
+    };
+    let r = rod(n, terms);
+    if row == 't' {
+        let (u0, u1) = r.domain();
+        let q0 = r.coords().to_vec();
+        let mut w = World::new(IntegrationParameters { dt: 1e6, parallel: false, ..Default::default() });
+        let h = w.add_rod(r);
+        w.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: [0.0; 4] }, 0.0).unwrap();
+        w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+        w.add_load(Load::PointForce { rod: h, u: u1, force: [0.0, -100.0, 50.0] }).unwrap();
+        return (w, h, q0);
+    }
+    let q0 = deformed(r.coords());
+    let mut w = World::new(IntegrationParameters { dt: 1e-3, parallel: false, ..Default::default() });
+    let h = w.add_rod(r);
+    w.rod_mut(h).unwrap().set_coords(&q0).unwrap();
+    (w, h, q0)
+}
+
+fn reset(w: &mut World, h: RodHandle, q0: &[f64]) {
+    let r = w.rod_mut(h).unwrap();
+    r.set_coords(q0).unwrap();
+    r.set_velocities(&vec![0.0; q0.len()]).unwrap();
+}
+
+fn median_step(n: usize, row: char) -> (f64, usize) {
+    let (mut w, h, q0) = setup(n, row);
+    let big = n >= 40000;
+    for _ in 0..if big { 1 } else { 5 } {
+        let _ = w.step();
+    }
+    reset(&mut w, h, &q0);
+    let (min_reps, min_time) = if big { (3, Duration::ZERO) } else { (20, Duration::from_millis(200)) };
+    let mut t = Vec::new();
+    let mut total = Duration::ZERO;
+    let mut fails = 0;
+    let mut k = 0;
+    while t.len() < min_reps || total < min_time {
+        if k == 50 {
+            reset(&mut w, h, &q0);
+            k = 0;
+        }
+        k += 1;
+        let s = Instant::now();
+        let r = w.step();
+        let dt = s.elapsed();
+        if r.is_ok() {
+            t.push(dt.as_secs_f64());
+            total += dt;
+        } else {
+            fails += 1;
+            reset(&mut w, h, &q0);
+            k = 0;
+        }
+    }
+    t.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    (t[t.len() / 2], fails)
+}
+
+fn arg(name: &str) -> Option<String> {
+    std::env::args().skip_while(|a| a != name).nth(1)
+}
+
+fn main() {
+    let runs: usize = arg("--runs").and_then(|v| v.parse().ok()).unwrap_or(3);
+    let rows = arg("--rows").unwrap_or_else(|| "d".into());
+    let sizes: Vec<usize> = arg("--sizes")
+        .unwrap_or_else(|| "100,400,4000,40000".into())
+        .split(',')
+        .filter_map(|s| s.parse().ok())
+        .collect();
+    // --kernel N: smallest of N timings of the segment kernels alone
+    // (Rod::assemble with Hessians) and of a whole step; minima of many short
+    // timings are robust to other processes on a shared machine.
+    if let Some(reps) = arg("--kernel").and_then(|v| v.parse::<usize>().ok()) {
+        for row in rows.chars() {
+            for &n in &sizes {
+                let (mut w, h, q0) = setup(n, row);
+                let _ = w.step();
+                let rod = w.rod(h).unwrap().clone();
+                let mut blocks = Vec::new();
+                let mut kmin = f64::INFINITY;
+                for _ in 0..reps {
+                    let s = Instant::now();
+                    rod.assemble(&mut blocks, strandkit_core::rod::assemble::Need::Hessian, false);
+                    kmin = kmin.min(s.elapsed().as_secs_f64());
+                }
+                let mut smin = f64::INFINITY;
+                for i in 0..reps {
+                    if i % 50 == 0 {
+                        reset(&mut w, h, &q0);
+                    }
+                    let s = Instant::now();
+                    let _ = w.step();
+                    smin = smin.min(s.elapsed().as_secs_f64());
+                }
+                println!("row {row} n={n:6}: kernels {:.1} µs, step {:.1} µs (minima of {reps})", kmin * 1e6, smin * 1e6);
+            }
+        }
+        return;
+    }
+    // --fixed N: exactly N steps per (row, size) and no timing, for
+    // `perf stat -e cycles:u` (cycle counts are not inflated by other
+    // processes holding the CPU, unlike wall time on a shared machine).
+    if let Some(steps) = arg("--fixed").and_then(|v| v.parse::<usize>().ok()) {
+        for row in rows.chars() {
+            for &n in &sizes {
+                let (mut w, h, q0) = setup(n, row);
+                let mut t = Vec::with_capacity(steps);
+                for i in 0..steps {
+                    if i % 50 == 0 {
+                        reset(&mut w, h, &q0);
+                    }
+                    let s = Instant::now();
+                    let _ = w.step();
+                    t.push(s.elapsed().as_secs_f64());
+                }
+                if std::env::args().any(|a| a == "--dist") {
+                    for (i, x) in t.iter().enumerate().take(100) {
+                        eprint!("{i}:{:.0} ", x * 1e6);
+                    }
+                    eprintln!();
+                }
+            }
+        }
+        return;
+    }
+    for row in rows.chars() {
+        let mut per_cp = Vec::new();
+        for &n in &sizes {
+            let mut best = f64::INFINITY;
+            let mut fails = 0;
+            for _ in 0..runs {
+                let (t, f) = median_step(n, row);
+                best = best.min(t);
+                fails += f;
+            }
+            per_cp.push(1e6 * best / n as f64);
+            println!("row {row} n={n:6}: {:.4e} s/step, {:.3} µs/cp{}", best, 1e6 * best / n as f64,
+                if fails > 0 { format!(" ({fails} failed steps)") } else { String::new() });
+        }
+        let mean = per_cp.iter().sum::<f64>() / per_cp.len() as f64;
+        let dev = per_cp.iter().map(|v| (v / mean - 1.0).abs()).fold(0.0, f64::max);
+        println!("row {row}: µs/cp mean {mean:.3}, max deviation {:.1} %", 100.0 * dev);
+    }
+}
