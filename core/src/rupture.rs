@@ -5,7 +5,7 @@
 //! (constraints, loads, beads, clips, interleaving) moves to the piece that
 //! holds its abscissa.
 use crate::error::Result;
-use crate::handles::{Index, RodHandle};
+use crate::handles::RodHandle;
 use crate::load::Load;
 use crate::rod::{Cut, RuptureSite};
 use crate::world::{Event, World};
@@ -51,10 +51,8 @@ impl World {
     /// appended to `events`.
     pub(crate) fn inelastic_update(&mut self, events: &mut Vec<Event>) -> Result<Inelastic> {
         let mut out = Inelastic::default();
-        let ids: Vec<Index> = self.rods.iter().map(|(i, _)| i).collect();
-        let mut sites = Vec::new();
-        for i in ids {
-            let Some(rod) = self.rods.get_mut(i) else { continue };
+        let mut sites = Vec::new(); // allocates only when a rod breaks
+        for (i, rod) in self.rods.iter_mut() {
             let site = rod.rupture_site();
             let p = rod.update_plasticity();
             out.yielded += p.yielded;

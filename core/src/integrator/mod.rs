@@ -128,10 +128,21 @@ pub struct RelaxReport {
 }
 
 /// Buffers reused across steps (not serialised).
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 pub struct Workspace {
     pub(crate) sys: KktSystem,
     pub(crate) layout: Layout,
+    /// What `layout` was built for: rods (id, control points, dofs,
+    /// segment fingerprint), constraint slots, interleaved groups.
+    pub(crate) layout_rods: Vec<(Index, usize, usize, usize)>,
+    pub(crate) layout_slots: Vec<ConstraintSlot>,
+    pub(crate) layout_groups: Vec<Vec<crate::handles::RodHandle>>,
+    pub(crate) slots: Vec<ConstraintSlot>,
+    /// Allocations kept for the per-step vectors of references (always
+    /// empty between steps, see [`recycle`]).
+    pub(crate) rod_refs: Vec<&'static crate::rod::Rod>,
+    pub(crate) con_refs: Vec<ConstraintRef<'static>>,
+    pub(crate) masses: Vec<(usize, f64, f64)>,
     pub(crate) ext: Vec<Vec<f64>>,
     pub(crate) rod_ids: Vec<Index>,
     pub(crate) con_ids: Vec<Index>,
@@ -162,17 +173,18 @@ impl World {
         ws.rod_ids.extend(self.rods.iter().map(|(i, _)| i));
         ws.con_ids.clear();
         ws.con_ids.extend(self.constraints.iter().map(|(i, _)| i));
-        let rods: Vec<&crate::rod::Rod> = self.rods.iter().map(|(_, r)| r).collect();
+        let mut rods: Vec<&crate::rod::Rod> = recycle(std::mem::take(&mut ws.rod_refs));
+        rods.extend(self.rods.iter().map(|(_, r)| r));
         let pos = |h: crate::handles::RodHandle| -> Result<usize> {
             let i: Index = h.into();
             ws.rod_ids.iter().position(|x| *x == i).ok_or_else(|| Error::InvalidHandle(format!("rod {h:?} was removed")))
         };
-        let mut slots = Vec::with_capacity(ws.con_ids.len());
-        let mut crefs = Vec::with_capacity(ws.con_ids.len());
+        ws.slots.clear();
+        let mut crefs: Vec<ConstraintRef<'_>> = recycle(std::mem::take(&mut ws.con_refs));
         for (_, c) in self.constraints.iter() {
             let (a, b) = (pos(c.rod)?, pos(c.other.unwrap_or(c.rod))?);
             let t = c.kind.touched(&[rods[a], rods[b]])?;
-            slots.push(ConstraintSlot {
+            ws.slots.push(ConstraintSlot {
                 rods: [a, b],
                 n_rows: c.kind.n_rows(),
                 n_extra: c.kind.n_extra(),
@@ -190,19 +202,33 @@ impl World {
                 for (t, c) in touched.iter_mut().zip(ctrl) {
                     *t = (0, c);
                 }
-                slots.push(ConstraintSlot { rods: [r, r], n_rows: 0, n_extra: 1, touched, len: 4 });
+                ws.slots.push(ConstraintSlot { rods: [r, r], n_rows: 0, n_extra: 1, touched, len: 4 });
                 static_beads.push(crate::system::kkt::BeadRef { rod: r, u: b.u, load: b.rod_force, mass: b.mass });
             }
         }
-        let segs: Vec<_> = rods.iter().map(|r| (r.n_ctrl(), r.dofs, r.cache.seg_ctrl.as_slice())).collect();
-        let groups: Vec<Vec<usize>> = self
-            .interleave
-            .iter()
-            .map(|g| g.iter().map(|h| pos(*h)).collect::<Result<Vec<_>>>())
-            .collect::<Result<_>>()?;
-        let n_ctrl: Vec<usize> = rods.iter().map(|r| r.n_ctrl()).collect();
-        let order = crate::system::layout::control_point_order(&n_ctrl, &groups);
-        ws.layout = Layout::build(&segs, &order, &slots);
+        // The layout (algorithms 9–10) changes only with the topology: rods
+        // (identity, size), constraint slots (touched control points move
+        // when a slider changes segment) and interleaving. Rebuilt then only,
+        // so a step allocates nothing.
+        let shape_now = rods.iter().zip(&ws.rod_ids).map(|(r, i)| (*i, r.n_ctrl(), r.dofs, segment_fingerprint(r)));
+        let same = ws.layout_rods.len() == rods.len()
+            && ws.layout_rods.iter().copied().eq(shape_now)
+            && ws.layout_slots == ws.slots
+            && ws.layout_groups == self.interleave;
+        if !same {
+            let segs: Vec<_> = rods.iter().map(|r| (r.n_ctrl(), r.dofs, r.cache.seg_ctrl.as_slice())).collect();
+            let groups: Vec<Vec<usize>> = self
+                .interleave
+                .iter()
+                .map(|g| g.iter().map(|h| pos(*h)).collect::<Result<Vec<_>>>())
+                .collect::<Result<_>>()?;
+            let n_ctrl: Vec<usize> = rods.iter().map(|r| r.n_ctrl()).collect();
+            let order = crate::system::layout::control_point_order(&n_ctrl, &groups);
+            ws.layout = Layout::build(&segs, &order, &ws.slots);
+            ws.layout_rods = rods.iter().zip(&ws.rod_ids).map(|(r, i)| (*i, r.n_ctrl(), r.dofs, segment_fingerprint(r))).collect();
+            ws.layout_slots.clone_from(&ws.slots);
+            ws.layout_groups.clone_from(&self.interleave);
+        }
         // External generalised forces: gravity and loads (III.1–III.10).
         ws.ext.resize_with(rods.len(), Vec::new);
         let g = self.params.gravity;
@@ -219,7 +245,8 @@ impl World {
                 }
             }
         }
-        let mut masses = Vec::with_capacity(self.beads.len());
+        let mut masses = std::mem::take(&mut ws.masses);
+        masses.clear();
         for (_, b) in self.beads.iter() {
             let r = pos(b.rod)?;
             let (ctrl, bs) = rods[r].basis_at(b.u)?;
@@ -262,9 +289,12 @@ impl World {
                 }
             }
         }
-        let energy = ws.sys.assemble(&ws.layout, &rods, &ws.ext, &crefs, &masses, k, self.params.parallel)?;
-        ws.sys.assemble_beads(&ws.layout, &rods, crefs.len(), &static_beads, k)?;
-        drop(rods);
+        let energy = ws.sys.assemble(&ws.layout, &rods, &ws.ext, &crefs, &masses, k, self.params.parallel);
+        let energy = energy.and_then(|e| ws.sys.assemble_beads(&ws.layout, &rods, crefs.len(), &static_beads, k).map(|_| e));
+        ws.masses = masses;
+        ws.con_refs = recycle(crefs);
+        ws.rod_refs = recycle(rods);
+        let energy = energy?;
         for (_, b) in self.beads.iter_mut() {
             b.u_assembled = b.u;
         }
@@ -374,6 +404,31 @@ impl World {
             p -= self.ws.ext[r].iter().zip(&rod.q).map(|(f, q)| f * q).sum::<f64>();
         }
         p
+    }
+}
+
+/// Which control points each segment uses, folded into one number (a rod
+/// replaced by one of the same size but other knot multiplicities changes it).
+fn segment_fingerprint(r: &crate::rod::Rod) -> usize {
+    r.cache.seg_ctrl.iter().enumerate().fold(r.n_segments(), |h, (s, c)| {
+        h.wrapping_mul(31).wrapping_add(c[0] ^ (c[3] << 20) ^ s)
+    })
+}
+
+/// Empties a vector and reuses its allocation for another element type of
+/// the same size and alignment — here references of another lifetime — so
+/// per-step vectors of borrows keep their buffer between steps (the
+/// in-place `collect` of `vec::IntoIter` keeps the allocation).
+fn recycle<T, U>(mut v: Vec<T>) -> Vec<U> {
+    v.clear();
+    v.into_iter().map(|_| unreachable!("the vector was cleared")).collect()
+}
+
+/// The workspace is scratch space: a cloned world starts with empty buffers
+/// (and rebuilds its layout on its first solve).
+impl Clone for Workspace {
+    fn clone(&self) -> Self {
+        Workspace::default()
     }
 }
 

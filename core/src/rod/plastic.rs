@@ -62,15 +62,14 @@ impl Rod {
     /// Relative strains ε_r = ε_e − ε⁰ at every sample (stretch
     /// dimensionless, curvatures and twist in 1/length), in sample order.
     pub fn relative_strains(&self) -> Vec<Strains> {
-        self.cache
-            .samples
-            .iter()
-            .map(|s| {
-                let ls = samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis);
-                let e = energy::strains(&ls, &s.consts, self.opts.model);
-                Strains { eps: e.eps, kappa1: e.kappa1 - s.rest[0], kappa2: e.kappa2 - s.rest[1], omega: e.omega - s.rest[2] }
-            })
-            .collect()
+        (0..self.cache.samples.len()).map(|i| self.relative_strain(i)).collect()
+    }
+
+    fn relative_strain(&self, i: usize) -> Strains {
+        let s = &self.cache.samples[i];
+        let ls = samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis);
+        let e = energy::strains(&ls, &s.consts, self.opts.model);
+        Strains { eps: e.eps, kappa1: e.kappa1 - s.rest[0], kappa2: e.kappa2 - s.rest[1], omega: e.omega - s.rest[2] }
     }
 
     /// Plastic offsets Δε_p at every sample (zeros if the rod never yielded).
@@ -111,11 +110,11 @@ impl Rod {
         let mut out = PlasticUpdate::default();
         let Some(y) = self.material.yield_limits else { return out };
         let lim = limits(&y);
-        let rel = self.relative_strains();
-        let mut plastic = self.plastic_offsets();
         let l0 = self.rest_length();
-        for (p, r) in plastic.iter_mut().zip(&rel) {
-            let (mut pa, ra) = (as_array(p), as_array(r));
+        let n = self.cache.samples.len();
+        for i in 0..n {
+            let ra = as_array(&self.relative_strain(i));
+            let mut pa = as_array(&self.plastic.get(i).copied().unwrap_or_default());
             let mut moved = false;
             for m in 0..4 {
                 let e = ra[m] - pa[m];
@@ -127,11 +126,13 @@ impl Rod {
             }
             if moved {
                 out.yielded += 1;
-                *p = from_array(pa);
+                if self.plastic.len() != n {
+                    self.plastic.resize(n, Strains::default()); // once, at the first yield
+                }
+                self.plastic[i] = from_array(pa);
             }
         }
         if out.yielded > 0 {
-            self.plastic = plastic;
             self.cache.refresh_plastic(&self.plastic);
         }
         out
@@ -142,8 +143,8 @@ impl Rod {
     pub fn rupture_site(&self) -> Option<RuptureSite> {
         let lim = limits(self.material.rupture_limits.as_ref()?);
         let mut best: Option<(f64, RuptureSite)> = None;
-        for (i, r) in self.relative_strains().iter().enumerate() {
-            for (m, x) in as_array(r).into_iter().enumerate() {
+        for i in 0..self.cache.samples.len() {
+            for (m, x) in as_array(&self.relative_strain(i)).into_iter().enumerate() {
                 let limit = if x > 0.0 { lim[m].1 } else { lim[m].0 };
                 let ratio = x / limit; // > 1 beyond the limit on either side
                 if ratio > 1.0 && best.as_ref().is_none_or(|b| ratio > b.0) {

@@ -35,6 +35,7 @@ pub struct Coefficients {
 }
 
 /// A constraint as the system sees it.
+#[derive(Debug)]
 pub struct ConstraintRef<'a> {
     /// Positions of its rods in the layout (the same twice for one rod).
     pub rods: [usize; 2],

@@ -9,7 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 /// What the layout needs to know of a constraint.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ConstraintSlot {
     /// Positions of its rods in the layout's rod order (twice the same for one rod).
     pub rods: [usize; 2],

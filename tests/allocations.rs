@@ -1,0 +1,73 @@
+//! The hot path does not allocate: after a warm-up, `World::step` on a
+//! constrained rod makes no heap allocation (DEVELOPERS.md standard;
+//! serial assembly — rayon's pool bookkeeping is its own).
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+struct Counting;
+thread_local! {
+    // Per thread: the test harness runs tests on several threads at once.
+    static ALLOCS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count() {
+    let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
+        count();
+        unsafe { System.alloc(l) }
+    }
+    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
+        unsafe { System.dealloc(p, l) }
+    }
+    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
+        count();
+        unsafe { System.realloc(p, l, n) }
+    }
+}
+
+#[global_allocator]
+static A: Counting = Counting;
+
+mod common;
+
+fn allocations_per_step(w: &mut strandkit::World) -> f64 {
+    for _ in 0..3 {
+        w.step().unwrap();
+    }
+    let before = ALLOCS.with(Cell::get);
+    for _ in 0..10 {
+        w.step().unwrap();
+    }
+    (ALLOCS.with(Cell::get) - before) as f64 / 10.0
+}
+
+#[test]
+fn steps_do_not_allocate() {
+    let mut c = common::cantilever(40, 5, [0.0, -1e4, 0.0]);
+    c.world.params.parallel = false;
+    c.world.params.gravity = [0.0, -9.81, 0.0];
+    let n = allocations_per_step(&mut c.world);
+    println!("clamped cantilever: {n} heap allocations per step");
+    assert_eq!(n, 0.0);
+}
+
+/// Yield and rupture limits (the plastic update runs every step, and the
+/// wire yields) do not allocate either once the offsets exist.
+#[test]
+fn plastic_steps_do_not_allocate() {
+    use strandkit::material::StrainLimits;
+    let mut c = common::cantilever(40, 5, [0.0, -2e5, 0.0]);
+    let w = &mut c.world;
+    w.params.parallel = false;
+    let limits = StrainLimits::symmetric(1e-3, 0.02, 0.05).unwrap();
+    let broken = StrainLimits::symmetric(0.5, 50.0, 50.0).unwrap();
+    w.rod_mut(c.rod).unwrap().set_strain_limits(Some(limits), Some(broken)).unwrap();
+    let n = allocations_per_step(w);
+    let yielded = w.rod(c.rod).unwrap().plastic_offsets().iter().filter(|p| p.kappa2 != 0.0).count();
+    println!("plastic cantilever ({yielded} samples yielded): {n} heap allocations per step");
+    assert!(yielded > 0);
+    assert_eq!(n, 0.0);
+}
