@@ -9,6 +9,7 @@ use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use strandkit_core::Error;
 
+mod clips;
 mod convert;
 mod io;
 mod props;
@@ -76,6 +77,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     rod::register(m)?;
     world::register(m)?;
     quasi::register(m)?;
+    clips::register(m)?;
     io::register(m)?;
     Ok(())
 }

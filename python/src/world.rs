@@ -131,6 +131,12 @@ fn event<'py>(slf: &Bound<'py, PyWorld>, e: &strandkit_core::Event) -> PyResult<
                 as_handle(k.contains("bead")).and_then(|v| serde_json::from_value(v).ok());
             let r: Option<RodHandle> =
                 as_handle(k == "rod" || k == "new_rod").and_then(|v| serde_json::from_value(v).ok());
+            if k == "clip" {
+                if let Ok(h) = serde_json::from_value(x.clone()) {
+                    data.set_item(k, crate::clips::PyClipHandle { world: slf.clone().unbind(), handle: h })?;
+                    continue;
+                }
+            }
             match (c, b, r) {
                 (Some(h), _, _) => data.set_item(k, PyWorld::handle_c(slf, h))?,
                 (None, Some(h), _) => data.set_item(
@@ -375,6 +381,43 @@ impl PyWorld {
             }
         }
         Ok(Self::handle_c(slf, c))
+    }
+    /// Coplanar relative clamp (III.61) between rod `a` at `ua` and rod `b`
+    /// at `ub`: the two tangent lines keep meeting at their current common
+    /// point (a hinge there, not a weld). Errors when the tangents are
+    /// parallel or the link is not in their plane.
+    #[pyo3(signature = (a, ua, b, ub, *, compliance = 0.0))]
+    fn add_coplanar_clamp(
+        slf: &Bound<'_, Self>,
+        a: &Bound<'_, PyRod>,
+        ua: f64,
+        b: &Bound<'_, PyRod>,
+        ub: f64,
+        compliance: f64,
+    ) -> PyResult<PyConstraintHandle> {
+        let (ha, hb) = (Self::rod_handle(slf, a)?, Self::rod_handle(slf, b)?);
+        let mut w = slf.try_borrow_mut()?;
+        let c = guard(|| w.inner.add_coplanar_clamp(ha, ua, hb, ub, compliance))?;
+        Ok(Self::handle_c(slf, c))
+    }
+    /// Adds a clip (thesis algorithms 4–5): capture sphere `center`
+    /// (length, 3 values) and `radius` (length, > 0), exit `axis` (3
+    /// values, non-zero), pull-out `resistance` (force, > 0). A rod that
+    /// enters the sphere is held at its closest point; it is released when
+    /// pulled out along the axis harder than the resistance (events
+    /// ClipCaptured / ClipReleased).
+    #[pyo3(signature = (center, radius, axis, resistance))]
+    fn add_clip(
+        slf: &Bound<'_, Self>,
+        center: &Bound<'_, PyAny>,
+        radius: f64,
+        axis: &Bound<'_, PyAny>,
+        resistance: f64,
+    ) -> PyResult<crate::clips::PyClipHandle> {
+        let (c, a) = (convert::vec3(center, "clip center")?, convert::vec3(axis, "clip axis")?);
+        let mut w = slf.try_borrow_mut()?;
+        let h = guard(|| w.inner.add_clip(c, radius, a, resistance))?;
+        Ok(crate::clips::PyClipHandle { world: slf.clone().unbind(), handle: h })
     }
     /// Interleaves the control points of these rods in the band (linked
     /// rods such as the two strands of a helix keep a narrow band).

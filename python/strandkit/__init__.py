@@ -18,6 +18,7 @@ from __future__ import annotations
 from . import _native
 from ._native import (
     BeadHandle,
+    ClipHandle,
     ConstraintHandle,
     ConvergenceError,
     DcdWriter,
@@ -84,7 +85,7 @@ __all__ = [
     "oriented_sliding_point", "contact", "clamp",
     "point_force", "point_torque", "distributed",
     # reports and handles
-    "StepReport", "RelaxReport", "Event", "Reaction", "ConstraintHandle", "LoadHandle", "BeadHandle",
+    "StepReport", "RelaxReport", "Event", "Reaction", "ConstraintHandle", "LoadHandle", "BeadHandle", "ClipHandle",
     # errors
     "SolverError", "SingularError", "ConvergenceError",
     # output
