@@ -96,6 +96,22 @@ fn write_vtk(
     guard(|| m.write_vtk(&path))
 }
 
+/// Writes the tube mesh of a World or Rod as binary glTF 2.0 (`.glb`:
+/// Blender, three.js, any glTF viewer), one named node per rod, atomically.
+#[pyfunction]
+#[pyo3(signature = (obj, path, *, rings_per_segment = 6, points_per_ring = 12, radius_scale = 1.0, caps = true))]
+fn write_gltf(
+    obj: &Bound<'_, PyAny>,
+    path: PathBuf,
+    rings_per_segment: usize,
+    points_per_ring: usize,
+    radius_scale: f64,
+    caps: bool,
+) -> PyResult<()> {
+    let m = mesh_of(obj, &TubeOptions { rings_per_segment, points_per_ring, radius_scale, caps })?;
+    guard(|| m.write_glb(&path))
+}
+
 /// Bead positions of a world (length unit), shape (N, 3): the sample
 /// points of every rod in world order (one bead per sample point).
 #[pyfunction]
@@ -356,6 +372,7 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(tube_mesh, m)?)?;
     m.add_function(wrap_pyfunction!(write_obj, m)?)?;
     m.add_function(wrap_pyfunction!(write_vtk, m)?)?;
+    m.add_function(wrap_pyfunction!(write_gltf, m)?)?;
     m.add_function(wrap_pyfunction!(bead_positions, m)?)?;
     m.add_function(wrap_pyfunction!(write_pdb, m)?)?;
     m.add_function(wrap_pyfunction!(write_psf, m)?)?;

@@ -45,6 +45,7 @@ from ._native import (
     straight,
     through_points,
     tube_mesh,
+    write_gltf,
     write_obj,
     write_pdb,
     write_psf,
@@ -90,7 +91,7 @@ __all__ = [
     "SolverError", "SingularError", "ConvergenceError",
     # output
     "Recorder", "TrajectoryWriter", "write_trajectory", "Topology", "DcdWriter", "read_dcd",
-    "bead_positions", "write_pdb", "write_psf", "tube_mesh", "write_obj", "write_vtk",
+    "bead_positions", "write_pdb", "write_psf", "tube_mesh", "write_obj", "write_vtk", "write_gltf",
     "run", "progress",
 ]
 

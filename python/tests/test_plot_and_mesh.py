@@ -59,3 +59,21 @@ def test_frames_are_orthonormal(two_rod_world):
         assert np.abs((x * y).sum(axis=1)).max() < 1e-12
     assert np.allclose(np.cross(d1, d2), t)
     assert np.allclose(p, helix.position(helix.uniform_params(50)))
+
+
+def test_gltf_reads_back_with_trimesh(two_rod_world, tmp_path):
+    """An independent reader (trimesh) loads our .glb: one named node per
+    rod, the same vertices (float32) and triangles as tube_mesh."""
+    import trimesh  # in the [test] extras
+
+    w, a, b = two_rod_world
+    path = tmp_path / "w.glb"
+    sk.write_gltf(w, str(path), rings_per_segment=3, points_per_ring=10)
+    scene = trimesh.load(str(path), force="scene")
+    assert sorted(scene.geometry) == ["rod0", "rod1"]
+    v, _, tri, part = sk.tube_mesh(w, rings_per_segment=3, points_per_ring=10)
+    for p in (0, 1):
+        g = scene.geometry[f"rod{p}"]
+        mine = v[part == p]
+        np.testing.assert_allclose(g.vertices, mine.astype(np.float32), rtol=0, atol=1e-6)
+        assert len(g.faces) == int(np.sum(part[tri[:, 0]] == p))

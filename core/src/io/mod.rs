@@ -15,5 +15,6 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     std::fs::rename(&tmp, path).map_err(io)
 }
 
+pub mod gltf;
 pub mod mesh;
 pub mod trajectory;
