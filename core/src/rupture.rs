@@ -53,8 +53,7 @@ impl World {
         let mut out = Inelastic::default();
         let mut sites = Vec::new(); // allocates only when a rod breaks
         for (i, rod) in self.rods.iter_mut() {
-            let site = rod.rupture_site();
-            let p = rod.update_plasticity();
+            let (p, site) = rod.update_inelastic();
             out.yielded += p.yielded;
             out.max_increment = out.max_increment.max(p.max_increment);
             rod.update_poisson()?;

@@ -107,13 +107,43 @@ impl Rod {
     /// Algorithm 1: moves the plastic offsets so that every sample's elastic
     /// strain is back inside the yield limits. No-op without yield limits.
     pub fn update_plasticity(&mut self) -> PlasticUpdate {
+        self.algorithm_3(false, true).0
+    }
+
+    /// Algorithm 2: the sample whose relative strain lies furthest beyond
+    /// the rupture limits (largest ε_r / ε_B on the side it leaves), if any.
+    pub fn rupture_site(&self) -> Option<RuptureSite> {
+        let lim = limits(self.material.rupture_limits.as_ref()?);
+        let mut best = None;
+        for i in 0..self.cache.samples.len() {
+            self.check_rupture(i, &as_array(&self.relative_strain(i)), &lim, &mut best);
+        }
+        best.map(|b| b.1)
+    }
+
+    /// Algorithm 3: the rupture site (of the strains before the plastic
+    /// update) and the plastic update, in one pass over the samples (one
+    /// strain evaluation per sample).
+    pub fn update_inelastic(&mut self) -> (PlasticUpdate, Option<RuptureSite>) {
+        self.algorithm_3(true, true)
+    }
+
+    fn algorithm_3(&mut self, rupture: bool, plastic: bool) -> (PlasticUpdate, Option<RuptureSite>) {
         let mut out = PlasticUpdate::default();
-        let Some(y) = self.material.yield_limits else { return out };
-        let lim = limits(&y);
+        let ylim = self.material.yield_limits.as_ref().filter(|_| plastic).map(limits);
+        let blim = self.material.rupture_limits.as_ref().filter(|_| rupture).map(limits);
+        if ylim.is_none() && blim.is_none() {
+            return (out, None);
+        }
         let l0 = self.rest_length();
         let n = self.cache.samples.len();
+        let mut best = None;
         for i in 0..n {
             let ra = as_array(&self.relative_strain(i));
+            if let Some(b) = &blim {
+                self.check_rupture(i, &ra, b, &mut best);
+            }
+            let Some(lim) = &ylim else { continue };
             let mut pa = as_array(&self.plastic.get(i).copied().unwrap_or_default());
             let mut moved = false;
             for m in 0..4 {
@@ -130,29 +160,21 @@ impl Rod {
                     self.plastic.resize(n, Strains::default()); // once, at the first yield
                 }
                 self.plastic[i] = from_array(pa);
+                self.cache.refresh_plastic_at(i, &self.plastic[i]);
             }
         }
-        if out.yielded > 0 {
-            self.cache.refresh_plastic(&self.plastic);
-        }
-        out
+        (out, best.map(|b: (f64, RuptureSite)| b.1))
     }
 
-    /// Algorithm 2: the sample whose relative strain lies furthest beyond
-    /// the rupture limits (largest ε_r / ε_B on the side it leaves), if any.
-    pub fn rupture_site(&self) -> Option<RuptureSite> {
-        let lim = limits(self.material.rupture_limits.as_ref()?);
-        let mut best: Option<(f64, RuptureSite)> = None;
-        for i in 0..self.cache.samples.len() {
-            for (m, x) in as_array(&self.relative_strain(i)).into_iter().enumerate() {
-                let limit = if x > 0.0 { lim[m].1 } else { lim[m].0 };
-                let ratio = x / limit; // > 1 beyond the limit on either side
-                if ratio > 1.0 && best.as_ref().is_none_or(|b| ratio > b.0) {
-                    let u = self.cache.samples[i].u;
-                    best = Some((ratio, RuptureSite { sample: i, u, mode: MODES[m], strain: x, limit }));
-                }
+    /// Keeps in `best` the sample furthest beyond a rupture limit (ratio ε_r / ε_B).
+    fn check_rupture(&self, i: usize, ra: &[f64; 4], lim: &[(f64, f64); 4], best: &mut Option<(f64, RuptureSite)>) {
+        for (m, &x) in ra.iter().enumerate() {
+            let limit = if x > 0.0 { lim[m].1 } else { lim[m].0 };
+            let ratio = x / limit; // > 1 beyond the limit on either side
+            if ratio > 1.0 && best.as_ref().is_none_or(|b| ratio > b.0) {
+                let u = self.cache.samples[i].u;
+                *best = Some((ratio, RuptureSite { sample: i, u, mode: MODES[m], strain: x, limit }));
             }
         }
-        best.map(|b| b.1)
     }
 }

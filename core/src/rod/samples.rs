@@ -156,6 +156,12 @@ impl Cache {
         }
     }
 
+    /// The same for one sample.
+    pub fn refresh_plastic_at(&mut self, i: usize, p: &Strains) {
+        let s = &mut self.samples[i];
+        set_plastic(&mut s.consts, &s.rest, p);
+    }
+
     /// Re-derives the stiffnesses from the rod's current sections (after a
     /// Poisson radius update, II.59); mass and inertia stay those of the
     /// rest sections (mass is conserved).
