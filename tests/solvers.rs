@@ -45,11 +45,18 @@ fn band_and_sparse_agree() {
     }
     let snapshot = w.to_json().unwrap();
     let mut results = Vec::new();
-    for solver in [LinearSolver::Band, LinearSolver::Sparse, LinearSolver::Auto] {
+    for solver in [LinearSolver::Band, LinearSolver::Sparse, LinearSolver::Auto, LinearSolver::BandLu] {
         let mut w = World::from_json(&snapshot).unwrap();
         w.params.linear_solver = solver;
         let rep = w.step().unwrap();
         let sparse = rep.sparse;
+        // BandLu forces the pivoting LU; Band tries the unpivoted LDLᵀ
+        // first (on this non-interleaved ladder it declines: its links'
+        // rows sit between the two rods, and the LU takes over).
+        if solver != LinearSolver::Band {
+            assert!(!rep.ldlt, "{solver:?}");
+        }
+        println!("{solver:?}: ldlt {}", rep.ldlt);
         // Fill is reported; the sparse factor of this ladder is smaller than the band.
         assert!(rep.factor_entries > 0);
         if sparse {
@@ -64,12 +71,50 @@ fn band_and_sparse_agree() {
         let s = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs())) / s
     };
-    let (band, sparse, auto) = (&results[0], &results[1], &results[2]);
+    let (band, sparse, auto, lu) = (&results[0], &results[1], &results[2], &results[3]);
     let (eq, ev, el) = (rel(&band.0, &sparse.0), rel(&band.1, &sparse.1), rel(&band.2, &sparse.2));
     println!("band vs sparse: coords {eq:.2e}, velocities {ev:.2e}, multipliers {el:.2e}");
-    assert!(!band.3 && sparse.3 && auto.3, "solver choice: band {} sparse {} auto {}", band.3, sparse.3, auto.3);
+    let (fq, fv, fl) = (rel(&band.0, &lu.0), rel(&band.1, &lu.1), rel(&band.2, &lu.2));
+    println!("band vs band LU: coords {fq:.2e}, velocities {fv:.2e}, multipliers {fl:.2e}");
+    assert!(!band.3 && sparse.3 && auto.3 && !lu.3, "solver choice: band {} sparse {} auto {}", band.3, sparse.3, auto.3);
     assert!(eq < 1e-9 && ev < 1e-9 && el < 1e-9);
+    assert!(fq < 1e-9 && fv < 1e-9 && fl < 1e-9);
     let mut c = cantilever(20, 5, [0.0, -1e4, 0.0]);
     c.world.params.dt = 1e-3;
-    assert!(!c.world.step().unwrap().sparse, "narrow band stays on the band LU");
+    let r = c.world.step().unwrap();
+    assert!(!r.sparse && r.ldlt, "a narrow clamped band stays on the band path (LDLᵀ)");
+    // Pure Newton statics (no inertia) keep the pivoting LU.
+    c.world.relax().unwrap();
+}
+
+/// On a clamped cantilever (a saddle-point system: 6 clamp rows) the band
+/// path factors with the unpivoted LDLᵀ, and agrees with the pivoting LU
+/// on the same assembled step.
+#[test]
+fn ldlt_with_constraint_rows_matches_the_lu() {
+    let mut c = cantilever(20, 5, [0.0, -1e5, 2e4]);
+    c.world.params.dt = 1e-3;
+    c.world.params.gravity = [0.0, -9.81, 0.0];
+    for _ in 0..10 {
+        c.world.step().unwrap();
+    }
+    let snapshot = c.world.to_json().unwrap();
+    let mut out = Vec::new();
+    for solver in [LinearSolver::Band, LinearSolver::BandLu] {
+        let mut w = World::from_json(&snapshot).unwrap();
+        w.params.linear_solver = solver;
+        let rep = w.step().unwrap();
+        assert_eq!(rep.ldlt, solver == LinearSolver::Band, "{solver:?}");
+        assert!(rep.n_multipliers > 0);
+        let r = w.rod(c.rod).unwrap();
+        let lam: Vec<f64> = w.constraints().flat_map(|(_, c)| c.multipliers.clone()).collect();
+        out.push((r.coords().to_vec(), r.velocities().to_vec(), lam));
+    }
+    let rel = |x: &[f64], y: &[f64]| {
+        let s = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs())) / s
+    };
+    let (q, v, l) = (rel(&out[0].0, &out[1].0), rel(&out[0].1, &out[1].1), rel(&out[0].2, &out[1].2));
+    println!("cantilever step, LDLᵀ vs LU: coords {q:.2e}, velocities {v:.2e}, multipliers {l:.2e}");
+    assert!(q < 1e-12 && v < 1e-9 && l < 1e-9);
 }

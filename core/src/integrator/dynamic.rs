@@ -28,6 +28,7 @@ impl World {
             bandwidth: self.ws.layout.bandwidth,
             residual,
             sparse: self.ws.sys.used_sparse,
+            ldlt: self.ws.sys.used_ldlt,
             factor_entries: self.ws.sys.factor_entries(),
             elastic_energy: energy,
             plastic_samples: inelastic.yielded,

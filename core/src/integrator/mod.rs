@@ -84,9 +84,12 @@ pub struct StepReport {
     pub bandwidth: usize,
     /// Relative residual of the last linear solve.
     pub residual: f64,
-    /// The sparse factorisation solved it (else the band LU).
+    /// The sparse factorisation solved it (else a band factorisation).
     #[serde(default)]
     pub sparse: bool,
+    /// The band LDLᵀ solved it (else the pivoting band LU or the sparse path).
+    #[serde(default)]
+    pub ldlt: bool,
     /// Entries stored by the factorisation (fill included): n (2 kl + ku + 1)
     /// for the band LU, the factor's nonzeros for the sparse path.
     #[serde(default)]

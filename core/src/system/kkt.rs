@@ -21,7 +21,10 @@ pub enum LinearSolver {
     /// 40 on (measured crossover, `core/examples/band_vs_sparse.rs`).
     #[default]
     Auto,
+    /// Band LDLᵀ where it applies (systems with inertia), else the band LU.
     Band,
+    /// Always the pivoting band LU (for comparisons and diagnostics).
+    BandLu,
     Sparse,
 }
 use crate::rod::assemble::Need;
@@ -89,6 +92,8 @@ pub struct KktSystem {
     pub sparse: SparseLu,
     /// Solver used by the last `solve`: true = sparse.
     pub used_sparse: bool,
+    /// The last solve used the band LDLᵀ (else the band LU or the sparse path).
+    pub used_ldlt: bool,
     pub rhs: Vec<f64>,
     pub sol: Vec<f64>,
     work: Vec<f64>,
@@ -322,7 +327,7 @@ impl KktSystem {
         self.equilibrate(layout);
         self.used_sparse = match solver {
             LinearSolver::Auto => prefer_sparse(layout.n, layout.bandwidth),
-            LinearSolver::Band => false,
+            LinearSolver::Band | LinearSolver::BandLu => false,
             LinearSolver::Sparse => true,
         };
         self.sol.resize(self.rhs.len(), 0.0);
@@ -335,13 +340,30 @@ impl KktSystem {
         // diagnostics are as before. Pure
         // Newton statics (c_m = 0) keep the LU: a free rod's K is singular
         // only up to rounding, which the LU's zero-pivot test reports.
-        if !self.used_sparse && layout.n_rows == 0 && self.inertia && self.ldlt.factor(&self.band).is_ok() {
+        //
+        // With multiplier rows the matrix is a saddle point, but the layout
+        // puts each constraint's rows after at least half of the control
+        // points it touches (IV.3), so its pivot is −(part of L A⁻¹ Lᵀ) < 0,
+        // not zero: the unpivoted LDLᵀ still goes through on these
+        // quasi-definite orderings, under the same pivot and residual checks
+        // (and the row check below).
+        let mut ldlt_res = None;
+        self.used_ldlt = false;
+        if !self.used_sparse && solver != LinearSolver::BandLu && self.inertia && self.ldlt.factor(&self.band).is_ok() {
             let res = solve_refined(&self.band, &self.ldlt, &self.rhs, &mut self.sol, &mut self.work, 1)?;
             if res <= LDLT_MAX_RESIDUAL {
-                return Ok(self.finish_solve(res));
+                self.used_ldlt = true;
+                if layout.n_rows == 0 {
+                    return Ok(self.finish_solve(res));
+                }
+                ldlt_res = Some(res);
             }
         }
-        let factored = if self.used_sparse { self.sparse.factor(&self.band) } else { self.lu.factor(&self.band) };
+        let factored = match ldlt_res {
+            Some(_) => Ok(()),
+            None if self.used_sparse => self.sparse.factor(&self.band),
+            None => self.lu.factor(&self.band),
+        };
         if let Err(e) = factored {
             return Err(match e {
                 Error::Singular(msg) => {
@@ -356,7 +378,9 @@ impl KktSystem {
                 other => other,
             });
         }
-        let res = if self.used_sparse {
+        let res = if let Some(res) = ldlt_res {
+            res
+        } else if self.used_sparse {
             self.sol.copy_from_slice(&self.rhs);
             self.sparse.solve_refined_in_place(&mut self.sol)?
         } else {
