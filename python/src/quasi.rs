@@ -135,6 +135,11 @@ impl PyFrameReport {
     fn static_refused(&self) -> bool {
         self.inner.static_refused
     }
+    /// Why quasi-static was refused (None if it was not).
+    #[getter]
+    fn refusal(&self) -> Option<String> {
+        self.inner.refusal.clone()
+    }
     #[getter]
     fn dt(&self) -> f64 {
         self.inner.dt

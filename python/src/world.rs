@@ -970,6 +970,21 @@ impl PyStepReport {
     fn plastic_samples(&self) -> usize {
         self.inner.plastic_samples
     }
+    /// Which factorisation solved the step: "ldlt" (band LDLᵀ), "lu" (band
+    /// LU with partial pivoting) or "sparse" (faer).
+    #[getter]
+    fn factorisation(&self) -> &'static str {
+        match (self.inner.sparse, self.inner.ldlt) {
+            (true, _) => "sparse",
+            (false, true) => "ldlt",
+            (false, false) => "lu",
+        }
+    }
+    /// Entries stored by the factorisation (fill included).
+    #[getter]
+    fn factor_entries(&self) -> usize {
+        self.inner.factor_entries
+    }
     /// What happened: broken constraints, departed sliders, clips, ruptures.
     #[getter]
     fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {

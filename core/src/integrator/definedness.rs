@@ -131,7 +131,12 @@ impl World {
                     curv += x[g] * y[g];
                 }
             }
-            if !(curv > 1e-8 * kscale) {
+            // Round-off leaves |mᵀKm| ~ 1e-14 kscale on a free mode (kscale is
+            // the axial diagonal EA/Δs); real holding stiffness — the bending
+            // of a curved rod, or the geometric stiffness of a rod stressed by
+            // its load, e.g. a clamped wire bent by its weight held against a
+            // rigid spin about the clamp axis — is far above 1e-12 kscale.
+            if !(curv > 1e-12 * kscale) {
                 // Name a single rigid mode that is free by itself if there is
                 // one, else the dominant component of the free motion.
                 let alone = raw.iter().enumerate().find(|(m, (_, _, v))| {

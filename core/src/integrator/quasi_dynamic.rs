@@ -18,9 +18,9 @@
 //!   the motion the static frames had.
 //! - Incomplete Newton: a static frame moves by `newton_fraction` (1/3) of
 //!   the Newton increment. On the transition from dynamic, the first static
-//!   frame moves no further than the last dynamic frame did and the allowed
-//!   motion doubles per frame until the Newton step fits, so switching never
-//!   makes the trajectory jump.
+//!   frame moves no further than the last dynamic frame did (or 1e-4 of the
+//!   length, from rest) and the allowed motion doubles per frame until the
+//!   Newton step fits, so switching never makes the trajectory jump.
 use super::StepReport;
 use crate::error::{Error, Result};
 use crate::system::Coefficients;
@@ -115,6 +115,8 @@ pub struct FrameReport {
     /// Quasi-static was wanted but refused: the world is not statically
     /// defined, or its static system was singular.
     pub static_refused: bool,
+    /// Why it was refused (the message of the definedness check or solve).
+    pub refusal: Option<String>,
     /// Simulated time step of the frame (time unit) and the free length
     /// it was scaled with (length unit).
     pub dt: f64,
@@ -183,11 +185,13 @@ impl QuasiDynamic {
             self.mode
         };
         let previous = self.mode;
-        let mut refused = false;
+        let mut refusal = None;
         let mut outcome = None;
         if wanted == Mode::QuasiStatic {
             if previous == Mode::Dynamic {
-                self.ramp = Some(self.last_motion);
+                // From rest there is no motion to match: start the ramp at
+                // 1e-4 of the length, so it still leaves rest smoothly.
+                self.ramp = Some(self.last_motion.max(1e-4 * self.initial_length));
             }
             match world.static_frame(dt, self.params.newton_fraction, self.ramp) {
                 Ok((motion, capped, events)) => {
@@ -195,7 +199,7 @@ impl QuasiDynamic {
                     outcome = Some((Mode::QuasiStatic, motion, events));
                 }
                 // Not statically defined / singular: stay dynamic (algorithm 11).
-                Err(Error::Singular(_)) => refused = true,
+                Err(Error::Singular(m)) => refusal = Some(m),
                 Err(e) => return Err(e),
             }
         }
@@ -214,7 +218,8 @@ impl QuasiDynamic {
         Ok(FrameReport {
             mode,
             switched: mode != previous,
-            static_refused: refused,
+            static_refused: refusal.is_some(),
+            refusal,
             dt,
             free_length,
             compute_time: self.compute_time,
