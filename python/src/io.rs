@@ -66,51 +66,40 @@ fn tube_mesh<'py>(
     ))
 }
 
-/// Writes the tube mesh of a World or Rod as Wavefront OBJ (atomically).
-#[pyfunction]
-#[pyo3(signature = (obj, path, *, rings_per_segment = 6, points_per_ring = 12, radius_scale = 1.0, caps = true))]
-fn write_obj(
-    obj: &Bound<'_, PyAny>,
-    path: PathBuf,
-    rings_per_segment: usize,
-    points_per_ring: usize,
-    radius_scale: f64,
-    caps: bool,
-) -> PyResult<()> {
-    let m = mesh_of(obj, &TubeOptions { rings_per_segment, points_per_ring, radius_scale, caps })?;
-    guard(|| m.write_obj(&path))
+/// One pyfunction per mesh format: same keywords (tube resolution), a
+/// different writer of `TubeMesh` (each writes atomically).
+macro_rules! mesh_writer {
+    ($(#[$doc:meta])* $name:ident => $method:ident) => {
+        $(#[$doc])*
+        #[pyfunction]
+        #[pyo3(signature = (obj, path, *, rings_per_segment = 6, points_per_ring = 12, radius_scale = 1.0, caps = true))]
+        fn $name(
+            obj: &Bound<'_, PyAny>,
+            path: PathBuf,
+            rings_per_segment: usize,
+            points_per_ring: usize,
+            radius_scale: f64,
+            caps: bool,
+        ) -> PyResult<()> {
+            let m = mesh_of(obj, &TubeOptions { rings_per_segment, points_per_ring, radius_scale, caps })?;
+            guard(|| m.$method(&path))
+        }
+    };
 }
 
-/// Writes the tube mesh of a World or Rod as legacy VTK polydata (ParaView), atomically.
-#[pyfunction]
-#[pyo3(signature = (obj, path, *, rings_per_segment = 6, points_per_ring = 12, radius_scale = 1.0, caps = true))]
-fn write_vtk(
-    obj: &Bound<'_, PyAny>,
-    path: PathBuf,
-    rings_per_segment: usize,
-    points_per_ring: usize,
-    radius_scale: f64,
-    caps: bool,
-) -> PyResult<()> {
-    let m = mesh_of(obj, &TubeOptions { rings_per_segment, points_per_ring, radius_scale, caps })?;
-    guard(|| m.write_vtk(&path))
-}
-
-/// Writes the tube mesh of a World or Rod as binary glTF 2.0 (`.glb`:
-/// Blender, three.js, any glTF viewer), one named node per rod, atomically.
-#[pyfunction]
-#[pyo3(signature = (obj, path, *, rings_per_segment = 6, points_per_ring = 12, radius_scale = 1.0, caps = true))]
-fn write_gltf(
-    obj: &Bound<'_, PyAny>,
-    path: PathBuf,
-    rings_per_segment: usize,
-    points_per_ring: usize,
-    radius_scale: f64,
-    caps: bool,
-) -> PyResult<()> {
-    let m = mesh_of(obj, &TubeOptions { rings_per_segment, points_per_ring, radius_scale, caps })?;
-    guard(|| m.write_glb(&path))
-}
+mesh_writer!(
+    /// Writes the tube mesh of a World or Rod as Wavefront OBJ (atomically).
+    write_obj => write_obj
+);
+mesh_writer!(
+    /// Writes the tube mesh of a World or Rod as legacy VTK polydata (ParaView), atomically.
+    write_vtk => write_vtk
+);
+mesh_writer!(
+    /// Writes the tube mesh of a World or Rod as binary glTF 2.0 (`.glb`:
+    /// Blender, three.js, any glTF viewer), one named node per rod, atomically.
+    write_gltf => write_glb
+);
 
 /// Bead positions of a world (length unit), shape (N, 3): the sample
 /// points of every rod in world order (one bead per sample point).
