@@ -20,7 +20,6 @@
 //! Then: a breakdown (segment kernels / scatter / factorisation / solve /
 //! world overhead) and the SPEC §10 cantilever at F = 1e5 N solved by
 //! `relax()` and by a damped dynamic run to rest.
-use nalgebra::Vector3;
 use std::time::{Duration, Instant};
 use strandkit_core::energy::invariants::LocalState;
 use strandkit_core::energy::{density, EnergyTerms, FrameModel, SampleConsts};
@@ -29,8 +28,9 @@ use strandkit_core::rod::assemble::{Need, SegBlock};
 use strandkit_core::system::{Coefficients, KktSystem, Layout};
 use strandkit_core::*;
 
-const LENGTH: f64 = 4.0;
-const RADIUS: f64 = 0.05;
+#[path = "common/table_rod.rs"]
+mod table_rod;
+use table_rod::{rod, steel, LENGTH, RADIUS};
 const SIZES: [usize; 7] = [20, 40, 100, 200, 400, 4000, 40000];
 const THESIS_SIZES: usize = 5;
 /// SPEC §11, table IV.1 (s per step, 2 GHz Core Duo, 2007).
@@ -55,35 +55,6 @@ struct Budget {
     max_reps: usize,
 }
 
-fn steel() -> Material {
-    Material::new("steel", 200e9, 0.3, 7800.0).unwrap()
-}
-
-fn rod(n: usize, terms: EnergyTerms, drag: f64) -> Rod {
-    RodBuilder::straight(Vector3::zeros(), Vector3::new(LENGTH, 0.0, 0.0))
-        .control_points(n)
-        .section(Section::circle(RADIUS).unwrap())
-        .material(steel())
-        .options(RodOptions { samples_per_segment: 5, terms, drag, ..Default::default() })
-        .build()
-        .unwrap()
-}
-
-/// Smooth 3-D pre-deformation (1 mm bend in y, 0.5 mm in z, 5 mrad roll).
-/// (10× larger — 1 cm, 5 mm, 0.05 rad — makes the 40000-cp full-twist rod
-/// diverge within 4 steps, see BENCHMARKS.md; ≤ 20000 cp are fine.)
-fn deformed(q: &[f64]) -> Vec<f64> {
-    let mut q = q.to_vec();
-    let pi = std::f64::consts::PI;
-    for c in q.chunks_exact_mut(4) {
-        let s = c[0] / LENGTH;
-        c[1] += 0.001 * (pi * s).sin();
-        c[2] += 0.0005 * (2.0 * pi * s).sin();
-        c[3] += 0.005 * (pi * s).sin();
-    }
-    q
-}
-
 struct Bench {
     world: World,
     h: RodHandle,
@@ -92,29 +63,15 @@ struct Bench {
 
 impl Bench {
     fn dynamic(n: usize, terms: EnergyTerms, parallel: bool) -> Bench {
-        let r = rod(n, terms, 0.0);
-        let q0 = deformed(r.coords());
-        let mut world = World::new(IntegrationParameters { dt: 1e-3, parallel, ..Default::default() });
-        let h = world.add_rod(r);
-        world.rod_mut(h).unwrap().set_coords(&q0).unwrap();
+        let (world, h, q0) = table_rod::dynamic_world(rod(n, terms, 0.0, steel()), parallel);
         Bench { world, h, q0 }
     }
     fn statics(n: usize, terms: EnergyTerms) -> Bench {
-        let r = rod(n, terms, 0.0);
-        let (u0, u1) = r.domain();
-        let q0 = r.coords().to_vec();
-        let mut world = World::new(IntegrationParameters { dt: 1e6, parallel: false, ..Default::default() });
-        let h = world.add_rod(r);
-        world.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: [0.0; 4] }, 0.0).unwrap();
-        world.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
-        world.add_load(Load::PointForce { rod: h, u: u1, force: [0.0, -100.0, 50.0] }).unwrap();
+        let (world, h, q0) = table_rod::static_world(rod(n, terms, 0.0, steel()));
         Bench { world, h, q0 }
     }
     fn reset(&mut self) {
-        let r = self.world.rod_mut(self.h).unwrap();
-        r.set_coords(&self.q0).unwrap();
-        let z = vec![0.0; self.q0.len()];
-        r.set_velocities(&z).unwrap();
+        table_rod::reset(&mut self.world, self.h, &self.q0);
     }
     /// Median time of one successful `step` (s), repetitions, last report,
     /// and the failures (a failed step is followed by a reset).
@@ -347,7 +304,7 @@ fn others_load(a: (f64, f64, f64), z: (f64, f64, f64), wall: f64) -> f64 {
 }
 
 fn cantilever(force: f64, drag: f64) -> (World, RodHandle) {
-    let r = rod(20, EnergyTerms::default(), drag);
+    let r = rod(20, EnergyTerms::default(), drag, steel());
     let (u0, u1) = r.domain();
     let mut world = World::new(IntegrationParameters { parallel: false, ..Default::default() });
     let h = world.add_rod(r);

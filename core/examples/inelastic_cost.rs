@@ -7,33 +7,19 @@
 //! Rows: no limits (the stage returns at once); yield and rupture limits
 //! that are never reached (every sample is checked every step); yield
 //! limits that the pre-deformed rod passes (offsets move every step).
-use nalgebra::Vector3;
 use std::time::Instant;
 use strandkit_core::material::StrainLimits;
 use strandkit_core::*;
 
+#[path = "common/table_rod.rs"]
+mod table_rod;
+
 fn world(limits: Option<(StrainLimits, StrainLimits)>) -> (World, RodHandle, Vec<f64>) {
-    let mut m = Material::new("steel", 200e9, 0.3, 7800.0).unwrap();
+    let mut m = table_rod::steel();
     if let Some((y, r)) = limits {
         m = m.with_yield(y).unwrap().with_rupture(r).unwrap();
     }
-    let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(4.0, 0.0, 0.0))
-        .control_points(400)
-        .section(Section::circle(0.05).unwrap())
-        .material(m)
-        .build()
-        .unwrap();
-    let mut q = rod.coords().to_vec();
-    for c in q.chunks_exact_mut(4) {
-        let s = c[0] / 4.0 * std::f64::consts::PI;
-        c[1] += 0.001 * s.sin();
-        c[2] += 0.0005 * (2.0 * s).sin();
-        c[3] += 0.005 * s.sin();
-    }
-    let mut w = World::new(IntegrationParameters { dt: 1e-3, parallel: false, ..Default::default() });
-    let h = w.add_rod(rod);
-    w.rod_mut(h).unwrap().set_coords(&q).unwrap();
-    (w, h, q)
+    table_rod::dynamic_world(table_rod::rod(400, Default::default(), 0.0, m), false)
 }
 
 fn median_step(limits: Option<(StrainLimits, StrainLimits)>) -> (f64, usize) {
@@ -44,8 +30,7 @@ fn median_step(limits: Option<(StrainLimits, StrainLimits)>) -> (f64, usize) {
         let mut t = Vec::new();
         for k in 0..120 {
             if k % 40 == 0 {
-                w.rod_mut(h).unwrap().set_coords(&q).unwrap();
-                w.rod_mut(h).unwrap().set_velocities(&vec![0.0; q.len()]).unwrap();
+                table_rod::reset(&mut w, h, &q);
             }
             let t0 = Instant::now();
             let r = w.step().unwrap();

@@ -7,34 +7,13 @@
 //! static, d = full dynamic) and size, the smallest of N medians of the
 //! per-step wall time (1 thread) and µs per control point, with the same
 //! rod, pre-deformation and reset policy as `bench_table`.
-use nalgebra::Vector3;
 use std::time::{Duration, Instant};
 use strandkit_core::energy::EnergyTerms;
 use strandkit_core::*;
 
-const LENGTH: f64 = 4.0;
-
-fn rod(n: usize, terms: EnergyTerms) -> Rod {
-    RodBuilder::straight(Vector3::zeros(), Vector3::new(LENGTH, 0.0, 0.0))
-        .control_points(n)
-        .section(Section::circle(0.05).unwrap())
-        .material(Material::new("steel", 200e9, 0.3, 7800.0).unwrap())
-        .options(RodOptions { samples_per_segment: 5, terms, ..Default::default() })
-        .build()
-        .unwrap()
-}
-
-fn deformed(q: &[f64]) -> Vec<f64> {
-    let mut q = q.to_vec();
-    let pi = std::f64::consts::PI;
-    for c in q.chunks_exact_mut(4) {
-        let s = c[0] / LENGTH;
-        c[1] += 0.001 * (pi * s).sin();
-        c[2] += 0.0005 * (2.0 * pi * s).sin();
-        c[3] += 0.005 * (pi * s).sin();
-    }
-    q
-}
+#[path = "common/table_rod.rs"]
+mod table_rod;
+use table_rod::{reset, rod, steel};
 
 fn setup(n: usize, row: char) -> (World, RodHandle, Vec<f64>) {
     let terms = match row {
@@ -42,28 +21,11 @@ fn setup(n: usize, row: char) -> (World, RodHandle, Vec<f64>) {
         'b' => EnergyTerms { stretch: true, bend: true, twist: false },
         _ => EnergyTerms::default(),
     };
-    let r = rod(n, terms);
+    let r = rod(n, terms, 0.0, steel());
     if row == 't' {
-        let (u0, u1) = r.domain();
-        let q0 = r.coords().to_vec();
-        let mut w = World::new(IntegrationParameters { dt: 1e6, parallel: false, ..Default::default() });
-        let h = w.add_rod(r);
-        w.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: [0.0; 4] }, 0.0).unwrap();
-        w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
-        w.add_load(Load::PointForce { rod: h, u: u1, force: [0.0, -100.0, 50.0] }).unwrap();
-        return (w, h, q0);
+        return table_rod::static_world(r);
     }
-    let q0 = deformed(r.coords());
-    let mut w = World::new(IntegrationParameters { dt: 1e-3, parallel: false, ..Default::default() });
-    let h = w.add_rod(r);
-    w.rod_mut(h).unwrap().set_coords(&q0).unwrap();
-    (w, h, q0)
-}
-
-fn reset(w: &mut World, h: RodHandle, q0: &[f64]) {
-    let r = w.rod_mut(h).unwrap();
-    r.set_coords(q0).unwrap();
-    r.set_velocities(&vec![0.0; q0.len()]).unwrap();
+    table_rod::dynamic_world(r, false)
 }
 
 fn median_step(n: usize, row: char) -> (f64, usize) {
