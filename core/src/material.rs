@@ -90,10 +90,12 @@ impl StrainLimits {
 }
 
 /// Rupture must lie at or beyond yield on both sides (equality = no plastic
-/// range on that side, i.e. a brittle material, thesis I.B.3.b).
+/// range on that side, i.e. a brittle material, thesis I.B.3.b). An
+/// infinite yield limit means "never yields" in that mode: any rupture
+/// limit goes with it (brittle in that mode).
 fn check_order(yield_l: &StrainLimits, rupture: &StrainLimits) -> Result<()> {
     for ((mode, (yn, yp)), (_, (rn, rp))) in yield_l.modes().into_iter().zip(rupture.modes()) {
-        if rn > yn || rp < yp {
+        if (yn.is_finite() && rn > yn) || (yp.is_finite() && rp < yp) {
             return Err(Error::InvalidInput(format!(
                 "rupture_limits {mode} ({rn}, {rp}) must lie beyond yield_limits {mode} ({yn}, {yp})"
             )));
@@ -336,6 +338,17 @@ mod tests {
         // Edge values accepted.
         Material::new("rubber", 1e6, 0.5, 1100.0).unwrap();
         Material::new("auxetic", 1e6, -0.99, 100.0).unwrap();
+    }
+
+    #[test]
+    fn no_yield_in_a_mode_goes_with_any_rupture_there() {
+        let y = StrainLimits::symmetric(f64::INFINITY, 0.5, f64::INFINITY).unwrap();
+        let r = StrainLimits::symmetric(0.02, f64::INFINITY, f64::INFINITY).unwrap();
+        let m = Material::preset("copper").unwrap().with_yield(y).unwrap().with_rupture(r).unwrap();
+        assert_eq!(m.rupture_limits.unwrap().stretch, (-0.02, 0.02));
+        // A finite yield still bounds the rupture.
+        let y2 = StrainLimits::symmetric(0.05, 0.5, f64::INFINITY).unwrap();
+        assert!(Material::preset("copper").unwrap().with_yield(y2).unwrap().with_rupture(r).is_err());
     }
 
     #[test]
