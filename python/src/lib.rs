@@ -14,6 +14,7 @@ mod convert;
 mod io;
 mod props;
 mod quasi;
+mod report;
 mod rod;
 mod world;
 

@@ -1,6 +1,5 @@
 //! Quasi-dynamic driver (thesis algorithm 11) for Python: one frame per
 //! `step()`, dynamic or quasi-static by the previous frame's compute time.
-use crate::convert::from_json;
 use crate::guard;
 use crate::world::{events_of, PyWorld};
 use pyo3::prelude::*;
@@ -111,75 +110,18 @@ fn mode_name(m: Mode) -> &'static str {
     }
 }
 
-/// What a frame did: `mode`, `switched`, `static_refused`, `dt` (time
-/// unit), `free_length` (length unit), `compute_time` and `slack` (seconds
-/// of the clock; a real-time caller sleeps `slack` when positive),
-/// `motion` (largest control-point displacement, length unit), `events`.
-#[pyclass(name = "FrameReport", module = "strandkit._native", frozen)]
-pub struct PyFrameReport {
-    inner: FrameReport,
-    events: Vec<Py<PyAny>>,
-}
-
-#[pymethods]
-impl PyFrameReport {
-    #[getter]
-    fn mode(&self) -> &'static str {
-        mode_name(self.inner.mode)
-    }
-    #[getter]
-    fn switched(&self) -> bool {
-        self.inner.switched
-    }
-    #[getter]
-    fn static_refused(&self) -> bool {
-        self.inner.static_refused
-    }
-    /// Why quasi-static was refused (None if it was not).
-    #[getter]
-    fn refusal(&self) -> Option<String> {
-        self.inner.refusal.clone()
-    }
-    #[getter]
-    fn dt(&self) -> f64 {
-        self.inner.dt
-    }
-    #[getter]
-    fn free_length(&self) -> f64 {
-        self.inner.free_length
-    }
-    #[getter]
-    fn compute_time(&self) -> f64 {
-        self.inner.compute_time
-    }
-    #[getter]
-    fn slack(&self) -> f64 {
-        self.inner.slack
-    }
-    #[getter]
-    fn motion(&self) -> f64 {
-        self.inner.motion
-    }
-    #[getter]
-    fn events(&self, py: Python<'_>) -> Vec<Py<PyAny>> {
-        self.events.iter().map(|e| e.clone_ref(py)).collect()
-    }
-    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        from_json(py, &serde_json::to_value(&self.inner).unwrap_or_default())
-    }
-    fn __repr__(&self) -> String {
-        let r = &self.inner;
-        format!(
-            "FrameReport(mode={}, switched={}, dt={:.3e}, compute_time={:.3e}, motion={:.3e}, events={})",
-            mode_name(r.mode),
-            r.switched,
-            r.dt,
-            r.compute_time,
-            r.motion,
-            self.events.len()
-        )
-    }
-}
+crate::report::report_class!(
+    /// What a frame did, as attributes: `mode` ("dynamic" | "quasi_static"),
+    /// `switched`, `static_refused` and `refusal` (why), `dt` (time unit),
+    /// `free_length` (length unit), `compute_time` and `slack` (seconds of
+    /// the clock; a real-time caller sleeps `slack` when positive), `motion`
+    /// (largest control-point displacement, length unit), `events`.
+    PyFrameReport,
+    "FrameReport",
+    FrameReport,
+    ["mode", "switched", "dt", "compute_time", "motion"],
+    |_| Vec::new()
+);
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyQuasiDynamic>()?;

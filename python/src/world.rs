@@ -10,7 +10,7 @@ use crate::guard;
 use crate::rod::{PyRod, RodState};
 use numpy::PyArray1;
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList, PyTuple};
+use pyo3::types::{PyDict, PyTuple};
 use serde_json::Value;
 use strandkit_core::handles::BeadHandle;
 use strandkit_core::{
@@ -158,10 +158,6 @@ fn event<'py>(slf: &Bound<'py, PyWorld>, e: &strandkit_core::Event) -> PyResult<
         data: data.unbind(),
         text: convert::describe(&v),
     })
-}
-
-fn events<'py>(slf: &Bound<'py, PyWorld>, es: &[strandkit_core::Event]) -> PyResult<Vec<PyEvent>> {
-    es.iter().map(|e| event(slf, e)).collect()
 }
 
 /// Events as Python `Event` objects (for other modules' reports).
@@ -569,7 +565,7 @@ impl PyWorld {
         let events = if rep.events.is_empty() {
             Vec::new()
         } else {
-            events(slf, &rep.events)?
+            events_of(slf, &rep.events)?
         };
         Ok(PyStepReport { inner: rep, events })
     }
@@ -581,7 +577,7 @@ impl PyWorld {
             let inner = &mut w.inner;
             py.detach(|| guard(|| inner.relax()))?
         };
-        let events = events(slf, &rep.events)?;
+        let events = events_of(slf, &rep.events)?;
         Ok(PyRelaxReport { inner: rep, events })
     }
     /// Benchmark helper: seconds taken by `n` steps run in a Rust loop
@@ -931,162 +927,37 @@ impl PyEvent {
     }
 }
 
-/// What a step did: time after the step, system size, residual of the
-/// linear solve, elastic energy before the step (energy unit), events.
-#[pyclass(name = "StepReport", module = "strandkit._native", frozen)]
-pub struct PyStepReport {
-    inner: strandkit_core::StepReport,
-    events: Vec<PyEvent>,
-}
-
-#[pymethods]
-impl PyStepReport {
-    #[getter]
-    fn time(&self) -> f64 {
-        self.inner.time
-    }
-    #[getter]
-    fn n_unknowns(&self) -> usize {
-        self.inner.n_unknowns
-    }
-    #[getter]
-    fn n_multipliers(&self) -> usize {
-        self.inner.n_multipliers
-    }
-    #[getter]
-    fn bandwidth(&self) -> usize {
-        self.inner.bandwidth
-    }
-    #[getter]
-    fn residual(&self) -> f64 {
-        self.inner.residual
-    }
-    #[getter]
-    fn elastic_energy(&self) -> f64 {
-        self.inner.elastic_energy
-    }
-    /// Samples whose plastic offset moved after this step.
-    #[getter]
-    fn plastic_samples(&self) -> usize {
-        self.inner.plastic_samples
-    }
-    /// Which factorisation solved the step: "ldlt" (band LDLᵀ), "lu" (band
-    /// LU with partial pivoting) or "sparse" (faer).
-    #[getter]
-    fn factorisation(&self) -> &'static str {
-        match (self.inner.sparse, self.inner.ldlt) {
+crate::report::report_class!(
+    /// What a step did, as attributes: `time` (after the step), `n_unknowns`,
+    /// `n_multipliers`, `bandwidth` (half), `residual` (relative, of the
+    /// linear solve), `elastic_energy` (before the step, energy unit),
+    /// `plastic_samples`, `factorisation` ("ldlt" | "lu" | "sparse"),
+    /// `factor_entries` (stored, fill included), `events`; `dir()` lists them.
+    PyStepReport,
+    "StepReport",
+    strandkit_core::StepReport,
+    ["time", "n_unknowns", "n_multipliers", "bandwidth", "residual", "elastic_energy"],
+    |r| {
+        let f = match (r.sparse, r.ldlt) {
             (true, _) => "sparse",
             (false, true) => "ldlt",
             (false, false) => "lu",
-        }
+        };
+        vec![("factorisation", f.into())]
     }
-    /// Entries stored by the factorisation (fill included).
-    #[getter]
-    fn factor_entries(&self) -> usize {
-        self.inner.factor_entries
-    }
-    /// What happened: broken constraints, departed sliders, clips, ruptures.
-    #[getter]
-    fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        events_list(py, &self.events)
-    }
-    /// Every field as a dict (events as dicts).
-    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        from_json(py, &serde_json::to_value(&self.inner).unwrap_or_default())
-    }
-    fn __repr__(&self) -> String {
-        let r = &self.inner;
-        format!(
-            "StepReport(time={}, unknowns={}, multipliers={}, bandwidth={}, residual={:.3e}, elastic_energy={:.6e}, events={})",
-            r.time,
-            r.n_unknowns,
-            r.n_multipliers,
-            r.bandwidth,
-            r.residual,
-            r.elastic_energy,
-            self.events.len()
-        )
-    }
-}
+);
 
-fn events_list<'py>(py: Python<'py>, es: &[PyEvent]) -> PyResult<Bound<'py, PyList>> {
-    let l = PyList::empty(py);
-    for e in es {
-        l.append(Bound::new(
-            py,
-            PyEvent {
-                kind: e.kind.clone(),
-                data: e.data.clone_ref(py),
-                text: e.text.clone(),
-            },
-        )?)?;
-    }
-    Ok(l)
-}
-
-/// What relax did: iterations (accepted + rejected), final increment
-/// (length unit) and violation, potential energy U − F·q, events.
-#[pyclass(name = "RelaxReport", module = "strandkit._native", frozen)]
-pub struct PyRelaxReport {
-    inner: strandkit_core::RelaxReport,
-    events: Vec<PyEvent>,
-}
-
-#[pymethods]
-impl PyRelaxReport {
-    #[getter]
-    fn iterations(&self) -> usize {
-        self.inner.iterations
-    }
-    #[getter]
-    fn rejected(&self) -> usize {
-        self.inner.rejected
-    }
-    #[getter]
-    fn increment(&self) -> f64 {
-        self.inner.increment
-    }
-    #[getter]
-    fn violation(&self) -> f64 {
-        self.inner.violation
-    }
-    #[getter]
-    fn potential(&self) -> f64 {
-        self.inner.potential
-    }
-    #[getter]
-    fn bandwidth(&self) -> usize {
-        self.inner.bandwidth
-    }
-    #[getter]
-    fn n_unknowns(&self) -> usize {
-        self.inner.n_unknowns
-    }
-    /// Samples whose plastic offset moved during the solve.
-    #[getter]
-    fn plastic_samples(&self) -> usize {
-        self.inner.plastic_samples
-    }
-    #[getter]
-    fn events<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
-        events_list(py, &self.events)
-    }
-    fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        from_json(py, &serde_json::to_value(&self.inner).unwrap_or_default())
-    }
-    fn __repr__(&self) -> String {
-        let r = &self.inner;
-        format!(
-            "RelaxReport(iterations={}, rejected={}, increment={:.3e}, violation={:.3e}, potential={:.6e}, events={})",
-            r.iterations,
-            r.rejected,
-            r.increment,
-            r.violation,
-            r.potential,
-            self.events.len()
-        )
-    }
-}
+crate::report::report_class!(
+    /// What relax did, as attributes: `iterations` (accepted + rejected),
+    /// `rejected`, final `increment` (length unit) and `violation`,
+    /// `potential` (U − F·q, energy unit), `plastic_samples`,
+    /// `plastic_increment`, `bandwidth`, `n_unknowns`, `events`.
+    PyRelaxReport,
+    "RelaxReport",
+    strandkit_core::RelaxReport,
+    ["iterations", "rejected", "increment", "violation", "potential"],
+    |_| Vec::new()
+);
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyWorld>()?;

@@ -101,6 +101,7 @@ impl QuasiDynamicParameters {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Mode {
     Dynamic,
     QuasiStatic,
