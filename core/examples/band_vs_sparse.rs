@@ -19,125 +19,17 @@
 use std::time::Instant;
 use strandkit_core::linalg::band::{solve_refined, BandLu, BandMatrix};
 use strandkit_core::linalg::sparse::{prefer_sparse, SparseLu, SparseMethod};
-
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((self.0 >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
-}
-
-struct Builder {
-    n: usize,
-    e: Vec<(usize, usize, f64)>,
-    coord: Vec<bool>,
-}
-impl Builder {
-    fn sym(&mut self, i: usize, j: usize, v: f64) {
-        self.e.push((i, j, v));
-        if i != j {
-            self.e.push((j, i, v));
-        }
-    }
-    /// Diagonally dominant coordinate block, then the band matrix.
-    fn finish(mut self, rng: &mut Lcg) -> BandMatrix {
-        let mut rowsum = vec![0.0; self.n];
-        for &(i, j, v) in &self.e {
-            if self.coord[i] && self.coord[j] && i != j {
-                rowsum[i] += f64::abs(v);
-            }
-        }
-        for (i, rs) in rowsum.into_iter().enumerate() {
-            if self.coord[i] {
-                self.sym(i, i, rs + 0.5 + rng.next().abs());
-            }
-        }
-        let bw = self.e.iter().map(|&(i, j, _)| i.abs_diff(j)).max().unwrap_or(0);
-        let mut a = BandMatrix::new(self.n, bw, bw);
-        for &(i, j, v) in &self.e {
-            a.add(i, j, v);
-        }
-        a
-    }
-}
+use strandkit_core::linalg::synthetic::{chain_kkt, grid_kkt, Lcg};
 
 fn chain(rng: &mut Lcg, n_target: usize, m: usize) -> BandMatrix {
     let per = 3 * m + (m - 1);
     let k_pts = (3 * n_target / (3 * per + 1)).max(4);
-    let mut coord = Vec::new();
-    let mut cp = vec![vec![0usize; k_pts]; m];
-    let mut rows: Vec<(usize, Vec<usize>)> = Vec::new();
-    for k in 0..k_pts {
-        for c in cp.iter_mut() {
-            c[k] = coord.len();
-            coord.extend([true; 3]);
-        }
-        for r in 0..m - 1 {
-            rows.push((coord.len(), (0..3).flat_map(|a| [cp[r][k] + a, cp[r + 1][k] + a]).collect()));
-            coord.push(false);
-        }
-        if k >= 1 && k % 3 == 0 {
-            rows.push((coord.len(), (0..3).flat_map(|a| [cp[0][k - 1] + a, cp[0][k] + a]).collect()));
-            coord.push(false);
-        }
-    }
-    let mut b = Builder { n: coord.len(), e: Vec::new(), coord };
-    for c in &cp {
-        for k in 0..k_pts {
-            for l in k..(k + 4).min(k_pts) {
-                for a in 0..3 {
-                    for bb in 0..3 {
-                        if l > k || bb > a {
-                            b.sym(c[k] + a, c[l] + bb, 0.5 * rng.next());
-                        }
-                    }
-                }
-            }
-        }
-    }
-    for (row, touched) in rows {
-        for t in touched {
-            b.sym(row, t, rng.next());
-        }
-    }
-    b.finish(rng)
+    chain_kkt(rng, k_pts, m).0.band()
 }
 
 fn grid(rng: &mut Lcg, n_target: usize, nx: usize) -> BandMatrix {
     let ny = (n_target / (9 * nx)).max(4);
-    let node = |x: usize, y: usize| 9 * (y * nx + x);
-    let n = 9 * nx * ny;
-    let mut b = Builder { n, e: Vec::new(), coord: vec![true; n] };
-    for y in 0..ny {
-        for x in 0..nx {
-            let p = node(x, y);
-            for a in 0..3 {
-                b.coord[p + 6 + a] = false;
-                b.sym(p + 6 + a, p + a, 1.0 + 0.1 * rng.next());
-                b.sym(p + 6 + a, p + 3 + a, -1.0 + 0.1 * rng.next());
-            }
-            for s in 0..=3 {
-                let nbrs = [
-                    (x + s < nx).then(|| (node(x + s, y), 0)),
-                    (y + s < ny).then(|| (node(x, y + s), 3)),
-                ];
-                for (q, off) in nbrs.into_iter().flatten() {
-                    for a in 0..3 {
-                        for c in 0..3 {
-                            if s > 0 || c > a {
-                                b.sym(p + off + a, q + off + c, 0.5 * rng.next());
-                            }
-                        }
-                    }
-                }
-            }
-        }
-    }
-    b.finish(rng)
+    grid_kkt(rng, nx, ny, 0.0).0.band()
 }
 
 /// Median wall time (s) of `f`, at least 3 runs, more while under ~0.6 s total (max 9).

@@ -644,7 +644,7 @@ fn inf_norm(v: &[f64]) -> f64 {
 mod tests {
     use super::*;
 
-    use crate::linalg::test_util::Lcg;
+    use crate::linalg::synthetic::Lcg;
 
     /// Dense Gaussian elimination with partial pivoting (reference).
     fn dense_solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Vec<f64> {
