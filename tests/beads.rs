@@ -1,4 +1,5 @@
 //! Beads (sliding-abscissa particles, SPEC §4 and §9.4).
+mod common;
 use nalgebra::Vector3;
 use strandkit::*;
 
@@ -17,15 +18,7 @@ fn string(world: &mut World, len: f64, span: f64, n: usize, ei: f64) -> RodHandl
         .material(Material::new("string", e, 0.3, 1.0).unwrap())
         .build()
         .unwrap();
-    let q: Vec<f64> = rod
-        .coords()
-        .chunks(3)
-        .flat_map(|p| {
-            let s = p[0] / len;
-            [s * span, -0.3 * (std::f64::consts::PI * s).sin(), 0.0]
-        })
-        .collect();
-    rod.set_coords(&q).unwrap();
+    common::sag(&mut rod, len, span);
     world.add_rod(rod)
 }
 

@@ -21,15 +21,7 @@ fn catenary_sag_and_tensions() {
         .build()
         .unwrap();
     // Start from a sagging arc (the rest shape stays straight).
-    let q: Vec<f64> = rod
-        .coords()
-        .chunks(3)
-        .flat_map(|p| {
-            let s = p[0] / 1.2;
-            [s, -0.3 * (std::f64::consts::PI * s).sin(), 0.0]
-        })
-        .collect();
-    rod.set_coords(&q).unwrap();
+    common::sag(&mut rod, 1.2, 1.0);
     let (u0, u1) = rod.domain();
     let mut w = World::new(IntegrationParameters::default());
     let h = w.add_rod(rod);

@@ -1,18 +1,13 @@
 //! SPEC §4 single-rod constraint families, each in a scenario whose answer
 //! is known (issue 3): plane, distance, axis, curvature, compliance, and
 //! force-threshold rupture.
+mod common;
 use nalgebra::Vector3;
 use strandkit::*;
 
 
 fn beam(n: usize, roll: bool) -> Rod {
-    RodBuilder::straight(Vector3::zeros(), Vector3::new(4.0, 0.0, 0.0))
-        .control_points(n)
-        .with_roll(roll)
-        .section(Section::circle(0.05).unwrap())
-        .material(Material::new("steel", 200e9, 0.3, 7800.0).unwrap())
-        .build()
-        .unwrap()
+    common::steel_rod(Vector3::zeros(), Vector3::new(4.0, 0.0, 0.0), n, roll)
 }
 
 fn pos(u: f64, axes: [bool; 4], target: [f64; 4]) -> ConstraintKind {

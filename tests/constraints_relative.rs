@@ -5,16 +5,6 @@ use common::*;
 use nalgebra::Vector3;
 use strandkit::*;
 
-fn steel_rod(a: Vector3<f64>, b: Vector3<f64>, n: usize, roll: bool) -> Rod {
-    RodBuilder::straight(a, b)
-        .control_points(n)
-        .with_roll(roll)
-        .section(Section::circle(0.05).unwrap())
-        .material(Material::new("steel", 200e9, 0.3, 7800.0).unwrap())
-        .build()
-        .unwrap()
-}
-
 /// Two rods joined end to end by relative position (x, y, z, roll) and
 /// relative orientation bend like one rod of the same total length: the
 /// two-piece cantilever matches the elastica references (0.5 %), and the

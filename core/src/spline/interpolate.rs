@@ -208,32 +208,23 @@ mod tests {
 
     #[test]
     fn recovers_control_points_with_other_params() {
+        // Interpolating the curve's own values at `params` gives its control points back.
+        let recovers = |k: &KnotVector, ctrl: &[[f64; 2]], params: &[f64]| {
+            let v: Vec<[f64; 2]> = params.iter().map(|&u| eval(k, ctrl, u, 0).unwrap()).collect();
+            let c = interpolate(k, params, &v).unwrap();
+            for (a, b) in c.iter().zip(ctrl) {
+                assert!((a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12);
+            }
+        };
         // Periodic parameters at segment midpoints, shifted by whole periods and rotated.
-        let k = KnotVector::periodic(9).unwrap();
-        let ctrl = data(9);
         let params: Vec<f64> = (0..9).map(|i| ((i + 4) % 9) as f64 + 0.5 + 9.0).collect();
-        let v: Vec<[f64; 2]> = params
-            .iter()
-            .map(|&u| eval(&k, &ctrl, u, 0).unwrap())
-            .collect();
-        let c = interpolate(&k, &params, &v).unwrap();
-        for (a, b) in c.iter().zip(&ctrl) {
-            assert!((a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12);
-        }
+        recovers(&KnotVector::periodic(9).unwrap(), &data(9), &params);
         // Open, unsorted parameters (the band widens but the answer is the same).
         let k = KnotVector::clamped(8).unwrap();
-        let ctrl = data(8);
         let mut params = default_params(&k);
         params.reverse();
         params.swap(2, 5);
-        let v: Vec<[f64; 2]> = params
-            .iter()
-            .map(|&u| eval(&k, &ctrl, u, 0).unwrap())
-            .collect();
-        let c = interpolate(&k, &params, &v).unwrap();
-        for (a, b) in c.iter().zip(&ctrl) {
-            assert!((a[0] - b[0]).abs() < 1e-12 && (a[1] - b[1]).abs() < 1e-12);
-        }
+        recovers(&k, &data(8), &params);
     }
 
     #[test]
