@@ -28,13 +28,7 @@ fn ok_of<T>(what: &str, f: impl FnOnce() -> Result<T>) -> T {
 
 /// Asserts the variant and that the message contains every `words` (case-insensitive).
 fn expect(e: &Error, variant: &str, words: &[&str]) {
-    let v = match e {
-        Error::InvalidInput(_) => "InvalidInput",
-        Error::InvalidHandle(_) => "InvalidHandle",
-        Error::Singular(_) => "Singular",
-        Error::NoConvergence(_) => "NoConvergence",
-        Error::Io(_) => "Io",
-    };
+    let v = e.kind();
     assert_eq!(v, variant, "wrong error variant: {e}");
     let msg = e.to_string().to_lowercase();
     for w in words {
@@ -120,7 +114,7 @@ fn infinite_control_point_coordinate() {
     let e = err_of("infinite interpolation point", || {
         RodBuilder::new(RodShape::ThroughPoints(p)).section(circle()).material(mat()).build()
     });
-    assert!(matches!(e, Error::InvalidInput(_)), "got {e}");
+    assert!(matches!(e, Error::InvalidInput { .. }), "got {e}");
     assert!(e.to_string().to_lowercase().contains("finite") || e.to_string().contains("inf"), "{e}");
 }
 

@@ -29,7 +29,7 @@ fn snapshot_continues_bit_for_bit() {
     // A truncated file is an error, not a panic.
     let text = std::fs::read_to_string(&path).unwrap();
     std::fs::write(&path, &text[..text.len() / 2]).unwrap();
-    assert!(matches!(strandkit::World::load(&path), Err(strandkit::Error::Io(_))));
+    assert!(matches!(strandkit::World::load(&path), Err(strandkit::Error::Io { .. })));
     std::fs::remove_dir_all(&dir).ok();
 }
 

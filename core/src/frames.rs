@@ -29,7 +29,7 @@ pub struct Frame {
 /// `n` ≥ 2 parameters evenly spread over the rod's domain, ends included.
 pub fn uniform_params(rod: &Rod, n: usize) -> Result<Vec<f64>> {
     if n < 2 {
-        return Err(Error::InvalidInput(format!("need at least 2 frame parameters, got {n}")));
+        return Err(Error::input(format!("need at least 2 frame parameters, got {n}")));
     }
     let (a, b) = rod.domain();
     Ok((0..n).map(|i| if i + 1 == n { b } else { a + (b - a) * i as f64 / (n - 1) as f64 }).collect())
@@ -52,7 +52,7 @@ pub fn rotation_minimising(rod: &Rod, us: &[f64], reference: Option<[f64; 3]>) -
         return Ok(Vec::new());
     }
     if let Some(i) = us.windows(2).position(|w| w[1].partial_cmp(&w[0]).is_none_or(|o| o.is_lt())) {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "frame parameters must be increasing, got u = {} then {}",
             us[i],
             us[i + 1]
@@ -73,7 +73,7 @@ pub fn rotation_minimising(rod: &Rod, us: &[f64], reference: Option<[f64; 3]>) -
             let p = v - tan[0] * tan[0].dot(&v);
             let n = p.norm();
             if !n.is_finite() || n <= 1e-12 * v.norm() {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::input(format!(
                     "frame reference {v:?} must be finite and not parallel to the tangent {:?}",
                     tan[0]
                 )));
@@ -244,9 +244,9 @@ mod tests {
     fn bad_parameters_are_errors() {
         let rod = builder(RodBuilder::straight(Vector3::zeros(), Vector3::x()));
         let (_, b) = rod.domain();
-        assert!(matches!(rotation_minimising(&rod, &[b + 1.0], None), Err(Error::InvalidInput(_))));
-        assert!(matches!(rotation_minimising(&rod, &[1.0, 0.5], None), Err(Error::InvalidInput(_))));
-        assert!(matches!(rotation_minimising(&rod, &[0.0], Some([1.0, 0.0, 0.0])), Err(Error::InvalidInput(_))));
-        assert!(matches!(uniform_params(&rod, 1), Err(Error::InvalidInput(_))));
+        assert!(matches!(rotation_minimising(&rod, &[b + 1.0], None), Err(Error::InvalidInput { .. })));
+        assert!(matches!(rotation_minimising(&rod, &[1.0, 0.5], None), Err(Error::InvalidInput { .. })));
+        assert!(matches!(rotation_minimising(&rod, &[0.0], Some([1.0, 0.0, 0.0])), Err(Error::InvalidInput { .. })));
+        assert!(matches!(uniform_params(&rod, 1), Err(Error::InvalidInput { .. })));
     }
 }

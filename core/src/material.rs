@@ -75,12 +75,12 @@ impl StrainLimits {
     fn check(&self, what: &str) -> Result<()> {
         for (mode, (neg, pos)) in self.modes() {
             if neg.is_nan() || neg >= 0.0 {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::input(format!(
                     "{what} {mode} negative limit must be < 0 (or -inf), got {neg}"
                 )));
             }
             if pos.is_nan() || pos <= 0.0 {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::input(format!(
                     "{what} {mode} positive limit must be > 0 (or inf), got {pos}"
                 )));
             }
@@ -96,7 +96,7 @@ impl StrainLimits {
 fn check_order(yield_l: &StrainLimits, rupture: &StrainLimits) -> Result<()> {
     for ((mode, (yn, yp)), (_, (rn, rp))) in yield_l.modes().into_iter().zip(rupture.modes()) {
         if (yn.is_finite() && rn > yn) || (yp.is_finite() && rp < yp) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "rupture_limits {mode} ({rn}, {rp}) must lie beyond yield_limits {mode} ({yn}, {yp})"
             )));
         }
@@ -228,7 +228,7 @@ impl Material {
         finite("material poisson", self.poisson)?;
         // ν > −1 keeps G finite and positive; ν ≤ 0.5 keeps the bulk modulus ≥ 0.
         if !(self.poisson > -1.0 && self.poisson <= 0.5) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "material poisson must be in (-1, 0.5], got {}",
                 self.poisson
             )));
@@ -264,7 +264,7 @@ impl Material {
         let key = normalise(canonical);
         match PRESETS.iter().find(|(n, ..)| normalise(n) == key) {
             Some(&(n, e, nu, rho)) => Material::new(n, e, nu, rho),
-            None => Err(Error::InvalidInput(format!(
+            None => Err(Error::input(format!(
                 "unknown material preset {name:?}; known: {}",
                 PRESET_NAMES.join(", ")
             ))),
@@ -283,7 +283,7 @@ mod tests {
 
     fn invalid<T: std::fmt::Debug>(r: Result<T>, field: &str) {
         match r {
-            Err(Error::InvalidInput(m)) => {
+            Err(e @ Error::InvalidInput { .. }) => { let m = e.to_string();
                 assert!(m.contains(field), "message {m:?} lacks {field:?}")
             }
             other => panic!("expected InvalidInput naming {field}, got {other:?}"),
@@ -305,7 +305,7 @@ mod tests {
         assert_eq!(Material::preset("Aluminum").unwrap().young, 71.7e9);
         assert_eq!(Material::preset("kevlar").unwrap().name, "aramid");
         match Material::preset("unobtainium") {
-            Err(Error::InvalidInput(m)) => {
+            Err(e @ Error::InvalidInput { .. }) => { let m = e.to_string();
                 assert!(
                     m.contains("unobtainium")
                         && m.contains("stainless_steel")

@@ -25,7 +25,7 @@ pub fn gauss_legendre(n: usize) -> Result<(&'static [f64], &'static [f64])> {
         &[0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620, 0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763],
     ];
     if n == 0 || n > 8 {
-        return Err(Error::InvalidInput(format!("samples_per_segment must be in 1..=8, got {n}")));
+        return Err(Error::input(format!("samples_per_segment must be in 1..=8, got {n}")));
     }
     Ok((X[n - 1], W[n - 1]))
 }

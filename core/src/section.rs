@@ -165,7 +165,7 @@ impl Section {
                 positive("section outer_radius", outer_radius)?;
                 positive("section inner_radius", inner_radius)?;
                 if inner_radius >= outer_radius {
-                    return Err(Error::InvalidInput(format!(
+                    return Err(Error::input(format!(
                         "section inner_radius must be < outer_radius, got inner_radius {inner_radius} >= outer_radius {outer_radius}"
                     )));
                 }
@@ -193,12 +193,12 @@ impl Section {
                 positive("section web_thickness", web_thickness)?;
                 // Equality would leave no web (resp. no flange overhang): use a Rectangle.
                 if 2.0 * flange_thickness >= height {
-                    return Err(Error::InvalidInput(format!(
+                    return Err(Error::input(format!(
                         "section flange_thickness must be < height/2, got flange_thickness {flange_thickness} with height {height}"
                     )));
                 }
                 if web_thickness >= width {
-                    return Err(Error::InvalidInput(format!(
+                    return Err(Error::input(format!(
                         "section web_thickness must be < width, got web_thickness {web_thickness} with width {width}"
                     )));
                 }
@@ -296,7 +296,7 @@ impl Section {
         let kind = sections[0].kind_name();
         for (k, s) in sections.iter().enumerate().skip(1) {
             if s.kind_name() != kind {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::input(format!(
                     "section blend needs four sections of the same shape, got {kind} and {} (section {k})",
                     s.kind_name()
                 )));
@@ -310,12 +310,7 @@ impl Section {
             }
         }
         let out = sections[0].with_sizes(acc);
-        out.validate().map_err(|e| match e {
-            Error::InvalidInput(m) => {
-                Error::InvalidInput(format!("section blend gave an invalid {kind}: {m}"))
-            }
-            other => other,
-        })?;
+        out.validate().map_err(|e| e.context(format_args!("section blend gave an invalid {kind}")))?;
         Ok(out)
     }
 
@@ -401,7 +396,7 @@ mod tests {
 
     fn invalid(r: Result<Section>, field: &str) {
         match r {
-            Err(Error::InvalidInput(m)) => {
+            Err(e @ Error::InvalidInput { .. }) => { let m = e.to_string();
                 assert!(m.contains(field), "message {m:?} lacks {field:?}")
             }
             other => panic!("expected InvalidInput naming {field}, got {other:?}"),
@@ -565,7 +560,7 @@ mod tests {
         invalid(Section::circle(f64::INFINITY), "radius");
         assert_eq!(
             Section::circle(-1.0).unwrap_err(),
-            Error::InvalidInput("section radius must be finite and > 0, got -1".into())
+            Error::input("section radius must be finite and > 0, got -1")
         );
         invalid(Section::tube(1.0, 1.0), "inner_radius");
         invalid(Section::tube(1.0, 2.0), "inner_radius");
@@ -588,7 +583,7 @@ mod tests {
         // props() on an unvalidated value also errors.
         assert!(matches!(
             Section::Circle { radius: -2.0 }.props(),
-            Err(Error::InvalidInput(_))
+            Err(Error::InvalidInput { .. })
         ));
         // Blend errors.
         let c = Section::circle(1.0).unwrap();

@@ -139,7 +139,7 @@ impl World {
     /// linearly dependent on the rod's other constraints.
     pub fn add_constraint(&mut self, rod: RodHandle, kind: ConstraintKind, compliance: f64) -> Result<ConstraintHandle> {
         if kind.n_rods() != 1 {
-            return Err(Error::InvalidInput(format!("{kind:?} links two points: use add_link")));
+            return Err(Error::input(format!("{kind:?} links two points: use add_link")));
         }
         self.insert_constraint(rod, None, kind, compliance)
     }
@@ -148,7 +148,7 @@ impl World {
     /// (ub); `a` and `b` may be the same rod.
     pub fn add_link(&mut self, a: RodHandle, b: RodHandle, kind: ConstraintKind, compliance: f64) -> Result<ConstraintHandle> {
         if kind.n_rods() != 2 {
-            return Err(Error::InvalidInput(format!("{kind:?} is a one-rod constraint: use add_constraint")));
+            return Err(Error::input(format!("{kind:?} is a one-rod constraint: use add_constraint")));
         }
         self.insert_constraint(a, Some(b), kind, compliance)
     }
@@ -165,11 +165,11 @@ impl World {
         let m = nalgebra::Matrix3x2::from_columns(&[ta, tb]);
         let mtm = m.transpose() * m;
         let inv = mtm.try_inverse().filter(|_| ta.cross(&tb).norm() > 1e-9 * ta.norm() * tb.norm()).ok_or_else(|| {
-            Error::InvalidInput("coplanar clamp: the two tangents are parallel (use RelativePosition + RelativeOrientation)".into())
+            Error::input("coplanar clamp: the two tangents are parallel (use RelativePosition + RelativeOrientation)")
         })?;
         let alpha = inv * (m.transpose() * d);
         if (m * alpha - d).norm() > 1e-9 * d.norm().max(1e-300) {
-            return Err(Error::InvalidInput("coplanar clamp: the link is not in the plane of the two tangents".into()));
+            return Err(Error::input("coplanar clamp: the link is not in the plane of the two tangents"));
         }
         self.add_link(a, b, ConstraintKind::CoplanarClamp { ua, ub, alpha: [alpha[0], alpha[1]] }, compliance)
     }
@@ -181,7 +181,7 @@ impl World {
         for r in rods {
             self.rod(*r)?;
             if self.interleave.iter().any(|g| g.contains(r)) {
-                return Err(Error::InvalidInput(format!("rod {r:?} is already in an interleaved group")));
+                return Err(Error::input(format!("rod {r:?} is already in an interleaved group")));
             }
         }
         self.interleave.push(rods.to_vec());
@@ -207,7 +207,7 @@ impl World {
         let kind = probe.kind;
         for (h, c) in self.constraints.iter() {
             if c.rod == rod && c.other == other && duplicates(&c.kind, &kind) {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::input(format!(
                     "duplicate constraint: {kind:?} repeats constraint {} on the same rod at the same abscissa",
                     h.0
                 )));
@@ -286,7 +286,7 @@ impl World {
             if !add(row, &mut basis) {
                 owners.sort_unstable();
                 owners.dedup();
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::input(format!(
                     "linearly dependent constraint: {:?} repeats what constraints {owners:?} on the same rods already impose (redundant rows leave the forces undefined; contradictory ones have no solution)",
                     new.kind
                 )));
@@ -308,7 +308,7 @@ impl World {
         let kind = probe.kind;
         let c = self.constraints.get_mut(h.into()).ok_or_else(|| bad_con(h))?;
         if kind.n_rows() != c.kind.n_rows() || std::mem::discriminant(&kind) != std::mem::discriminant(&c.kind) {
-            return Err(Error::InvalidInput("set_constraint: the new constraint must be of the same kind and rows".into()));
+            return Err(Error::input("set_constraint: the new constraint must be of the same kind and rows"));
         }
         c.kind = kind;
         Ok(())
@@ -321,7 +321,7 @@ impl World {
             if b.tension_only
                 && !matches!(c.kind, ConstraintKind::Distance { .. } | ConstraintKind::RelativeDistance { .. } | ConstraintKind::Contact { .. })
             {
-                return Err(Error::InvalidInput("tension-only breaking applies to distance links; use tension_only = false".into()));
+                return Err(Error::input("tension-only breaking applies to distance links; use tension_only = false"));
             }
         }
         c.breaking = breaking;
@@ -388,7 +388,7 @@ impl World {
             Load::PointTorque { u, torque, .. } => {
                 rod.knots().locate(*u)?;
                 if rod.dofs() == 3 {
-                    return Err(Error::InvalidInput("point torque on a rod without roll coordinate".into()));
+                    return Err(Error::input("point torque on a rod without roll coordinate"));
                 }
                 fin(&[*torque])
             }
@@ -408,16 +408,16 @@ impl World {
         Ok(self.beads.insert(b).into())
     }
     pub fn bead(&self, h: BeadHandle) -> Result<&Bead> {
-        self.beads.get(h.into()).ok_or_else(|| Error::InvalidHandle(format!("bead {h:?} does not exist (removed?)")))
+        self.beads.get(h.into()).ok_or_else(|| Error::handle(format!("bead {h:?} does not exist (removed?)")))
     }
     /// Takes a bead off its rod.
     pub fn remove_bead(&mut self, h: BeadHandle) -> Result<Bead> {
-        self.beads.remove(h.into()).ok_or_else(|| Error::InvalidHandle(format!("bead {h:?} does not exist (removed?)")))
+        self.beads.remove(h.into()).ok_or_else(|| Error::handle(format!("bead {h:?} does not exist (removed?)")))
     }
     /// Sets the external force on a bead (besides gravity; force unit).
     pub fn set_bead_force(&mut self, h: BeadHandle, force: [f64; 3]) -> Result<()> {
         crate::constraint::finite3(&force, "bead force")?;
-        self.beads.get_mut(h.into()).ok_or_else(|| Error::InvalidHandle(format!("bead {h:?} does not exist")))?.force = force;
+        self.beads.get_mut(h.into()).ok_or_else(|| Error::handle(format!("bead {h:?} does not exist")))?.force = force;
         Ok(())
     }
     /// Position of a bead (length unit).
@@ -438,7 +438,7 @@ impl World {
         Ok(self.clips.insert(c).into())
     }
     pub fn clip(&self, h: ClipHandle) -> Result<&Clip> {
-        self.clips.get(h.into()).ok_or_else(|| Error::InvalidHandle(format!("clip {h:?} does not exist")))
+        self.clips.get(h.into()).ok_or_else(|| Error::handle(format!("clip {h:?} does not exist")))
     }
 
     /// Algorithms 4–5: release held rods pulled out harder than the clip's
@@ -500,10 +500,10 @@ impl World {
 
     /// Serialises the whole world (JSON, floats round-trip exactly).
     pub fn to_json(&self) -> Result<String> {
-        serde_json::to_string(self).map_err(|e| Error::Io(e.to_string()))
+        serde_json::to_string(self).map_err(|e| Error::io("", e.to_string()))
     }
     pub fn from_json(s: &str) -> Result<World> {
-        let mut w: World = serde_json::from_str(s).map_err(|e| Error::Io(format!("snapshot: {e}")))?;
+        let mut w: World = serde_json::from_str(s).map_err(|e| Error::io("", format!("snapshot: {e}")))?;
         for (_, r) in w.rods.iter_mut() {
             r.prepare()?;
         }
@@ -514,7 +514,7 @@ impl World {
         crate::io::write_atomic(path, self.to_json()?.as_bytes())
     }
     pub fn load(path: &std::path::Path) -> Result<World> {
-        let s = std::fs::read_to_string(path).map_err(|e| Error::Io(format!("{}: {e}", path.display())))?;
+        let s = std::fs::read_to_string(path).map_err(|e| Error::io(path.display().to_string(), format!("{e}")))?;
         World::from_json(&s)
     }
 }
@@ -568,11 +568,11 @@ fn duplicates(a: &ConstraintKind, b: &ConstraintKind) -> bool {
 }
 
 fn bad_rod(h: RodHandle) -> Error {
-    Error::InvalidHandle(format!("rod {h:?} does not exist (removed?)"))
+    Error::handle(format!("rod {h:?} does not exist (removed?)"))
 }
 fn bad_con(h: ConstraintHandle) -> Error {
-    Error::InvalidHandle(format!("constraint {h:?} does not exist (removed?)"))
+    Error::handle(format!("constraint {h:?} does not exist (removed?)"))
 }
 fn bad_load(h: LoadHandle) -> Error {
-    Error::InvalidHandle(format!("load {h:?} does not exist (removed?)"))
+    Error::handle(format!("load {h:?} does not exist (removed?)"))
 }

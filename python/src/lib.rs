@@ -1,11 +1,11 @@
 //! Python bindings of strandkit (module `strandkit._native`).
 //!
-//! Rust errors become Python exceptions with the core's message:
-//! InvalidInput / InvalidHandle → ValueError, Singular → SingularError,
-//! NoConvergence → ConvergenceError (both SolverError, a RuntimeError),
-//! Io → OSError. Calls into the core run under `catch_unwind`, so even a
-//! bug surfaces as a RuntimeError rather than a panic crossing the boundary.
-use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
+//! Rust errors become the exceptions of `strandkit.errors` (one class per
+//! core variant, all under StrandkitError) with the core's message and the
+//! variant's fields as attributes. Calls into the core run under
+//! `catch_unwind`, so even a bug surfaces as a RuntimeError rather than a
+//! panic crossing the boundary.
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use strandkit_core::Error;
 
@@ -18,36 +18,63 @@ mod report;
 mod rod;
 mod world;
 
-pyo3::create_exception!(
-    strandkit,
-    SolverError,
-    PyRuntimeError,
-    "The solver failed: singular system or no convergence."
-);
-pyo3::create_exception!(
-    strandkit,
-    SingularError,
-    SolverError,
-    "Singular linear system (under-constrained structure, zero pivot)."
-);
-pyo3::create_exception!(
-    strandkit,
-    ConvergenceError,
-    SolverError,
-    "An iterative solve did not reach its tolerance."
-);
-
-/// Core error → Python exception with the same message.
+/// Core error → the exception class of `strandkit.errors` for its variant
+/// (InvalidInputError, SingularError, …), with the same message and the
+/// variant's fields as attributes.
 pub(crate) fn err(e: Error) -> PyErr {
     let msg = e.to_string();
-    #[allow(unreachable_patterns)] // new core variants fall back to RuntimeError
+    Python::attach(|py| match build_error(py, &e, &msg) {
+        Ok(x) => x,
+        // The package's errors module could not be imported (a broken
+        // install): still raise, with the same message.
+        Err(_) => PyRuntimeError::new_err(msg),
+    })
+}
+
+fn build_error(py: Python<'_>, e: &Error, msg: &str) -> PyResult<PyErr> {
+    use pyo3::types::PyAnyMethods;
+    let cls = py.import("strandkit.errors")?.getattr("BY_KIND")?.get_item(e.kind())?;
+    let x = cls.call1((msg,))?;
+    x.setattr("kind", e.kind())?;
+    let json = |v: &serde_json::Value| convert::from_json(py, v);
     match e {
-        Error::InvalidInput(_) | Error::InvalidHandle(_) => PyValueError::new_err(msg),
-        Error::Singular(_) => SingularError::new_err(msg),
-        Error::NoConvergence(_) => ConvergenceError::new_err(msg),
-        Error::Io(_) => PyOSError::new_err(msg),
-        _ => PyRuntimeError::new_err(msg),
+        Error::InvalidInput { what, value, expected } => {
+            x.setattr("what", what)?;
+            x.setattr("value", value)?;
+            x.setattr("expected", expected)?;
+        }
+        Error::InvalidHandle { what } => x.setattr("what", what)?,
+        Error::Singular { unknown, constraints, detail } => {
+            x.setattr("unknown", json(&serde_json::to_value(unknown).unwrap_or_default())?)?;
+            x.setattr("constraints", json(&serde_json::to_value(constraints).unwrap_or_default())?)?;
+            x.setattr("detail", detail)?;
+        }
+        Error::NotConverged { iterations, residual, detail } => {
+            x.setattr("iterations", iterations)?;
+            x.setattr("residual", residual)?;
+            x.setattr("detail", detail)?;
+        }
+        Error::NonFinite { rod, detail } => {
+            x.setattr("rod", rod.map(|r| r.index))?;
+            x.setattr("detail", detail)?;
+        }
+        Error::Diverged { step, rod, factor, detail } => {
+            x.setattr("step", step)?;
+            x.setattr("rod", rod.map(|r| r.index))?;
+            x.setattr("factor", factor)?;
+            x.setattr("detail", detail)?;
+        }
+        Error::Io { path, message } => {
+            x.setattr("path", path)?;
+            x.setattr("message", message)?;
+        }
     }
+    Ok(PyErr::from_value(x))
+}
+
+/// A bad argument detected on the Python side of the boundary.
+pub(crate) fn bad(msg: impl Into<String>) -> PyErr {
+    err(Error::input(msg))
 }
 
 /// Runs core code; errors and (defensively) panics become Python exceptions.
@@ -69,10 +96,6 @@ pub(crate) fn guard<T>(f: impl FnOnce() -> strandkit_core::Result<T>) -> PyResul
 
 #[pymodule]
 fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    let py = m.py();
-    m.add("SolverError", py.get_type::<SolverError>())?;
-    m.add("SingularError", py.get_type::<SingularError>())?;
-    m.add("ConvergenceError", py.get_type::<ConvergenceError>())?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     props::register(m)?;
     rod::register(m)?;

@@ -393,7 +393,7 @@ impl PyRod {
     /// The rod as JSON (serde; floats round-trip exactly).
     fn to_json(&self, py: Python<'_>) -> PyResult<String> {
         self.with(py, |r| {
-            guard(|| serde_json::to_string(r).map_err(|e| Error::Io(e.to_string())))
+            guard(|| serde_json::to_string(r).map_err(|e| Error::io("", e.to_string())))
         })
     }
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
@@ -694,7 +694,7 @@ builder_fn!(
 #[pyfunction]
 fn rod_from_json(text: &str) -> PyResult<PyRod> {
     let mut r: Rod =
-        serde_json::from_str(text).map_err(|e| crate::err(Error::Io(format!("rod json: {e}"))))?;
+        serde_json::from_str(text).map_err(|e| crate::err(Error::io("", format!("rod json: {e}"))))?;
     guard(|| r.prepare())?;
     Ok(PyRod::free(r))
 }

@@ -39,9 +39,7 @@ pub struct PyWorld {
     pub inner: World,
 }
 
-fn bad(msg: impl Into<String>) -> PyErr {
-    crate::err(Error::InvalidInput(msg.into()))
-}
+use crate::bad;
 
 fn params_to_value(p: &IntegrationParameters) -> Value {
     serde_json::to_value(p).unwrap_or_default()
@@ -302,7 +300,7 @@ impl PyWorld {
         let h = Self::rod_handle(slf, rod)?;
         let removed = guard(|| {
             slf.try_borrow_mut()
-                .map_err(|e| Error::InvalidInput(e.to_string()))?
+                .map_err(|e| Error::input(e.to_string()))?
                 .inner
                 .remove_rod(h)
         })?;

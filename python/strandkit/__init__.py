@@ -20,7 +20,6 @@ from ._native import (
     BeadHandle,
     ClipHandle,
     ConstraintHandle,
-    ConvergenceError,
     DcdWriter,
     Event,
     FrameReport,
@@ -31,8 +30,6 @@ from ._native import (
     RelaxReport,
     Rod,
     Section,
-    SingularError,
-    SolverError,
     StepReport,
     Topology,
     World,
@@ -52,6 +49,18 @@ from ._native import (
     write_vtk,
 )
 from ._progress import progress
+from .errors import (
+    ConvergenceError,
+    DivergedError,
+    FileError,
+    InvalidHandleError,
+    InvalidInputError,
+    NonFiniteError,
+    SingularError,
+    SolverError,
+    StrandkitError,
+    WorldBusyError,
+)
 from .constraints import (
     Kind,
     axis,
@@ -88,7 +97,8 @@ __all__ = [
     # reports and handles
     "StepReport", "RelaxReport", "Event", "Reaction", "ConstraintHandle", "LoadHandle", "BeadHandle", "ClipHandle",
     # errors
-    "SolverError", "SingularError", "ConvergenceError",
+    "StrandkitError", "InvalidInputError", "InvalidHandleError", "SolverError", "SingularError",
+    "ConvergenceError", "NonFiniteError", "DivergedError", "FileError", "WorldBusyError",
     # output
     "Recorder", "TrajectoryWriter", "write_trajectory", "Topology", "DcdWriter", "read_dcd",
     "bead_positions", "write_pdb", "write_psf", "tube_mesh", "write_obj", "write_vtk", "write_gltf",

@@ -27,7 +27,7 @@ pub fn distance(rod: &Rod, u: f64, point: &[f64; 3], d: f64, rows: &mut [Row]) -
     let v = r - Vector3::from(*point);
     let len = v.norm();
     if len < 1e-12 * rod.rest_length() {
-        return Err(Error::Singular(format!("distance constraint at u = {u}: the point coincides with the anchor, direction undefined")));
+        return Err(Error::singular(format!("distance constraint at u = {u}: the point coincides with the anchor, direction undefined")));
     }
     point_rows(rod, u, &[v / len], &[d - len], rows)
 }

@@ -15,7 +15,7 @@ pub fn linearize(rod: &Rod, u: f64, reference: &[f64; 3], angle: f64, rows: &mut
     let r = unit(reference, "material roll reference")?;
     let e1p = r - t * r.dot(&t);
     if e1p.norm() < 1e-6 {
-        return Err(Error::InvalidInput(format!("material roll at u = {u}: the reference is parallel to the tangent")));
+        return Err(Error::input(format!("material roll at u = {u}: the reference is parallel to the tangent")));
     }
     let e1 = e1p.normalize();
     let e2 = t.cross(&e1);
@@ -25,7 +25,7 @@ pub fn linearize(rod: &Rod, u: f64, reference: &[f64; 3], angle: f64, rows: &mut
     // κ |r'|³ = |C|: require a curvature above the rod's threshold.
     let kappa = cc.sqrt() / s.r1.norm().powi(3);
     if !(kappa > 1e-9 / rod.rest_length()) {
-        return Err(Error::Singular(format!(
+        return Err(Error::singular(format!(
             "material roll at u = {u}: the rod is straight there, so the Frenet frame (and the absolute roll) is undefined"
         )));
     }

@@ -285,10 +285,10 @@ impl ConstraintKind {
         match self {
             ConstraintKind::Position { axes, target, .. } => {
                 if !axes.iter().any(|a| *a) {
-                    return Err(Error::InvalidInput("position constraint selects no axis".into()));
+                    return Err(Error::input("position constraint selects no axis"));
                 }
                 if axes[3] && rod.dofs() == 3 {
-                    return Err(Error::InvalidInput("roll constraint on a rod without roll coordinate".into()));
+                    return Err(Error::input("roll constraint on a rod without roll coordinate"));
                 }
                 for (a, t) in axes.iter().zip(target) {
                     if *a {
@@ -301,7 +301,7 @@ impl ConstraintKind {
             }
             ConstraintKind::MaterialRoll { reference, angle, .. } => {
                 if rod.dofs() == 3 {
-                    return Err(Error::InvalidInput("material roll constraint on a rod without roll coordinate".into()));
+                    return Err(Error::input("material roll constraint on a rod without roll coordinate"));
                 }
                 unit(reference, "material roll reference")?;
                 crate::error::finite("material roll angle", *angle)?;
@@ -325,7 +325,7 @@ impl ConstraintKind {
             }
             ConstraintKind::Barycentric { points, driven, axes } => {
                 if points.is_empty() || points.len() > 4 {
-                    return Err(Error::InvalidInput(format!("barycentric constraint needs 1 to 4 points, got {}", points.len())));
+                    return Err(Error::input(format!("barycentric constraint needs 1 to 4 points, got {}", points.len())));
                 }
                 for (u, a) in points {
                     rod.knots().locate(crate::error::finite("barycentric abscissa", *u)?)?;
@@ -333,7 +333,7 @@ impl ConstraintKind {
                 }
                 rod.knots().locate(*driven)?;
                 if !axes.iter().any(|a| *a) || (axes[3] && rod.dofs() == 3) {
-                    return Err(Error::InvalidInput("barycentric constraint: select axes the rod has".into()));
+                    return Err(Error::input("barycentric constraint: select axes the rod has"));
                 }
             }
             ConstraintKind::OrientedSlidingPoint { point, direction, friction, .. } => {
@@ -448,7 +448,7 @@ pub(crate) fn unit(v: &[f64; 3], what: &str) -> Result<Vector3<f64>> {
     let x = Vector3::from(*v);
     let n = x.norm();
     if !n.is_finite() || n == 0.0 {
-        return Err(Error::InvalidInput(format!("{what} must be a finite non-zero vector, got {v:?}")));
+        return Err(Error::input(format!("{what} must be a finite non-zero vector, got {v:?}")));
     }
     Ok(x / n)
 }

@@ -24,23 +24,23 @@ pub fn abscissae(k: &ConstraintKind) -> Option<(f64, f64)> {
 }
 
 pub fn validate(k: &ConstraintKind, rods: &[&Rod]) -> Result<()> {
-    let (ua, ub) = abscissae(k).ok_or_else(|| Error::InvalidInput("not a relative constraint".into()))?;
+    let (ua, ub) = abscissae(k).ok_or_else(|| Error::input("not a relative constraint"))?;
     rods[0].knots().locate(crate::error::finite("constraint abscissa ua", ua)?)?;
     rods[1].knots().locate(crate::error::finite("constraint abscissa ub", ub)?)?;
     match k {
         ConstraintKind::RelativePosition { axes, offset, .. } => {
             if !axes.iter().any(|a| *a) {
-                return Err(Error::InvalidInput("relative position constraint selects no axis".into()));
+                return Err(Error::input("relative position constraint selects no axis"));
             }
             if axes[3] && (rods[0].dofs() == 3 || rods[1].dofs() == 3) {
-                return Err(Error::InvalidInput("relative roll on a rod without roll coordinate".into()));
+                return Err(Error::input("relative roll on a rod without roll coordinate"));
             }
             finite3(&[offset[0], offset[1], offset[2]], "relative position offset")?;
             crate::error::finite("relative roll offset", offset[3])?;
         }
         ConstraintKind::RelativeOrientation { roll, .. } => {
             if *roll && (rods[0].dofs() == 3 || rods[1].dofs() == 3) {
-                return Err(Error::InvalidInput("relative roll on a rod without roll coordinate".into()));
+                return Err(Error::input("relative roll on a rod without roll coordinate"));
             }
         }
         ConstraintKind::CoplanarClamp { alpha, .. } => {
@@ -78,7 +78,7 @@ fn tangent(rod: &Rod, u: f64) -> Result<(Vector3<f64>, f64)> {
     let v = Vector3::new(d[0], d[1], d[2]);
     let n = v.norm();
     if n == 0.0 {
-        return Err(Error::Singular(format!("zero tangent at u = {u}")));
+        return Err(Error::singular(format!("zero tangent at u = {u}")));
     }
     Ok((v / n, 1.0 / n))
 }
@@ -87,7 +87,7 @@ fn tangent(rod: &Rod, u: f64) -> Result<(Vector3<f64>, f64)> {
 fn orientation_frame(ta: &Vector3<f64>, tb: &Vector3<f64>) -> Result<(Vector3<f64>, Vector3<f64>)> {
     let m = ta + tb;
     if m.norm() < 1e-6 {
-        return Err(Error::Singular("relative orientation: the tangents are opposite".into()));
+        return Err(Error::singular("relative orientation: the tangents are opposite"));
     }
     Ok(perpendicular_pair(&m.normalize()))
 }
@@ -116,7 +116,7 @@ pub fn linearize(k: &ConstraintKind, rods: &[&Rod], rows: &mut [Row]) -> Result<
             let v = rods[0].position(*ua)? - rods[1].position(*ub)?;
             let len = v.norm();
             if len < 1e-12 * rods[0].rest_length() {
-                return Err(Error::Singular("relative distance: the two points coincide, direction undefined".into()));
+                return Err(Error::singular("relative distance: the two points coincide, direction undefined"));
             }
             point_rows(rods, *ua, *ub, &[v / len], &[distance - len], rows)
         }
@@ -167,7 +167,7 @@ pub fn linearize(k: &ConstraintKind, rods: &[&Rod], rows: &mut [Row]) -> Result<
             }
             Ok(())
         }
-        _ => Err(Error::InvalidInput("not a relative constraint".into())),
+        _ => Err(Error::input("not a relative constraint")),
     }
 }
 
@@ -190,6 +190,6 @@ pub fn reaction(k: &ConstraintKind, rods: &[&Rod], lambda: &[f64]) -> Result<Rea
             }
             Ok(Reaction { force: [0.0; 3], torque: m.into() })
         }
-        _ => Err(Error::InvalidInput("not a relative constraint".into())),
+        _ => Err(Error::input("not a relative constraint")),
     }
 }

@@ -14,7 +14,7 @@ pub fn linearize(rod: &Rod, u: f64, direction: &[f64; 3], rows: &mut [Row]) -> R
     let r1 = Vector3::new(d1[0], d1[1], d1[2]);
     let speed = r1.norm();
     if speed == 0.0 {
-        return Err(Error::Singular(format!("tangent constraint at u = {u}: zero tangent")));
+        return Err(Error::singular(format!("tangent constraint at u = {u}: zero tangent")));
     }
     let t = r1 / speed;
     for (row, e) in rows.iter_mut().zip([e1, e2]) {

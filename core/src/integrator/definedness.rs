@@ -149,7 +149,7 @@ impl World {
                         .max_by(|&a, &b| eig.eigenvectors[(a, j)].abs().total_cmp(&eig.eigenvectors[(b, j)].abs()))
                         .map_or((0, "rigid motion"), |a| (modes[a].0, NAMES[modes[a].1])),
                 };
-                return Err(Error::Singular(format!(
+                return Err(Error::singular(format!(
                     "rod {} is not statically defined: its {name} is held by no constraint (add constraints, or use step() for dynamics)",
                     rods[r].0 .0
                 )));
@@ -211,7 +211,7 @@ impl World {
         }
         match held.iter().position(|x| !x) {
             None => Ok(()),
-            Some(i) => Err(Error::Singular(format!(
+            Some(i) => Err(Error::singular(format!(
                 "rod {} is held neither at two points nor at one point with an orientation (IV.B): it stays dynamic",
                 rods[i].index
             ))),

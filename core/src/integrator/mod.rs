@@ -67,7 +67,7 @@ impl IntegrationParameters {
         }
         crate::error::positive("relax_tolerance", self.relax_tolerance)?;
         if self.relax_max_iterations == 0 {
-            return Err(Error::InvalidInput("relax_max_iterations must be > 0".into()));
+            return Err(Error::input("relax_max_iterations must be > 0"));
         }
         Ok(())
     }
@@ -180,7 +180,7 @@ impl World {
         rods.extend(self.rods.iter().map(|(_, r)| r));
         let pos = |h: crate::handles::RodHandle| -> Result<usize> {
             let i: Index = h.into();
-            ws.rod_ids.iter().position(|x| *x == i).ok_or_else(|| Error::InvalidHandle(format!("rod {h:?} was removed")))
+            ws.rod_ids.iter().position(|x| *x == i).ok_or_else(|| Error::handle(format!("rod {h:?} was removed")))
         };
         ws.slots.clear();
         let mut crefs: Vec<ConstraintRef<'_>> = recycle(std::mem::take(&mut ws.con_refs));
@@ -435,27 +435,29 @@ impl Clone for Workspace {
     }
 }
 
-fn describe_unknown(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], g: usize) -> String {
+fn describe_unknown(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], g: usize) -> crate::error::Unknown {
+    use crate::error::Unknown;
     for (r, cps) in layout.cp_index.iter().enumerate() {
         for (i, &start) in cps.iter().enumerate() {
             if g >= start && g < start + layout.dofs[r] {
-                let axis = ["x", "y", "z", "roll"][g - start];
-                return format!("coordinate {axis} of control point {i} of rod {}", rod_ids[r].0);
+                return Unknown::Coordinate { rod: rod_ids[r].into(), ctrl: i, axis: g - start };
             }
         }
     }
     for (c, &start) in layout.extra_index.iter().enumerate() {
         if g >= start && g < layout.row_index[c] {
-            return format!("the sliding abscissa of constraint {} (its rows cannot fix it: tangent ⟂ all rows?)", con_ids[c].0);
+            return match con_ids.get(c) {
+                Some(&h) => Unknown::Abscissa { constraint: h.into() },
+                None => Unknown::BeadAbscissa { bead: c - con_ids.len() },
+            };
         }
     }
     for (c, &start) in layout.row_index.iter().enumerate() {
         if g >= start && g < start + layout.row_count[c] {
-            return format!(
-                "a multiplier of constraint {} (duplicate or linearly dependent constraints?)",
-                con_ids[c].0
-            );
+            if let Some(&h) = con_ids.get(c) {
+                return Unknown::Multiplier { constraint: h.into(), row: g - start };
+            }
         }
     }
-    format!("unknown {g}")
+    Unknown::Index { index: g }
 }

@@ -88,13 +88,13 @@ impl QuasiDynamicParameters {
         crate::error::positive("to_static", self.to_static)?;
         crate::error::positive("to_dynamic", self.to_dynamic)?;
         if self.to_dynamic > self.to_static {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "to_dynamic ({}) must not exceed to_static ({}) (hysteresis)",
                 self.to_dynamic, self.to_static
             )));
         }
         if !(self.newton_fraction > 0.0 && self.newton_fraction <= 1.0) {
-            return Err(Error::InvalidInput(format!("newton_fraction must be in (0, 1], got {}", self.newton_fraction)));
+            return Err(Error::input(format!("newton_fraction must be in (0, 1], got {}", self.newton_fraction)));
         }
         Ok(())
     }
@@ -150,7 +150,7 @@ impl QuasiDynamic {
         params.validate()?;
         let initial_length = world.rods().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
         if !(initial_length > 0.0) {
-            return Err(Error::InvalidInput("quasi-dynamic simulation needs at least one rod".into()));
+            return Err(Error::input("quasi-dynamic simulation needs at least one rod"));
         }
         Ok(QuasiDynamic {
             params,
@@ -200,7 +200,7 @@ impl QuasiDynamic {
                     outcome = Some((Mode::QuasiStatic, motion, events));
                 }
                 // Not statically defined / singular: stay dynamic (algorithm 11).
-                Err(Error::Singular(m)) => refusal = Some(m),
+                Err(e @ Error::Singular { .. }) => refusal = Some(e.to_string()),
                 Err(e) => return Err(e),
             }
         }

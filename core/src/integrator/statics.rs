@@ -91,10 +91,11 @@ impl World {
                 report.rejected += 1;
                 lambda = (lambda * 4.0).max(1e-6);
                 if lambda > 1e8 {
-                    return Err(Error::NoConvergence(format!(
-                        "relax: no descent step found after {} iterations (potential {potential:.6e})",
-                        report.iterations
-                    )));
+                    return Err(Error::not_converged(
+                        report.iterations,
+                        report.violation.max(report.increment),
+                        format!("relax: no descent step found (potential {potential:.6e})"),
+                    ));
                 }
                 continue;
             }
@@ -129,9 +130,10 @@ impl World {
             }
             lambda /= 4.0;
         }
-        Err(Error::NoConvergence(format!(
-            "relax: not converged after {} iterations (last increment {:.3e}, violation {:.3e})",
-            report.iterations, report.increment, report.violation
-        )))
+        Err(Error::not_converged(
+            report.iterations,
+            report.violation.max(report.increment),
+            format!("relax: last increment {:.3e}, violation {:.3e}", report.increment, report.violation),
+        ))
     }
 }

@@ -51,7 +51,7 @@ impl TubeMesh {
     /// The mesh as a binary glTF 2.0 file.
     pub fn to_glb(&self) -> Result<Vec<u8>> {
         if self.triangles.iter().flatten().any(|&i| i as usize >= self.vertices.len()) {
-            return Err(Error::InvalidInput("glTF export: a triangle refers to a missing vertex".into()));
+            return Err(Error::input("glTF export: a triangle refers to a missing vertex"));
         }
         let nv = self.vertices.len();
         let mut bin: Vec<u8> = Vec::with_capacity(24 * nv + 12 * self.triangles.len());
@@ -102,12 +102,12 @@ impl TubeMesh {
                 {"buffer": 0, "byteOffset": idx_start, "byteLength": idx_len, "target": ELEMENT_ARRAY_BUFFER}],
             "buffers": [{"byteLength": bin.len()}],
         });
-        let mut text = serde_json::to_vec(&doc).map_err(|e| Error::Io(format!("glTF JSON: {e}")))?;
+        let mut text = serde_json::to_vec(&doc).map_err(|e| Error::io("", format!("glTF JSON: {e}")))?;
         // Chunks are 4-byte aligned: JSON padded with spaces, BIN with zeros.
         text.resize(text.len().next_multiple_of(4), b' ');
         bin.resize(bin.len().next_multiple_of(4), 0);
         let total = 12 + 8 + text.len() + 8 + bin.len();
-        let total32 = u32::try_from(total).map_err(|_| Error::InvalidInput(format!("glTF export: {total} bytes exceed 4 GiB")))?;
+        let total32 = u32::try_from(total).map_err(|_| Error::input(format!("glTF export: {total} bytes exceed 4 GiB")))?;
         let mut out = Vec::with_capacity(total);
         for w in [MAGIC, 2, total32, text.len() as u32, CHUNK_JSON] {
             out.extend_from_slice(&w.to_le_bytes());

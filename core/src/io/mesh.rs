@@ -36,10 +36,10 @@ impl Default for TubeOptions {
 impl TubeOptions {
     pub fn validate(&self) -> Result<()> {
         if self.rings_per_segment < 1 {
-            return Err(Error::InvalidInput("rings_per_segment must be >= 1".into()));
+            return Err(Error::input("rings_per_segment must be >= 1"));
         }
         if self.points_per_ring < 3 {
-            return Err(Error::InvalidInput(format!("points_per_ring must be >= 3, got {}", self.points_per_ring)));
+            return Err(Error::input(format!("points_per_ring must be >= 3, got {}", self.points_per_ring)));
         }
         crate::error::positive("radius_scale", self.radius_scale)?;
         Ok(())
@@ -280,7 +280,7 @@ mod tests {
             TubeOptions { rings_per_segment: 0, ..Default::default() },
             TubeOptions { radius_scale: f64::NAN, ..Default::default() },
         ] {
-            assert!(matches!(tube(&r, &o), Err(Error::InvalidInput(_))));
+            assert!(matches!(tube(&r, &o), Err(Error::InvalidInput { .. })));
         }
     }
 }

@@ -5,8 +5,8 @@ use std::io::Write;
 use std::path::Path;
 
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let io = |e: std::io::Error| Error::Io(format!("{}: {e}", path.display()));
-    let name = path.file_name().ok_or_else(|| Error::Io(format!("{}: not a file path", path.display())))?;
+    let io = |e: std::io::Error| Error::io(path.display().to_string(), format!("{e}"));
+    let name = path.file_name().ok_or_else(|| Error::io(path.display().to_string(), format!("not a file path")))?;
     let tmp = path.with_file_name(format!(".{}.tmp{}", name.to_string_lossy(), std::process::id()));
     let mut f = std::fs::File::create(&tmp).map_err(io)?;
     f.write_all(bytes).map_err(io)?;

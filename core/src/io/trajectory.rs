@@ -82,7 +82,7 @@ pub fn bead_positions(world: &World) -> Vec<[f64; 3]> {
 
 fn check_frame(topo: &Topology, frame: &[[f64; 3]], scale: f64) -> Result<()> {
     if frame.len() != topo.n_beads() {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "frame has {} beads but the topology has {} (did rods change since the topology was written?)",
             frame.len(),
             topo.n_beads()
@@ -92,7 +92,7 @@ fn check_frame(topo: &Topology, frame: &[[f64; 3]], scale: f64) -> Result<()> {
     for (i, p) in frame.iter().enumerate() {
         for x in p {
             if !x.is_finite() {
-                return Err(Error::InvalidInput(format!("bead {i} has a non-finite coordinate ({x})")));
+                return Err(Error::input(format!("bead {i} has a non-finite coordinate ({x})")));
             }
         }
     }
@@ -113,10 +113,10 @@ fn chain_id(i: usize) -> char {
 pub fn pdb_string(topo: &Topology, frames: &[Vec<[f64; 3]>], scale: f64) -> Result<String> {
     let n = topo.n_beads();
     if n > 99_999 {
-        return Err(Error::InvalidInput(format!("PDB holds at most 99,999 beads, got {n}: write PSF + DCD instead")));
+        return Err(Error::input(format!("PDB holds at most 99,999 beads, got {n}: write PSF + DCD instead")));
     }
     if frames.is_empty() {
-        return Err(Error::InvalidInput("PDB: no frame to write".into()));
+        return Err(Error::input("PDB: no frame to write"));
     }
     let chain = topo.chain_of_bead();
     let mut s = String::with_capacity(frames.len() * n * 81 + n * 32);
@@ -135,7 +135,7 @@ pub fn pdb_string(topo: &Topology, frames: &[Vec<[f64; 3]>], scale: f64) -> Resu
             }
             let xyz = [p[0] * scale, p[1] * scale, p[2] * scale];
             if let Some(x) = xyz.iter().find(|x| !(**x > -999.9995 && **x < 9999.9995)) {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::input(format!(
                     "bead {i} coordinate {x:.3} Å does not fit PDB columns (-999.999 .. 9999.999): lower the scale or write PSF + DCD"
                 )));
             }
@@ -200,10 +200,10 @@ fn segid(i: usize) -> String {
 pub fn psf_string(topo: &Topology) -> Result<String> {
     let n = topo.n_beads();
     if n > 99_999_999 {
-        return Err(Error::InvalidInput(format!("PSF holds at most 99,999,999 beads, got {n}")));
+        return Err(Error::input(format!("PSF holds at most 99,999,999 beads, got {n}")));
     }
     if topo.chains.len() > 0xFFFF {
-        return Err(Error::InvalidInput(format!("PSF segment ids allow at most 65535 rods, got {}", topo.chains.len())));
+        return Err(Error::input(format!("PSF segment ids allow at most 65535 rods, got {}", topo.chains.len())));
     }
     let mut s = String::with_capacity(n * 72 + n * 20);
     s.push_str("PSF\n\n       1 !NTITLE\n REMARKS strandkit beads (one per rod sample point)\n\n");
@@ -268,7 +268,7 @@ fn frame_bytes(n: usize) -> u64 {
 }
 
 fn io_err(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
-    move |e| Error::Io(format!("{}: {e}", path.display()))
+    move |e| Error::io(path.display().to_string(), format!("{e}"))
 }
 
 fn title_bytes(t: &str) -> [u8; 80] {
@@ -330,10 +330,10 @@ impl DcdWriter {
     /// either the old file or a valid empty trajectory.
     pub fn create(path: &Path, header: DcdHeader) -> Result<DcdWriter> {
         if header.n_atoms == 0 || header.n_atoms > (i32::MAX as usize - 4) / 4 {
-            return Err(Error::InvalidInput(format!("DCD atom count must be in 1..=536870910, got {}", header.n_atoms)));
+            return Err(Error::input(format!("DCD atom count must be in 1..=536870910, got {}", header.n_atoms)));
         }
         if header.nsavc < 1 {
-            return Err(Error::InvalidInput(format!("DCD nsavc (steps between frames) must be >= 1, got {}", header.nsavc)));
+            return Err(Error::input(format!("DCD nsavc (steps between frames) must be >= 1, got {}", header.nsavc)));
         }
         crate::error::finite("DCD delta", header.delta as f64)?;
         let header = DcdHeader { n_frames: 0, ..header };
@@ -347,7 +347,7 @@ impl DcdWriter {
     pub fn open_append(path: &Path) -> Result<DcdWriter> {
         let mut file = OpenOptions::new().read(true).write(true).open(path).map_err(io_err(path))?;
         let mut head = vec![0u8; HEADER_BYTES as usize];
-        file.read_exact(&mut head).map_err(|e| Error::Io(format!("{}: not a DCD file ({e})", path.display())))?;
+        file.read_exact(&mut head).map_err(|e| Error::io(path.display().to_string(), format!("not a DCD file ({e})")))?;
         let mut header = parse_header(path, &head)?;
         let size = file.metadata().map_err(io_err(path))?.len();
         let complete = (size - HEADER_BYTES) / frame_bytes(header.n_atoms);
@@ -370,14 +370,14 @@ impl DcdWriter {
     pub fn write_frame(&mut self, positions: &[[f64; 3]], scale: f64) -> Result<()> {
         let n = self.header.n_atoms;
         if positions.len() != n {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "DCD frame has {} atoms but the file has {n} (did rods change?)",
                 positions.len()
             )));
         }
         crate::error::positive("length scale (Å per length unit)", scale)?;
         if let Some(i) = positions.iter().position(|p| p.iter().any(|x| !(x * scale).is_finite())) {
-            return Err(Error::InvalidInput(format!("atom {i} has a non-finite coordinate {:?}", positions[i])));
+            return Err(Error::input(format!("atom {i} has a non-finite coordinate {:?}", positions[i])));
         }
         let b = &mut self.buf;
         b.clear();
@@ -427,7 +427,7 @@ impl DcdWriter {
 }
 
 fn parse_header(path: &Path, b: &[u8]) -> Result<DcdHeader> {
-    let bad = |what: &str| Error::Io(format!("{}: not a CHARMM DCD file written by strandkit ({what})", path.display()));
+    let bad = |what: &str| Error::io(path.display().to_string(), format!("not a CHARMM DCD file written by strandkit ({what})"));
     let i32at = |o: usize| i32::from_le_bytes([b[o], b[o + 1], b[o + 2], b[o + 3]]);
     if i32at(0) != 84 || &b[4..8] != b"CORD" || i32at(88) != 84 {
         return Err(bad("first record is not an 84-byte CORD header"));
@@ -458,7 +458,7 @@ fn parse_header(path: &Path, b: &[u8]) -> Result<DcdHeader> {
 pub fn read_dcd(path: &Path) -> Result<(DcdHeader, Vec<Vec<[f32; 3]>>)> {
     let bytes = std::fs::read(path).map_err(io_err(path))?;
     if (bytes.len() as u64) < HEADER_BYTES {
-        return Err(Error::Io(format!("{}: too short for a DCD header", path.display())));
+        return Err(Error::io(path.display().to_string(), format!("too short for a DCD header")));
     }
     let mut h = parse_header(path, &bytes[..HEADER_BYTES as usize])?;
     let n = h.n_atoms;
@@ -470,13 +470,13 @@ pub fn read_dcd(path: &Path) -> Result<(DcdHeader, Vec<Vec<[f32; 3]>>)> {
     for f in 0..count {
         let base = HEADER_BYTES as usize + f * fb;
         if rec(base) != 48 || rec(base + 52) != 48 {
-            return Err(Error::Io(format!("{}: frame {f}: bad unit-cell record", path.display())));
+            return Err(Error::io(path.display().to_string(), format!("frame {f}: bad unit-cell record")));
         }
         let mut xyz = vec![[0f32; 3]; n];
         for a in 0..3 {
             let o = base + 56 + a * (8 + 4 * n);
             if rec(o) != (4 * n) as i32 || rec(o + 4 + 4 * n) != (4 * n) as i32 {
-                return Err(Error::Io(format!("{}: frame {f}: bad coordinate record", path.display())));
+                return Err(Error::io(path.display().to_string(), format!("frame {f}: bad coordinate record")));
             }
             for (i, p) in xyz.iter_mut().enumerate() {
                 let k = o + 4 + 4 * i;
@@ -567,11 +567,11 @@ mod tests {
         assert_eq!(s2.matches("MODEL").count(), 2);
         // Out of the columns → a clear error.
         let e = pdb_string(&t, &[p.clone()], 1e10).unwrap_err();
-        assert!(matches!(e, Error::InvalidInput(ref m) if m.contains("PSF + DCD")), "{e}");
+        assert!(matches!(e, Error::InvalidInput { .. }) && e.to_string().contains("PSF + DCD"), "{e}");
         let mut bad = p.clone();
         bad[3][1] = f64::NAN;
-        assert!(matches!(pdb_string(&t, &[bad], 1.0), Err(Error::InvalidInput(_))));
-        assert!(matches!(pdb_string(&t, &[p[..5].to_vec()], 1.0), Err(Error::InvalidInput(_))));
+        assert!(matches!(pdb_string(&t, &[bad], 1.0), Err(Error::InvalidInput { .. })));
+        assert!(matches!(pdb_string(&t, &[p[..5].to_vec()], 1.0), Err(Error::InvalidInput { .. })));
     }
 
     #[test]
@@ -609,7 +609,7 @@ mod tests {
             let f: Vec<[f64; 3]> = p.iter().map(|x| [x[0] + k as f64, x[1], x[2]]).collect();
             wr.write_frame(&f, 10.0).unwrap();
         }
-        assert!(matches!(wr.write_frame(&p[..3], 10.0), Err(Error::InvalidInput(_))));
+        assert!(matches!(wr.write_frame(&p[..3], 10.0), Err(Error::InvalidInput { .. })));
         wr.close().unwrap();
         let bytes = std::fs::read(&path).unwrap();
         assert_eq!(&bytes[4..8], b"CORD");
@@ -639,8 +639,8 @@ mod tests {
         assert_eq!(std::fs::metadata(&path).unwrap().len(), HEADER_BYTES + 4 * frame_bytes(55));
         // Not a DCD → an error, not a panic.
         std::fs::write(d.join("x.dcd"), b"hello").unwrap();
-        assert!(matches!(DcdWriter::open_append(&d.join("x.dcd")), Err(Error::Io(_))));
-        assert!(matches!(read_dcd(&d.join("x.dcd")), Err(Error::Io(_))));
+        assert!(matches!(DcdWriter::open_append(&d.join("x.dcd")), Err(Error::Io { .. })));
+        assert!(matches!(read_dcd(&d.join("x.dcd")), Err(Error::Io { .. })));
         std::fs::remove_dir_all(&d).ok();
     }
 }

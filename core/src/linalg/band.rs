@@ -212,7 +212,7 @@ impl BandLu {
             if !v.is_finite() {
                 let (j, r) = (k / a.ldab, k % a.ldab);
                 let i = (r + j) as isize - ku as isize;
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::input(format!(
                     "band matrix entry ({i}, {j}) is {v}"
                 )));
             }
@@ -249,9 +249,10 @@ impl BandLu {
             }
             self.ipiv[j] = j + jp;
             if !best.is_finite() || best <= tol {
-                return Err(Error::Singular(format!(
-                    "zero pivot at row {j} (|pivot| = {best:.3e} <= 1e-15 * max|a_ij| = {tol:.3e}): unknown {j} is linearly dependent on the previous ones"
-                )));
+                return Err(Error::pivot(
+                    j,
+                    format!("zero pivot at row {j} (|pivot| = {best:.3e} <= 1e-15 * max|a_ij| = {tol:.3e}): unknown {j} is linearly dependent on the previous ones"),
+                ));
             }
             ju = ju.max((j + ku + jp).min(n - 1));
             if jp != 0 {
@@ -296,8 +297,8 @@ impl BandLu {
     /// Overwrites `b` with `A⁻¹ b` (LAPACK `dgbtrs`, no transpose).
     pub fn solve_in_place(&self, b: &mut [f64]) -> Result<()> {
         if !self.factored {
-            return Err(Error::InvalidInput(
-                "BandLu::solve_in_place called without a successful factor()".into(),
+            return Err(Error::input(
+                "BandLu::solve_in_place called without a successful factor()",
             ));
         }
         let (n, kl, ldab) = (self.n, self.kl, self.ldab);
@@ -514,8 +515,8 @@ impl BandLdlt {
     /// Overwrites `b` with `A⁻¹ b`: L y = b, y /= D, Lᵀ x = y.
     pub fn solve_in_place(&self, b: &mut [f64]) -> Result<()> {
         if !self.factored {
-            return Err(Error::InvalidInput(
-                "BandLdlt::solve_in_place called without a successful factor()".into(),
+            return Err(Error::input(
+                "BandLdlt::solve_in_place called without a successful factor()",
             ));
         }
         let (n, kd, ld) = (self.n, self.kd, self.ld);
@@ -593,13 +594,12 @@ pub fn solve_refined<F: BandFactor>(
 ) -> Result<f64> {
     let n = a.n;
     if !lu.fits(a) {
-        return Err(Error::InvalidInput(
-            "solve_refined: the factorisation does not belong to this matrix (factor it first)"
-                .into(),
+        return Err(Error::input(
+            "solve_refined: the factorisation does not belong to this matrix (factor it first)",
         ));
     }
     if b.len() != n || x.len() != n {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "solve_refined: b has length {}, x has {}, the matrix has {n} rows",
             b.len(),
             x.len()
@@ -836,13 +836,13 @@ mod tests {
         a.set(2, 1, 1.0);
         let mut lu = BandLu::new();
         match lu.factor(&a) {
-            Err(Error::Singular(msg)) => assert!(msg.contains("zero pivot at row 2"), "{msg}"),
+            Err(e @ Error::Singular { .. }) => { let msg = e.to_string(); assert!(msg.contains("zero pivot at row 2"), "{msg}") }
             other => panic!("expected Singular, got {other:?}"),
         }
         assert!(lu.solve_in_place(&mut [0.0; 4]).is_err());
         // The zero matrix is singular at the first row.
         match lu.factor(&BandMatrix::new(3, 1, 1)) {
-            Err(Error::Singular(msg)) => assert!(msg.contains("row 0"), "{msg}"),
+            Err(e @ Error::Singular { .. }) => { let msg = e.to_string(); assert!(msg.contains("row 0"), "{msg}") }
             other => panic!("expected Singular, got {other:?}"),
         }
     }
@@ -852,7 +852,7 @@ mod tests {
         let mut a = BandMatrix::new(2, 1, 1);
         a.set(0, 0, 1e6);
         a.set(1, 1, 1e-10); // 1e-16 of the largest entry: below PIVOT_TOL
-        assert!(matches!(BandLu::new().factor(&a), Err(Error::Singular(_))));
+        assert!(matches!(BandLu::new().factor(&a), Err(Error::Singular { .. })));
         a.set(1, 1, 1e-8); // 1e-14: ill-conditioned but accepted
         assert!(BandLu::new().factor(&a).is_ok());
     }
@@ -865,24 +865,24 @@ mod tests {
         }
         a.set(2, 1, f64::NAN);
         match BandLu::new().factor(&a) {
-            Err(Error::InvalidInput(msg)) => assert!(msg.contains("(2, 1)"), "{msg}"),
+            Err(e @ Error::InvalidInput { .. }) => { let msg = e.to_string(); assert!(msg.contains("(2, 1)"), "{msg}") }
             other => panic!("expected InvalidInput, got {other:?}"),
         }
         a.set(2, 1, f64::INFINITY);
         assert!(matches!(
             BandLu::new().factor(&a),
-            Err(Error::InvalidInput(_))
+            Err(Error::InvalidInput { .. })
         ));
         a.set(2, 1, 0.0);
         let mut lu = BandLu::new();
         lu.factor(&a).unwrap();
         assert!(matches!(
             lu.solve_in_place(&mut [1.0, f64::NAN, 0.0]),
-            Err(Error::InvalidInput(_))
+            Err(Error::InvalidInput { .. })
         ));
         assert!(matches!(
             lu.solve_in_place(&mut [1.0, 0.0]),
-            Err(Error::InvalidInput(_))
+            Err(Error::InvalidInput { .. })
         ));
     }
 

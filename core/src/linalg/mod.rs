@@ -9,10 +9,10 @@ pub use band::{solve_refined, BandFactor, BandLdlt, BandLu, BandMatrix, LdltDecl
 pub(crate) fn check_rhs(b: &[f64], n: usize) -> crate::error::Result<()> {
     use crate::error::Error;
     if b.len() != n {
-        return Err(Error::InvalidInput(format!("right-hand side has length {}, the matrix has {n} rows", b.len())));
+        return Err(Error::input(format!("right-hand side has length {}, the matrix has {n} rows", b.len())));
     }
     if let Some(i) = b.iter().position(|v| !v.is_finite()) {
-        return Err(Error::InvalidInput(format!("right-hand side entry {i} is {}", b[i])));
+        return Err(Error::input(format!("right-hand side entry {i} is {}", b[i])));
     }
     Ok(())
 }

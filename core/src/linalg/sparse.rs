@@ -164,9 +164,7 @@ impl SparseLu {
         }
         let amax = self.val.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         if amax == 0.0 {
-            return Err(Error::Singular(
-                "zero pivot at row 0: the matrix is zero".into(),
-            ));
+            return Err(Error::pivot(0, "zero pivot at row 0: the matrix is zero"));
         }
         self.anorm = self.norm_inf();
         let try_ldlt =
@@ -184,10 +182,8 @@ impl SparseLu {
         self.active = Some(SparseFactor::Lu);
         if !self.probe(REFINE_LU, false) {
             self.active = None;
-            // No digits in this message: callers (KktSystem::solve) read the
-            // first number of a Singular message as the offending unknown.
-            return Err(Error::Singular(
-                "sparse LU: the matrix is numerically singular (condition estimate beyond the reciprocal of the machine epsilon): some unknowns are linearly dependent".into(),
+            return Err(Error::singular(
+                "sparse LU: the matrix is numerically singular (condition estimate beyond the reciprocal of the machine epsilon): some unknowns are linearly dependent",
             ));
         }
         Ok(())
@@ -202,8 +198,8 @@ impl SparseLu {
     /// `||A x - b||_inf / (||A||_inf ||x||_inf + ||b||_inf)`.
     pub fn solve_refined_in_place(&self, b: &mut [f64]) -> Result<f64> {
         let Some(kind) = self.active else {
-            return Err(Error::InvalidInput(
-                "SparseLu::solve_in_place called without a successful factor()".into(),
+            return Err(Error::input(
+                "SparseLu::solve_in_place called without a successful factor()",
             ));
         };
         let n = self.n;
@@ -405,7 +401,7 @@ impl SparseLu {
                 SymmetricOrdering::Amd,
                 CholeskySymbolicParams::default(),
             )
-            .map_err(|e| Error::Singular(format!("sparse LDLᵀ symbolic analysis failed: {e:?}")))?;
+            .map_err(|e| Error::singular(format!("sparse LDLᵀ symbolic analysis failed: {e:?}")))?;
             self.symbolic_count += 1;
             self.ldlt_val.resize(sym.len_val(), 0.0);
             self.sym_ldlt = Some(sym);
@@ -433,7 +429,7 @@ impl SparseLu {
             stack,
             Default::default(),
         )
-        .map_err(|e| Error::Singular(format!("sparse LDLᵀ: {e:?}")))?;
+        .map_err(|e| Error::singular(format!("sparse LDLᵀ: {e:?}")))?;
         // Solving needs `active`; the probe sets it provisionally.
         self.active = Some(SparseFactor::Ldlt);
         Ok(())
@@ -442,7 +438,7 @@ impl SparseLu {
     fn factor_lu(&mut self) -> Result<()> {
         if self.sym_lu.is_none() {
             let sym = factorize_symbolic_lu(self.symbolic_ref(), LuSymbolicParams::default())
-                .map_err(|e| Error::Singular(format!("sparse LU symbolic analysis failed: {e:?}")))?;
+                .map_err(|e| Error::singular(format!("sparse LU symbolic analysis failed: {e:?}")))?;
             self.symbolic_count += 1;
             self.sym_lu = Some(sym);
         }
@@ -463,11 +459,12 @@ impl SparseLu {
             Err(LuError::SymbolicSingular { index }) => {
                 // `index` counts elimination steps in the COLAMD column order.
                 let col = sym.col_perm().arrays().0.get(index).copied().unwrap_or(index);
-                Err(Error::Singular(format!(
-                    "zero pivot at row {col}: the sparse LU found no nonzero pivot for unknown {col} (structurally singular)"
-                )))
+                Err(Error::pivot(
+                    col,
+                    format!("zero pivot at row {col}: the sparse LU found no nonzero pivot for unknown {col} (structurally singular)"),
+                ))
             }
-            Err(e) => Err(Error::Singular(format!("sparse LU failed: {e:?}"))),
+            Err(e) => Err(Error::singular(format!("sparse LU failed: {e:?}"))),
         }
     }
 
@@ -597,7 +594,7 @@ impl SparseLu {
 }
 
 fn non_finite(i: usize, j: usize, v: f64) -> Error {
-    Error::InvalidInput(format!("band matrix entry ({i}, {j}) is {v}"))
+    Error::input(format!("band matrix entry ({i}, {j}) is {v}"))
 }
 
 /// `max |v_i|`, NaN when some entry is NaN (`f64::max` would skip it).
@@ -769,11 +766,11 @@ mod tests {
             bld.sym(r1, j, v);
         }
         let a = bld.band();
-        assert!(matches!(BandLu::new().factor(&a), Err(Error::Singular(_))));
+        assert!(matches!(BandLu::new().factor(&a), Err(Error::Singular { .. })));
         for m in [SparseMethod::Auto, SparseMethod::Lu] {
             let mut sp = SparseLu::with_method(m);
             match sp.factor(&a) {
-                Err(Error::Singular(_)) => {}
+                Err(Error::Singular { .. }) => {}
                 other => panic!("{m:?}: expected Singular, got {other:?}"),
             }
             assert!(sp.solve_in_place(&mut vec![0.0; a.n()]).is_err());
@@ -788,11 +785,11 @@ mod tests {
         for m in [SparseMethod::Auto, SparseMethod::Lu] {
             // The diagonal is always in the pattern, so this is a numerical zero pivot.
             match SparseLu::with_method(m).factor(&z) {
-                Err(Error::Singular(msg)) => assert!(!msg.contains(char::is_numeric), "{msg}"),
+                Err(e @ Error::Singular { .. }) => { let msg = e.to_string(); assert!(!msg.contains(char::is_numeric), "{msg}") }
                 other => panic!("expected Singular, got {other:?}"),
             }
             let zero = BandMatrix::new(3, 1, 1);
-            assert!(matches!(SparseLu::with_method(m).factor(&zero), Err(Error::Singular(_))));
+            assert!(matches!(SparseLu::with_method(m).factor(&zero), Err(Error::Singular { .. })));
         }
     }
 
@@ -856,16 +853,16 @@ mod tests {
             a.set(i, i, 2.0);
         }
         let mut sp = SparseLu::new();
-        assert!(matches!(sp.solve_in_place(&mut [1.0; 3]), Err(Error::InvalidInput(_))));
+        assert!(matches!(sp.solve_in_place(&mut [1.0; 3]), Err(Error::InvalidInput { .. })));
         sp.factor(&a).unwrap();
         let mut x = [1.0; 3];
         sp.solve_in_place(&mut x).unwrap();
         assert_eq!(x, [0.5; 3]);
-        assert!(matches!(sp.solve_in_place(&mut [1.0; 2]), Err(Error::InvalidInput(_))));
-        assert!(matches!(sp.solve_in_place(&mut [1.0, f64::NAN, 0.0]), Err(Error::InvalidInput(_))));
+        assert!(matches!(sp.solve_in_place(&mut [1.0; 2]), Err(Error::InvalidInput { .. })));
+        assert!(matches!(sp.solve_in_place(&mut [1.0, f64::NAN, 0.0]), Err(Error::InvalidInput { .. })));
         a.set(2, 1, f64::NAN);
         match sp.factor(&a) {
-            Err(Error::InvalidInput(msg)) => assert!(msg.contains("(2, 1)"), "{msg}"),
+            Err(e @ Error::InvalidInput { .. }) => { let msg = e.to_string(); assert!(msg.contains("(2, 1)"), "{msg}") }
             other => panic!("expected InvalidInput, got {other:?}"),
         }
         assert!(sp.solve_in_place(&mut [1.0; 3]).is_err());
@@ -899,7 +896,7 @@ mod tests {
             let a = bld.band();
             for m in [SparseMethod::Auto, SparseMethod::Lu] {
                 let r = SparseLu::with_method(m).factor(&a);
-                assert!(matches!(r, Err(Error::Singular(_))), "seed {seed} {m:?}: {r:?}");
+                assert!(matches!(r, Err(Error::Singular { .. })), "seed {seed} {m:?}: {r:?}");
             }
         }
     }

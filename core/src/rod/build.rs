@@ -98,9 +98,9 @@ impl RodBuilder {
     pub fn build(self) -> Result<Rod> {
         let material = self
             .material
-            .ok_or_else(|| Error::InvalidInput("a rod needs a material (RodBuilder::material)".into()))?;
+            .ok_or_else(|| Error::input("a rod needs a material (RodBuilder::material)"))?;
         if self.sections.is_empty() {
-            return Err(Error::InvalidInput("a rod needs a section (RodBuilder::section)".into()));
+            return Err(Error::input("a rod needs a section (RodBuilder::section)"));
         }
         let n = match &self.shape {
             RodShape::ThroughPoints(p) | RodShape::ControlPoints(p) => p.len(),
@@ -111,7 +111,7 @@ impl RodBuilder {
             KnotKind::Clamped => KnotVector::clamped(n)?,
             KnotKind::Periodic => KnotVector::periodic(n)?,
             KnotKind::General => {
-                return Err(Error::InvalidInput("use Rod::new for a general knot vector".into()));
+                return Err(Error::input("use Rod::new for a general knot vector"));
             }
         };
         let (ua, ub) = knots.domain();
@@ -129,7 +129,7 @@ impl RodBuilder {
                     }
                 }
                 if (end - start).norm() == 0.0 {
-                    return Err(Error::InvalidInput("straight rod: start and end coincide".into()));
+                    return Err(Error::input("straight rod: start and end coincide"));
                 }
                 spline::fit(&knots, |u| {
                     let p = start + (end - start) * ((u - ua) / (ub - ua));
@@ -158,7 +158,7 @@ impl RodBuilder {
         let dofs = if self.with_roll { 4 } else { 3 };
         if let Some(r) = &self.roll {
             if !self.with_roll {
-                return Err(Error::InvalidInput("roll angles given for a rod without roll".into()));
+                return Err(Error::input("roll angles given for a rod without roll"));
             }
             super::check_vec("roll angles", r, n)?;
         }

@@ -96,18 +96,18 @@ impl Rod {
         opts: RodOptions,
     ) -> Result<Rod> {
         if dofs != 3 && dofs != 4 {
-            return Err(Error::InvalidInput(format!("a rod has 3 or 4 coordinates per control point, got {dofs}")));
+            return Err(Error::input(format!("a rod has 3 or 4 coordinates per control point, got {dofs}")));
         }
         let n = knots.n_ctrl();
         if ctrl.len() != n * dofs {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "expected {} control-point values ({n} points × {dofs}), got {}",
                 n * dofs,
                 ctrl.len()
             )));
         }
         if let Some(i) = ctrl.iter().position(|x| !x.is_finite()) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "control point {} has a non-finite coordinate ({})",
                 i / dofs,
                 ctrl[i]
@@ -117,7 +117,7 @@ impl Rod {
             1 => vec![sections[0]; n],
             m if m == n => sections,
             m => {
-                return Err(Error::InvalidInput(format!("give 1 section or one per control point ({n}), got {m}")))
+                return Err(Error::input(format!("give 1 section or one per control point ({n}), got {m}")))
             }
         };
         for s in &sections {
@@ -125,7 +125,7 @@ impl Rod {
         }
         material.validate()?;
         if !(opts.curvature_threshold.is_finite() && opts.curvature_threshold >= 0.0) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "curvature_threshold must be finite and >= 0, got {}",
                 opts.curvature_threshold
             )));
@@ -247,7 +247,7 @@ impl Rod {
     /// (x, y, z[, θ]).
     pub fn eval(&self, u: f64, deriv: usize) -> Result<[f64; 4]> {
         if deriv > 3 {
-            return Err(Error::InvalidInput(format!("derivative order must be 0..=3, got {deriv}")));
+            return Err(Error::input(format!("derivative order must be 0..=3, got {deriv}")));
         }
         let (ctrl, b) = self.basis_at(u)?;
         let mut out = [0.0; 4];
@@ -281,7 +281,7 @@ impl Rod {
         let t = Vector3::new(p[0], p[1], p[2]);
         let n = t.norm();
         if n == 0.0 {
-            return Err(Error::Singular(format!("zero tangent at u = {u}")));
+            return Err(Error::singular(format!("zero tangent at u = {u}")));
         }
         Ok(t / n)
     }
@@ -363,10 +363,10 @@ impl Rod {
 
 pub(crate) fn check_vec(what: &str, x: &[f64], n: usize) -> Result<()> {
     if x.len() != n {
-        return Err(Error::InvalidInput(format!("{what}: expected {n} values, got {}", x.len())));
+        return Err(Error::input(format!("{what}: expected {n} values, got {}", x.len())));
     }
     if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-        return Err(Error::InvalidInput(format!("{what}: value {i} is not finite ({})", x[i])));
+        return Err(Error::input(format!("{what}: value {i} is not finite ({})", x[i])));
     }
     Ok(())
 }

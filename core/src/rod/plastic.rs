@@ -83,10 +83,10 @@ impl Rod {
     pub fn set_plastic_offsets(&mut self, offsets: &[Strains]) -> Result<()> {
         let n = self.cache.samples.len();
         if offsets.len() != n {
-            return Err(Error::InvalidInput(format!("plastic offsets: expected one per sample ({n}), got {}", offsets.len())));
+            return Err(Error::input(format!("plastic offsets: expected one per sample ({n}), got {}", offsets.len())));
         }
         if let Some(i) = offsets.iter().position(|s| as_array(s).iter().any(|x| !x.is_finite())) {
-            return Err(Error::InvalidInput(format!("plastic offset of sample {i} is not finite")));
+            return Err(Error::input(format!("plastic offset of sample {i} is not finite")));
         }
         self.plastic = offsets.to_vec();
         self.cache.refresh_plastic(&self.plastic);

@@ -41,7 +41,7 @@ impl Rod {
             let eps = if den[i] > 0.0 { num[i] / den[i] } else { 0.0 };
             let f = 1.0 - nu * eps;
             if !(f > 0.0) {
-                return Err(Error::InvalidInput(format!(
+                return Err(Error::input(format!(
                     "Poisson update: stretch strain {eps:.3e} at control point {i} would give a non-positive section size (ν = {nu})"
                 )));
             }

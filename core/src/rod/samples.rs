@@ -99,7 +99,7 @@ impl Cache {
                 let s0 = local_state(&rod.q_rest, rod.dofs, &ctrl, &basis);
                 let speed0 = s0.r1.norm();
                 if !(speed0 > 0.0) || !speed0.is_finite() {
-                    return Err(Error::InvalidInput(format!(
+                    return Err(Error::input(format!(
                         "rest shape has zero or undefined tangent at u = {u} (coincident control points?)"
                     )));
                 }

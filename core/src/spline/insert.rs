@@ -56,12 +56,12 @@ pub fn open_ring_at<const D: usize>(
 ) -> Result<Piece<D>> {
     check_ctrl(knots, ctrl)?;
     if knots.kind() != KnotKind::Periodic {
-        return Err(Error::InvalidInput(
-            "open_ring_at needs a periodic knot vector; use split_at for an open rod".into(),
+        return Err(Error::input(
+            "open_ring_at needs a periodic knot vector; use split_at for an open rod",
         ));
     }
     if !u.is_finite() {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "abscissa u = {u} must be finite"
         )));
     }
@@ -103,7 +103,7 @@ fn unwrap_for<const D: usize>(
     u: f64,
 ) -> Result<(KnotVector, Vec<[f64; D]>, f64)> {
     if !u.is_finite() {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "abscissa u = {u} must be finite"
         )));
     }
@@ -144,7 +144,7 @@ fn interior_abscissa(knots: &KnotVector, u: f64, what: &str) -> Result<f64> {
     let u = snap(knots, u);
     let (a, b) = knots.domain();
     if u <= a + knots.tol() || u >= b - knots.tol() {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "{what} at u = {u}: it must be strictly inside the domain ({a}, {b})"
         )));
     }
@@ -154,7 +154,7 @@ fn interior_abscissa(knots: &KnotVector, u: f64, what: &str) -> Result<f64> {
 fn insert_open<const D: usize>(knots: &KnotVector, ctrl: &[[f64; D]], u: f64) -> Result<Piece<D>> {
     let u = interior_abscissa(knots, u, "cannot insert a knot")?;
     if knots.multiplicity(u) >= 4 {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "cannot insert a knot at u = {u}: it already has multiplicity 4"
         )));
     }
@@ -200,7 +200,7 @@ fn split_open<const D: usize>(
     let r = t.partition_point(|&x| x < u);
     for m in [r, total - r] {
         if m < 4 {
-            return Err(Error::InvalidInput(format!("splitting at u = {u} would leave a piece with {m} control points (a cubic needs 4)")));
+            return Err(Error::input(format!("splitting at u = {u} would leave a piece with {m} control points (a cubic needs 4)")));
         }
     }
     let mut lt = t[..r].to_vec();
@@ -305,7 +305,7 @@ mod tests {
         same_curve(&k, &c, &kk, &cc, 3.0, 6.0, 2, 2);
         assert!(matches!(
             insert_knot(&kk, &cc, 4.25),
-            Err(Error::InvalidInput(_))
+            Err(Error::InvalidInput { .. })
         ));
         // The curve passes through the control point at a multiplicity-3 knot.
         let (k3, c3) = insert_knot(&k, &c, 5.0)
@@ -323,7 +323,7 @@ mod tests {
         let c = ctrl_for(6);
         for u in [f64::NAN, -0.5, 3.5, 0.0, 3.0] {
             assert!(
-                matches!(insert_knot(&k, &c, u), Err(Error::InvalidInput(_))),
+                matches!(insert_knot(&k, &c, u), Err(Error::InvalidInput { .. })),
                 "u = {u}"
             );
         }
@@ -388,7 +388,7 @@ mod tests {
         let c = ctrl_for(6);
         for u in [3.0, 6.0, 2.0, 7.0, f64::NAN, 3.0 + 1e-14] {
             assert!(
-                matches!(split_at(&k, &c, u), Err(Error::InvalidInput(_))),
+                matches!(split_at(&k, &c, u), Err(Error::InvalidInput { .. })),
                 "u = {u}"
             );
         }

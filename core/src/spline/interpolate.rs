@@ -59,26 +59,21 @@ pub fn interpolate<const D: usize>(
 ) -> Result<Vec<[f64; D]>> {
     let n = knots.n_ctrl();
     if params.len() != n || values.len() != n {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "interpolation with {n} control points needs {n} parameters and {n} values, got {} and {}",
             params.len(),
             values.len()
         )));
     }
     if let Some(k) = values.iter().position(|v| v.iter().any(|x| !x.is_finite())) {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "interpolation value {k} = {:?} is not finite",
             values[k]
         )));
     }
     let mut rows = Vec::with_capacity(n);
     for (k, &p) in params.iter().enumerate() {
-        let seg = knots.locate(p).map_err(|e| match e {
-            Error::InvalidInput(m) => {
-                Error::InvalidInput(format!("collocation parameter {k}: {m}"))
-            }
-            other => other,
-        })?;
+        let seg = knots.locate(p).map_err(|e| e.context(format_args!("collocation parameter {k}")))?;
         rows.push((knots.segment_ctrl(seg), knots.basis(seg, p)[0]));
     }
 
@@ -116,8 +111,8 @@ pub fn interpolate<const D: usize>(
     }
     let mut lu = BandLu::new();
     lu.factor(&m).map_err(|e| match e {
-        Error::Singular(msg) => Error::Singular(format!(
-            "collocation matrix is singular ({msg}): the parameters must satisfy the Schoenberg-Whitney condition \
+        Error::Singular { detail, .. } => Error::singular(format!(
+            "collocation matrix is singular ({detail}): the parameters must satisfy the Schoenberg-Whitney condition \
              t_i < p_i < t_(i+4) (distinct, sorted, spread over the domain)"
         )),
         other => other,
@@ -290,27 +285,27 @@ mod tests {
         let v = data(6);
         assert!(matches!(
             interpolate(&k, &p[..5], &v),
-            Err(Error::InvalidInput(_))
+            Err(Error::InvalidInput { .. })
         ));
         assert!(matches!(
             interpolate(&k, &p, &v[..5]),
-            Err(Error::InvalidInput(_))
+            Err(Error::InvalidInput { .. })
         ));
         let mut bad = v.clone();
         bad[3][1] = f64::NAN;
         assert!(matches!(
             interpolate(&k, &p, &bad),
-            Err(Error::InvalidInput(_))
+            Err(Error::InvalidInput { .. })
         ));
         let mut q = p.clone();
         q[2] = f64::NAN;
         assert!(matches!(
             interpolate(&k, &q, &v),
-            Err(Error::InvalidInput(_))
+            Err(Error::InvalidInput { .. })
         ));
         q[2] = 7.0;
         match interpolate(&k, &q, &v) {
-            Err(Error::InvalidInput(m)) => {
+            Err(e @ Error::InvalidInput { .. }) => { let m = e.to_string();
                 assert!(m.contains("parameter 2") && m.contains("outside"), "{m}")
             }
             other => panic!("{other:?}"),
@@ -318,15 +313,15 @@ mod tests {
         // Duplicate parameters and Schoenberg-Whitney violation (all in the first span).
         let mut q = p.clone();
         q[3] = q[2];
-        assert!(matches!(interpolate(&k, &q, &v), Err(Error::Singular(_))));
+        assert!(matches!(interpolate(&k, &q, &v), Err(Error::Singular { .. })));
         let q: Vec<f64> = (0..6).map(|i| 0.1 * i as f64).collect();
         match interpolate(&k, &q, &v) {
-            Err(Error::Singular(m)) => assert!(m.contains("Schoenberg-Whitney"), "{m}"),
+            Err(e @ Error::Singular { .. }) => { let m = e.to_string(); assert!(m.contains("Schoenberg-Whitney"), "{m}") }
             other => panic!("{other:?}"),
         }
         let kp = KnotVector::periodic(6).unwrap();
         let q = vec![0.5; 6];
-        assert!(matches!(interpolate(&kp, &q, &v), Err(Error::Singular(_))));
+        assert!(matches!(interpolate(&kp, &q, &v), Err(Error::Singular { .. })));
         assert!(fit(&k, |u| [u, f64::INFINITY]).is_err());
     }
 }

@@ -66,7 +66,7 @@ impl TryFrom<KnotVectorData> for KnotVector {
             KnotKind::General => return Self::from_knots(d.knots, d.n_ctrl),
         };
         if built.knots != d.knots {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "the knots do not match a {:?} knot vector with {} control points",
                 d.kind, d.n_ctrl
             )));
@@ -77,7 +77,7 @@ impl TryFrom<KnotVectorData> for KnotVector {
 
 fn check_count(n_ctrl: usize) -> Result<()> {
     if n_ctrl < ORDER {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "a cubic B-spline needs at least 4 control points, got {n_ctrl}"
         )));
     }
@@ -130,17 +130,17 @@ impl KnotVector {
     pub fn from_knots(knots: Vec<f64>, n_ctrl: usize) -> Result<Self> {
         check_count(n_ctrl)?;
         if knots.len() != n_ctrl + 4 {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "{n_ctrl} control points need {} knots, got {}",
                 n_ctrl + 4,
                 knots.len()
             )));
         }
         if let Some(i) = knots.iter().position(|t| !t.is_finite()) {
-            return Err(Error::InvalidInput(format!("knot {i} is {}", knots[i])));
+            return Err(Error::input(format!("knot {i} is {}", knots[i])));
         }
         if let Some(i) = knots.windows(2).position(|w| w[1] < w[0]) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "knots must be non-decreasing, but t_{} = {} > t_{} = {}",
                 i,
                 knots[i],
@@ -149,21 +149,21 @@ impl KnotVector {
             )));
         }
         if let Some(i) = knots.windows(ORDER + 1).position(|w| w[0] == w[ORDER]) {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "knot {} has multiplicity > 4 (a cubic B-spline allows at most 4)",
                 knots[i]
             )));
         }
         let n = n_ctrl;
         if knots[3] >= knots[n] {
-            return Err(Error::InvalidInput(format!(
+            return Err(Error::input(format!(
                 "empty parameter domain [t_3, t_n] = [{}, {}]",
                 knots[3], knots[n]
             )));
         }
         if knots[3] == knots[4] || knots[n - 1] == knots[n] {
-            return Err(Error::InvalidInput(
-                "an end control point has no influence on the domain (t_3 = t_4 or t_(n-1) = t_n); use 4 equal end knots to clamp".into(),
+            return Err(Error::input(
+                "an end control point has no influence on the domain (t_3 = t_4 or t_(n-1) = t_n); use 4 equal end knots to clamp",
             ));
         }
         let spans = (3..n).filter(|&i| knots[i] < knots[i + 1]).collect();
@@ -244,7 +244,7 @@ impl KnotVector {
 
     fn outside(&self, u: f64) -> Error {
         let (a, b) = self.domain();
-        Error::InvalidInput(format!(
+        Error::input(format!(
             "abscissa u = {u} is outside the rod's parameter domain [{a}, {b}]"
         ))
     }
@@ -433,7 +433,7 @@ pub fn eval<const D: usize>(
 ) -> Result<[f64; D]> {
     check_ctrl(knots, ctrl)?;
     if deriv > 3 {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "derivative order {deriv} > 3 (cubic B-spline)"
         )));
     }
@@ -451,7 +451,7 @@ pub fn eval<const D: usize>(
 
 pub(crate) fn check_ctrl<const D: usize>(knots: &KnotVector, ctrl: &[[f64; D]]) -> Result<()> {
     if ctrl.len() != knots.n_ctrl() {
-        return Err(Error::InvalidInput(format!(
+        return Err(Error::input(format!(
             "the knot vector has {} control points, got {}",
             knots.n_ctrl(),
             ctrl.len()
@@ -529,7 +529,7 @@ mod tests {
             KnotVector::periodic(2),
         ] {
             match r {
-                Err(Error::InvalidInput(m)) => {
+                Err(e @ Error::InvalidInput { .. }) => { let m = e.to_string();
                     assert!(m.contains("at least 4 control points"), "{m}")
                 }
                 other => panic!("{other:?}"),
@@ -545,7 +545,7 @@ mod tests {
         for (k, n) in bad {
             assert!(matches!(
                 KnotVector::from_knots(k, n),
-                Err(Error::InvalidInput(_))
+                Err(Error::InvalidInput { .. })
             ));
         }
     }
@@ -677,10 +677,10 @@ mod tests {
         assert_eq!(u.locate(4.5).unwrap(), 1);
         for bad in [f64::NAN, 2.9, 6.1, f64::NEG_INFINITY] {
             match u.locate(bad) {
-                Err(Error::InvalidInput(m)) => assert!(
-                    m.contains("outside the rod's parameter domain [3, 6]"),
-                    "{m}"
-                ),
+                Err(e @ Error::InvalidInput { .. }) => {
+                    let m = e.to_string();
+                    assert!(m.contains("outside the rod's parameter domain [3, 6]"), "{m}")
+                }
                 other => panic!("{other:?}"),
             }
         }

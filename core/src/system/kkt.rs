@@ -326,7 +326,7 @@ impl KktSystem {
     /// Factorises and solves; returns the relative residual after one step of
     /// iterative refinement. Zero pivots become `Error::Singular` naming the
     /// unknown.
-    pub fn solve(&mut self, layout: &Layout, solver: LinearSolver, describe: impl Fn(usize) -> String) -> Result<f64> {
+    pub fn solve(&mut self, layout: &Layout, solver: LinearSolver, describe: impl Fn(usize) -> crate::error::Unknown) -> Result<f64> {
         // A right-hand side at underflow level (a system at exact rest) is
         // zero: its relative residual would only measure denormal noise.
         if self.rhs.iter().all(|b| b.abs() < f64::MIN_POSITIVE.sqrt()) {
@@ -381,14 +381,8 @@ impl KktSystem {
         };
         if let Err(e) = factored {
             return Err(match e {
-                Error::Singular(msg) => {
-                    let row = msg
-                        .split_whitespace()
-                        .find_map(|w| w.trim_matches(|c: char| !c.is_ascii_digit()).parse::<usize>().ok());
-                    Error::Singular(match row {
-                        Some(r) => format!("{msg}: unknown {r} is {}", describe(r)),
-                        None => msg,
-                    })
+                Error::Singular { unknown: Some(crate::error::Unknown::Index { index }), constraints, detail } => {
+                    Error::Singular { unknown: Some(describe(index)), constraints, detail }
                 }
                 other => other,
             });
@@ -415,17 +409,25 @@ impl KktSystem {
                     mag += t.abs();
                 }
                 if acc.abs() > 1e-6 * mag.max(1e-300) && acc.abs() > 1e-12 {
-                    return Err(Error::Singular(format!(
-                        "constraint rows cannot all be met (row off by {:.1e} of its terms; {}): contradictory or linearly dependent constraints",
-                        acc.abs() / mag,
-                        describe(i)
-                    )));
+                    let unknown = describe(i);
+                    let constraints = match unknown {
+                        crate::error::Unknown::Multiplier { constraint, .. } => vec![constraint],
+                        _ => Vec::new(),
+                    };
+                    return Err(Error::Singular {
+                        unknown: Some(unknown),
+                        constraints,
+                        detail: format!(
+                            "constraint rows cannot all be met (row off by {:.1e} of its terms): contradictory or linearly dependent constraints",
+                            acc.abs() / mag
+                        ),
+                    });
                 }
             }
         }
         let res = self.finish_solve(res);
         if !(res < 1e-6) {
-            return Err(Error::Singular(format!("linear solve residual {res:.3e}: system numerically singular")));
+            return Err(Error::singular(format!("linear solve residual {res:.3e}: system numerically singular")));
         }
         Ok(res)
     }

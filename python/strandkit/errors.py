@@ -1,0 +1,85 @@
+"""The strandkit exception hierarchy, one class per variant of the core's
+typed error (``strandkit_core::Error``). Every class derives from
+:class:`StrandkitError` and from the built-in exception Python users already
+catch (``ValueError`` for bad input, ``RuntimeError`` for solver failures,
+``OSError`` for files). The variant's fields are attributes of the
+exception (e.g. ``err.what``, ``err.value``, ``err.expected``;
+``err.unknown``, ``err.constraints``; ``err.iterations``, ``err.residual``).
+
+>>> import strandkit as sk
+>>> try:
+...     sk.World(dt=-1.0)
+... except sk.InvalidInputError as e:
+...     print(e.what, "|", e.value, "|", e.expected)
+dt | -1 | finite and > 0
+"""
+from __future__ import annotations
+
+__all__ = [
+    "StrandkitError", "InvalidInputError", "InvalidHandleError", "SolverError", "SingularError",
+    "ConvergenceError", "NonFiniteError", "DivergedError", "FileError", "WorldBusyError",
+]
+
+
+class StrandkitError(Exception):
+    """Base class of every error raised by strandkit."""
+
+    #: The core's variant name ("InvalidInput", "Singular", …).
+    kind: str = ""
+
+
+class InvalidInputError(StrandkitError, ValueError):
+    """A value out of its range, NaN/inf, or inconsistent with the rest of the
+    input. Attributes: ``what`` (the argument), ``value`` (what was given),
+    ``expected`` (what is accepted)."""
+
+
+class InvalidHandleError(StrandkitError, ValueError):
+    """A handle that names nothing in this world (removed, broken, or from
+    another world). Attribute: ``what``."""
+
+
+class SolverError(StrandkitError, RuntimeError):
+    """The solver could not produce a valid new state; the world is unchanged."""
+
+
+class SingularError(SolverError):
+    """Singular system (under-constrained structure, contradictory
+    constraints). Attributes: ``unknown`` (a dict naming the unknown, or
+    None), ``constraints`` (list of constraint handles involved),
+    ``detail``."""
+
+
+class ConvergenceError(SolverError):
+    """An iterative solve did not reach its tolerance. Attributes:
+    ``iterations``, ``residual``, ``detail``."""
+
+
+class NonFiniteError(SolverError):
+    """A solve produced NaN/inf; nothing was committed. Attribute: ``rod``."""
+
+
+class DivergedError(SolverError):
+    """A step's energy or increment jumped beyond the allowed factor.
+    Attributes: ``step``, ``rod``, ``factor``."""
+
+
+class FileError(StrandkitError, OSError):
+    """Reading or writing a file failed, or its content is not what strandkit
+    writes (corrupt, foreign or old format). Attributes: ``path``, ``message``."""
+
+
+class WorldBusyError(StrandkitError, RuntimeError):
+    """The world is being used by another thread (e.g. stepped) right now."""
+
+
+#: core variant name → class (used by the native module).
+BY_KIND = {
+    "InvalidInput": InvalidInputError,
+    "InvalidHandle": InvalidHandleError,
+    "Singular": SingularError,
+    "NotConverged": ConvergenceError,
+    "NonFinite": NonFiniteError,
+    "Diverged": DivergedError,
+    "Io": FileError,
+}
