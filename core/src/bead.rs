@@ -37,3 +37,26 @@ pub struct Bead {
     #[serde(default)]
     pub(crate) u_assembled: f64,
 }
+
+impl Bead {
+    /// A bead at rest at abscissa `u`: mass (> 0), viscous friction (force
+    /// per unit sliding speed, ≥ 0), radius (length, ≥ 0).
+    pub fn new(rod: RodHandle, u: f64, mass: f64, friction: f64, radius: f64) -> crate::error::Result<Bead> {
+        let b = Bead { rod, u, velocity: 0.0, mass, friction, radius, force: [0.0; 3], step_ds: 0.0, rod_force: [0.0; 3], u_assembled: u };
+        b.check_values()?;
+        Ok(b)
+    }
+    fn check_values(&self) -> crate::error::Result<()> {
+        crate::error::finite("bead abscissa u", self.u)?;
+        crate::error::positive("bead mass", self.mass)?;
+        crate::error::non_negative("bead friction", self.friction)?;
+        crate::error::non_negative("bead radius", self.radius)?;
+        crate::error::finite("bead velocity", self.velocity)?;
+        crate::constraint::finite3(&self.force, "bead force")
+    }
+    /// All values valid and the abscissa on `rod`.
+    pub(crate) fn validate(&self, rod: &crate::rod::Rod) -> crate::error::Result<()> {
+        self.check_values()?;
+        rod.knots().locate(self.u).map(|_| ())
+    }
+}

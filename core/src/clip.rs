@@ -21,3 +21,23 @@ pub struct Clip {
     /// Released and not re-armed yet (a rod is still inside).
     pub disarmed: bool,
 }
+
+impl Clip {
+    /// Capture sphere (centre, radius > 0), exit axis (non-zero, normalised)
+    /// and pull-out resistance (> 0, force unit).
+    pub fn new(center: [f64; 3], radius: f64, axis: [f64; 3], resistance: f64) -> crate::error::Result<Clip> {
+        let a = crate::constraint::unit(&axis, "clip exit axis")?;
+        let c = Clip { center, radius, axis: a.into(), resistance, held: None, disarmed: false };
+        c.validate()?;
+        Ok(c)
+    }
+    pub(crate) fn validate(&self) -> crate::error::Result<()> {
+        crate::constraint::finite3(&self.center, "clip centre")?;
+        crate::error::positive("clip radius", self.radius)?;
+        let a = crate::constraint::unit(&self.axis, "clip exit axis")?;
+        if (a.norm() - nalgebra::Vector3::from(self.axis).norm()).abs() > 1e-9 {
+            return Err(crate::error::Error::invalid("clip exit axis", format!("{:?}", self.axis), "a unit vector"));
+        }
+        crate::error::positive("clip resistance", self.resistance).map(|_| ())
+    }
+}

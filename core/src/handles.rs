@@ -38,23 +38,34 @@ struct Slot<T> {
     item: Option<T>,
 }
 
+/// A generational arena with a free list: insert, remove and lookup are
+/// O(1), and a removed slot is reused with a bumped generation, so stale
+/// handles never name a new object. Deserialisation is deterministic: the
+/// free list is serialised with the slots.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Arena<T> {
     slots: Vec<Slot<T>>,
+    /// Empty slots, reused last-freed first.
+    #[serde(default)]
+    free: Vec<u32>,
+    #[serde(default)]
+    len: usize,
 }
 
 impl<T> Default for Arena<T> {
     fn default() -> Self {
-        Arena { slots: Vec::new() }
+        Arena { slots: Vec::new(), free: Vec::new(), len: 0 }
     }
 }
 
 impl<T> Arena<T> {
     pub fn insert(&mut self, item: T) -> Index {
-        if let Some(i) = self.slots.iter().position(|s| s.item.is_none()) {
-            self.slots[i].generation += 1;
-            self.slots[i].item = Some(item);
-            return Index(i as u32, self.slots[i].generation);
+        self.len += 1;
+        if let Some(i) = self.free.pop() {
+            let s = &mut self.slots[i as usize];
+            s.generation = s.generation.wrapping_add(1);
+            s.item = Some(item);
+            return Index(i, s.generation);
         }
         self.slots.push(Slot { generation: 0, item: Some(item) });
         Index(self.slots.len() as u32 - 1, 0)
@@ -64,7 +75,10 @@ impl<T> Arena<T> {
         if s.generation != i.1 {
             return None;
         }
-        s.item.take()
+        let item = s.item.take()?;
+        self.free.push(i.0);
+        self.len -= 1;
+        Some(item)
     }
     pub fn get(&self, i: Index) -> Option<&T> {
         self.slots.get(i.0 as usize).filter(|s| s.generation == i.1).and_then(|s| s.item.as_ref())
@@ -83,9 +97,42 @@ impl<T> Arena<T> {
             .filter_map(|(i, s)| s.item.as_mut().map(|t| (Index(i as u32, s.generation), t)))
     }
     pub fn len(&self) -> usize {
-        self.slots.iter().filter(|s| s.item.is_some()).count()
+        self.len
     }
     pub fn is_empty(&self) -> bool {
-        self.len() == 0
+        self.len == 0
+    }
+    /// Number of slots (live or free): an upper bound on slot indices.
+    pub fn capacity(&self) -> usize {
+        self.slots.len()
+    }
+    /// Rebuilds the free list and count from the slots, and checks them (after
+    /// deserialising untrusted data).
+    pub(crate) fn repair(&mut self) -> crate::error::Result<()> {
+        self.len = self.slots.iter().filter(|s| s.item.is_some()).count();
+        self.free = self.slots.iter().enumerate().filter(|(_, s)| s.item.is_none()).map(|(i, _)| i as u32).rev().collect();
+        if self.slots.len() > u32::MAX as usize {
+            return Err(crate::error::Error::invalid("arena size", self.slots.len(), "at most 2^32 - 1 slots"));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn free_list_reuses_slots_with_new_generations() {
+        let mut a = Arena::default();
+        let (x, y) = (a.insert(1), a.insert(2));
+        assert_eq!(a.len(), 2);
+        assert_eq!(a.remove(x), Some(1));
+        assert_eq!(a.remove(x), None, "a stale handle removes nothing");
+        let z = a.insert(3);
+        assert_eq!((z.0, z.1), (x.0, x.1 + 1), "slot reused, generation bumped");
+        assert!(a.get(x).is_none());
+        assert_eq!(a.get(z), Some(&3));
+        assert_eq!(a.get(y), Some(&2));
+        assert_eq!(a.len(), 2);
     }
 }

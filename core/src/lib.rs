@@ -1,39 +1,46 @@
 //! strandkit-core: geometrically exact dynamic splines (SPEC §1–§5).
 //!
-//! A [`World`] owns rods (cubic B-spline centreline + roll), constraints and
-//! loads by handle; [`World::step`] advances it with linearised implicit
-//! Euler and [`World::relax`] solves for static equilibrium, both through one
-//! banded KKT system whose multipliers are reported as forces and torques.
+//! A [`World`] holds rods (cubic B-spline centreline + roll), constraints,
+//! loads, beads and clips by handle; the [`pipeline`] steps it —
+//! [`World::step`] with linearised implicit Euler, [`World::relax`] to static
+//! equilibrium, [`QuasiDynamic`] frame by frame — through one banded KKT
+//! system whose multipliers are reported as forces and torques. Structures
+//! are built as an [`Assembly`] and inserted in one batch. See
+//! `ARCHITECTURE.md` for the modules, the data flow of a step and the seams.
+pub mod assembly;
 pub mod bead;
 pub mod clip;
 pub mod constraint;
+pub mod contact;
 pub mod energy;
 pub mod error;
+pub mod force;
 pub mod frames;
 pub mod handles;
-pub mod integrator;
 pub mod io;
 pub mod linalg;
-pub mod load;
 pub mod material;
+pub mod pipeline;
 pub mod quadrature;
 pub mod rod;
-mod rupture;
 pub mod section;
 pub mod spline;
 pub mod system;
 pub mod world;
 
-pub use constraint::{ConstraintKind, Reaction};
-pub use error::{Error, Result};
+pub use assembly::{Assembly, AssemblyConstraint, Inserted};
 pub use bead::Bead;
 pub use clip::Clip;
+pub use constraint::{BreakPolicy, Breaking, ConstraintKind, ConstraintLaw, Reaction};
+pub use contact::{ContactPair, ContactSet};
+pub use energy::FrameModel;
+pub use error::{Error, Result, Unknown};
+pub use force::{ForceField, Load};
 pub use handles::{BeadHandle, ClipHandle, ConstraintHandle, LoadHandle, RodHandle};
-pub use integrator::quasi_dynamic::{Clock, FrameReport, Mode, QuasiDynamic, QuasiDynamicParameters, WallClock};
-pub use integrator::{IntegrationParameters, RelaxReport, StepReport};
-pub use load::Load;
 pub use material::Material;
+pub use pipeline::quasi_dynamic::{Clock, FrameReport, Mode, QuasiDynamic, QuasiDynamicParameters, WallClock};
+pub use pipeline::{RelaxReport, StepReport};
 pub use rod::{Cut, Rod, RodBuilder, RodOptions, StrainMode};
 pub use section::Section;
-pub use system::LinearSolver;
-pub use world::{Breaking, Constraint, Event, World};
+pub use system::{Factorisation, LinearSolver};
+pub use world::{Constraint, Event, IntegrationParameters, Item, World};

@@ -560,7 +560,7 @@ mod tests {
         invalid(Section::circle(f64::INFINITY), "radius");
         assert_eq!(
             Section::circle(-1.0).unwrap_err(),
-            Error::input("section radius must be finite and > 0, got -1")
+            Error::invalid("section radius", -1.0, "finite and > 0")
         );
         invalid(Section::tube(1.0, 1.0), "inner_radius");
         invalid(Section::tube(1.0, 2.0), "inner_radius");

@@ -17,8 +17,91 @@
 //! - κ² = c2/a³ is a polynomial ratio and needs no extension, so a straight
 //!   rod keeps the exact anisotropic quadratic bending energy;
 //! - rest curvatures below κ_ε are rounded to zero (straight rest).
-use super::invariants::{Mat5, Vec5, QA, QC2, QP, QTH, QTH1};
-use super::{SampleConsts, Strains};
+use super::invariants::{LocalState, Mat5, Vec5, QA, QC2, QP, QTH, QTH1};
+use super::{ActiveSlots, EnergyTerms, FrameKinematics, FrameState, HoldCrossSection, MaterialAngle, SampleConsts, Strains};
+use crate::error::{Error, Result};
+use nalgebra::Vector3;
+use std::f64::consts::PI;
+
+/// The Frenet + roll model (SPEC §2.2): no per-sample state.
+pub struct Frenet;
+
+impl FrameKinematics for Frenet {
+    /// Frenet bending F(a, c2, θ) uses r″ and θ (c2 = |r′×r″|²); Frenet
+    /// twist F(a, c2, p, θ′) adds r‴ (p = (r′×r″)·r‴) and θ′.
+    fn active_slots(terms: EnergyTerms) -> ActiveSlots {
+        ActiveSlots {
+            positions: if terms.twist {
+                3
+            } else if terms.bend {
+                2
+            } else {
+                0
+            },
+            theta: terms.bend,
+            theta1: terms.twist,
+        }
+    }
+    fn add_bend_twist(q: &Vec5, c: &SampleConsts, _state: &FrameState, terms: EnergyTerms, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
+        let mut w = 0.0;
+        if terms.bend {
+            w += add_bend(q, c, fq, fqq);
+        }
+        if terms.twist {
+            w += add_twist(q, c, fq, fqq);
+        }
+        w
+    }
+    fn strains(q: &Vec5, c: &SampleConsts, _state: &FrameState) -> Strains {
+        strains(q, c)
+    }
+    fn rest_values(s0: &LocalState, delta: f64) -> (f64, f64, f64) {
+        rest_values(&s0.invariants(), delta)
+    }
+    fn initial_state(_s0: &LocalState) -> FrameState {
+        FrameState::None
+    }
+    fn transport(_state: &mut FrameState, _s: &LocalState) {}
+    /// d1 is at angle θ + φ_n about t, φ_n the angle of the Frenet normal
+    /// n = b × t from e1 (the reference projected ⟂ t), i.e. φ_b − π/2 with
+    /// φ_b = atan2(C·e2, C·e1), C = r' × r''; wrapped to (−π, π]. The
+    /// derivative includes the turning of (e1, e2) with the tangent:
+    /// ∂ψ/∂r' gains (t·r)/(|P r| |r'|) e2 (P = I − t tᵀ).
+    fn material_angle(s: &LocalState, _state: &FrameState, reference: &Vector3<f64>, delta: f64) -> Result<MaterialAngle> {
+        let speed = s.r1.norm();
+        let t = s.r1 / speed;
+        let e1p = reference - t * reference.dot(&t);
+        let pr = e1p.norm();
+        if pr < 1e-6 {
+            return Err(Error::invalid("material roll reference", format!("{:?}", reference.as_slice()), "a direction not parallel to the tangent"));
+        }
+        let e1 = e1p / pr;
+        let e2 = t.cross(&e1);
+        let c = s.cross();
+        let (c1, c2) = (c.dot(&e1), c.dot(&e2));
+        let cc = c1 * c1 + c2 * c2;
+        if !(cc.sqrt() > 1e-9 * delta) || cc == 0.0 {
+            return Err(Error::singular(
+                "material roll: the rod is straight there, so the Frenet frame (and the absolute roll) is undefined",
+            ));
+        }
+        let g_c = (e2 * c1 - e1 * c2) / cc;
+        let d_r1 = s.r2.cross(&g_c) + e2 * (t.dot(reference) / (pr * speed));
+        let d_r2 = g_c.cross(&s.r1);
+        Ok(MaterialAngle { angle: s.th + c2.atan2(c1) - 0.5 * PI, d_r1, d_r2, d_th: 1.0 })
+    }
+    /// Where the rod is curved above the regularisation threshold the roll
+    /// coordinate is measured from a Frenet normal that turns with the rod,
+    /// so only the material angle holds the section; on a (nearly)
+    /// straight stretch the regularised frame makes θ the section's angle.
+    fn hold_cross_section(s: &LocalState, delta: f64) -> HoldCrossSection {
+        if s.cross().norm() >= delta {
+            HoldCrossSection::MaterialAngle
+        } else {
+            HoldCrossSection::RollCoordinate
+        }
+    }
+}
 
 /// Huber extension of √c2 below δ²: value, first and second derivative in c2.
 fn huber_sqrt(c2: f64, delta: f64) -> (f64, f64, f64) {
@@ -30,7 +113,7 @@ fn huber_sqrt(c2: f64, delta: f64) -> (f64, f64, f64) {
     }
 }
 
-pub fn add_bend(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
+fn add_bend(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
     let (a, c2, th) = (q[QA], q[QC2], q[QTH]);
     let (sn, cs) = th.sin_cos();
     let d_ei = c.ei1 - c.ei2;
@@ -100,7 +183,7 @@ fn omega(q: &Vec5, delta: f64) -> (f64, Vec5, Mat5) {
     (w, g, h)
 }
 
-pub fn add_twist(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
+fn add_twist(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
     let (om, g, h) = omega(q, c.delta);
     let e = om - c.omega;
     *fq += c.gj * e * g;
@@ -118,11 +201,12 @@ fn kappa(q: &Vec5) -> f64 {
     q[QC2].sqrt() / (q[QA] * q[QA].sqrt())
 }
 
-pub fn strains(q: &Vec5, c: &SampleConsts) -> Strains {
+/// (κ1, κ2, ω); ε is left to the stretch model.
+fn strains(q: &Vec5, c: &SampleConsts) -> Strains {
     let k = kappa(q);
     let (sn, cs) = q[QTH].sin_cos();
     Strains {
-        eps: super::stretch::strain(q, c),
+        eps: 0.0,
         kappa1: k * sn,
         kappa2: k * cs,
         omega: omega(q, c.delta).0,
@@ -131,7 +215,7 @@ pub fn strains(q: &Vec5, c: &SampleConsts) -> Strains {
 
 /// (κ1⁰, κ2⁰, ω⁰) from the rest invariants (rest curvatures below the
 /// threshold δ are rounded to zero, see the module doc).
-pub fn rest_values(q: &Vec5, delta: f64) -> (f64, f64, f64) {
+fn rest_values(q: &Vec5, delta: f64) -> (f64, f64, f64) {
     let om = omega(q, delta).0;
     if q[QC2] < delta * delta {
         return (0.0, 0.0, om);

@@ -2,14 +2,18 @@
 //! exact gradient and Hessian. Each term is a function F of the invariants of
 //! [`invariants`]; `compose` turns F's partial derivatives into ∇W, ∇²W.
 //!
-//! The frame model (how bending and twist are measured) sits behind
-//! [`FrameModel`], so the reference-frame model of SPEC §2.3 can be added as
-//! another variant without touching assembly.
+//! The frame model (how bending and twist are measured, and what per-sample
+//! state it carries in time) is the [`FrameKinematics`] seam; [`FrameModel`]
+//! names the implementation a rod uses (serde) and dispatches to it. The
+//! Frenet + roll model of the thesis ([`frenet::Frenet`]) carries no state;
+//! the reference-frame model of SPEC §2.3 will carry a reference director
+//! per sample, transported after every accepted step.
 pub mod frenet;
 pub mod invariants;
 pub mod stretch;
 
 use invariants::{compose, LocalState, Mat11, Mat5, Vec11, Vec5};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 /// Which deformation modes carry energy (the thesis' benchmark switches them).
@@ -26,13 +30,106 @@ impl Default for EnergyTerms {
     }
 }
 
-/// How curvature and twist are measured.
+/// How curvature and twist are measured: which [`FrameKinematics`]
+/// implementation a rod uses.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum FrameModel {
     /// The thesis' model: θ is measured from the Frenet normal (SPEC §2.2),
     /// with the continuity extension of [`frenet`] where κ → 0.
     #[default]
+    #[serde(alias = "Frenet")]
     Frenet,
+}
+
+/// State a frame model keeps per sample and carries in time (transported
+/// after each accepted step, through rupture splits and knot insertion, and
+/// stored in snapshots). The Frenet model keeps none.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub enum FrameState {
+    #[default]
+    None,
+}
+
+/// The derivative of a material angle ψ (the angle of director d1 about the
+/// tangent, measured from a fixed reference projected ⟂ t) with respect to
+/// the local derivative vector: ψ, ∂ψ/∂r', ∂ψ/∂r'', ∂ψ/∂θ.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialAngle {
+    pub angle: f64,
+    pub d_r1: Vector3<f64>,
+    pub d_r2: Vector3<f64>,
+    pub d_th: f64,
+}
+
+/// How a clamp holds the cross-section at an abscissa (asked of the model by
+/// `World::clamp` and the Python `clamp`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum HoldCrossSection {
+    /// The roll coordinate θ is the cross-section's angle there: fix it.
+    RollCoordinate,
+    /// Fix the material angle of [`FrameKinematics::material_angle`] (a
+    /// `MaterialRoll` constraint).
+    MaterialAngle,
+}
+
+/// The frame-model seam: the bending/twist kinematics of a rod, with the
+/// per-sample state it carries. Implemented by [`frenet::Frenet`].
+pub trait FrameKinematics {
+    /// Slots of d the bending and twist energies use.
+    fn active_slots(terms: EnergyTerms) -> ActiveSlots;
+    /// Bending and twist energy density added to `fq`, `fqq` (derivatives
+    /// in the invariants of [`invariants`]); returns W.
+    fn add_bend_twist(q: &Vec5, c: &SampleConsts, state: &FrameState, terms: EnergyTerms, fq: &mut Vec5, fqq: &mut Mat5) -> f64;
+    /// Strains (κ1, κ2, ω) at a local state (ε is the stretch model's).
+    fn strains(q: &Vec5, c: &SampleConsts, state: &FrameState) -> Strains;
+    /// Rest values (κ1⁰, κ2⁰, ω⁰) of a rest local state, computed with the
+    /// energy's own formulas so that the rest shape is an exact equilibrium.
+    fn rest_values(s0: &LocalState, delta: f64) -> (f64, f64, f64);
+    /// The state of a sample at rest (built with the rod).
+    fn initial_state(s0: &LocalState) -> FrameState;
+    /// Carries a sample's state to the new configuration after an accepted step.
+    fn transport(state: &mut FrameState, s: &LocalState);
+    /// The angle of director d1 about the tangent from `reference` (unit,
+    /// not parallel to the tangent), with its exact derivative. `delta`:
+    /// the curvature regularisation δ = κ_ε |r0'|³ of the sample nearest u.
+    fn material_angle(s: &LocalState, state: &FrameState, reference: &Vector3<f64>, delta: f64) -> crate::error::Result<MaterialAngle>;
+    /// How a clamp at this local state holds the cross-section.
+    fn hold_cross_section(s: &LocalState, delta: f64) -> HoldCrossSection;
+}
+
+impl FrameModel {
+    pub fn active_slots(self, terms: EnergyTerms) -> ActiveSlots {
+        match self {
+            FrameModel::Frenet => frenet::Frenet::active_slots(terms),
+        }
+    }
+    pub fn initial_state(self, s0: &LocalState) -> FrameState {
+        match self {
+            FrameModel::Frenet => frenet::Frenet::initial_state(s0),
+        }
+    }
+    pub fn transport(self, state: &mut FrameState, s: &LocalState) {
+        match self {
+            FrameModel::Frenet => frenet::Frenet::transport(state, s),
+        }
+    }
+    pub fn material_angle(self, s: &LocalState, state: &FrameState, reference: &Vector3<f64>, delta: f64) -> crate::error::Result<MaterialAngle> {
+        match self {
+            FrameModel::Frenet => frenet::Frenet::material_angle(s, state, reference, delta),
+        }
+    }
+    pub fn hold_cross_section(self, s: &LocalState, delta: f64) -> HoldCrossSection {
+        match self {
+            FrameModel::Frenet => frenet::Frenet::hold_cross_section(s, delta),
+        }
+    }
+    /// Model name as used by the Python `model=` keyword.
+    pub fn name(self) -> &'static str {
+        match self {
+            FrameModel::Frenet => "frenet",
+        }
+    }
 }
 
 /// Constants of the energy at one sample: stiffnesses, rest values, plastic
@@ -88,23 +185,10 @@ pub struct ActiveSlots {
 }
 
 impl ActiveSlots {
-    /// Stretch F(a) uses r′ only; Frenet bending F(a, c2, θ) adds r″ and θ
-    /// (c2 = |r′×r″|²); Frenet twist F(a, c2, p, θ′) adds r‴ (p = (r′×r″)·r‴)
-    /// and θ′ (SPEC §2, [`invariants`]).
+    /// The union of what stretch (r′ only) and the frame model use.
     pub fn of(terms: EnergyTerms, model: FrameModel) -> ActiveSlots {
-        match model {
-            FrameModel::Frenet => ActiveSlots {
-                positions: if terms.twist {
-                    3
-                } else if terms.bend {
-                    2
-                } else {
-                    usize::from(terms.stretch)
-                },
-                theta: terms.bend,
-                theta1: terms.twist,
-            },
-        }
+        let bt = model.active_slots(terms);
+        ActiveSlots { positions: bt.positions.max(usize::from(terms.stretch)), ..bt }
     }
 }
 
@@ -112,6 +196,7 @@ impl ActiveSlots {
 pub fn density(
     s: &LocalState,
     c: &SampleConsts,
+    state: &FrameState,
     terms: EnergyTerms,
     model: FrameModel,
     derivs: bool,
@@ -123,16 +208,9 @@ pub fn density(
     if terms.stretch {
         w += stretch::add(&q, c, &mut fq, &mut fqq);
     }
-    match model {
-        FrameModel::Frenet => {
-            if terms.bend {
-                w += frenet::add_bend(&q, c, &mut fq, &mut fqq);
-            }
-            if terms.twist {
-                w += frenet::add_twist(&q, c, &mut fq, &mut fqq);
-            }
-        }
-    }
+    w += match model {
+        FrameModel::Frenet => frenet::Frenet::add_bend_twist(&q, c, state, terms, &mut fq, &mut fqq),
+    };
     let mut out = LocalEnergy { w, ..Default::default() };
     if derivs {
         compose(s, &fq, &fqq, &mut out.grad, &mut out.hess);
@@ -141,18 +219,19 @@ pub fn density(
 }
 
 /// Strains of a local state under a frame model (for reports and plasticity).
-pub fn strains(s: &LocalState, c: &SampleConsts, model: FrameModel) -> Strains {
+pub fn strains(s: &LocalState, c: &SampleConsts, state: &FrameState, model: FrameModel) -> Strains {
     let q = s.invariants();
-    match model {
-        FrameModel::Frenet => frenet::strains(&q, c),
-    }
+    let mut out = match model {
+        FrameModel::Frenet => frenet::Frenet::strains(&q, c, state),
+    };
+    out.eps = stretch::strain(&q, c);
+    out
 }
 
 /// Rest values (κ1⁰, κ2⁰, ω⁰) of a rest local state, computed with the same
 /// formulas as the energy so that the rest shape is an exact equilibrium.
 pub fn rest_values(s0: &LocalState, delta: f64, model: FrameModel) -> (f64, f64, f64) {
-    let q = s0.invariants();
     match model {
-        FrameModel::Frenet => frenet::rest_values(&q, delta),
+        FrameModel::Frenet => frenet::Frenet::rest_values(s0, delta),
     }
 }

@@ -491,7 +491,7 @@ pub fn read_dcd(path: &Path) -> Result<(DcdHeader, Vec<Vec<[f32; 3]>>)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrator::IntegrationParameters;
+    use crate::world::IntegrationParameters;
     use crate::material::Material;
     use crate::rod::RodBuilder;
     use crate::section::Section;

@@ -1105,35 +1105,6 @@ mod tests {
         }
     }
 
-    /// Timing of the SPEC §5 hot case (run with `--release -- --ignored --nocapture`).
-    #[test]
-    #[ignore]
-    fn timing_n2000_bw20() {
-        let mut rng = Lcg(9);
-        let (n, k) = (2000, 20);
-        let mut a = BandMatrix::new(n, k, k);
-        for j in 0..n {
-            for i in j.saturating_sub(k)..(j + k + 1).min(n) {
-                a.set(i, j, rng.next());
-            }
-        }
-        let mut lu = BandLu::new();
-        lu.factor(&a).unwrap();
-        let t = std::time::Instant::now();
-        let reps = 50;
-        for _ in 0..reps {
-            lu.factor(&a).unwrap();
-        }
-        let dt = t.elapsed().as_secs_f64() / reps as f64;
-        let mut b = vec![1.0; n];
-        let t2 = std::time::Instant::now();
-        lu.solve_in_place(&mut b).unwrap();
-        println!(
-            "factor n={n} kl=ku={k}: {:.3} ms, solve {:.3} ms",
-            dt * 1e3,
-            t2.elapsed().as_secs_f64() * 1e3
-        );
-    }
 }
 
 impl BandMatrix {

@@ -99,10 +99,11 @@ impl Rod {
         let mut acc = ChainAcc::default();
         let c = &self.cache;
         let ctrl = &c.seg_ctrl[seg];
-        for s in &c.samples[c.seg_start[seg]..c.seg_start[seg + 1]] {
+        for (i, s) in c.samples[c.seg_start[seg]..c.seg_start[seg + 1]].iter().enumerate() {
             let b = &s.basis;
             let ls = local_state(&self.q, dofs, ctrl, b);
-            let e = density(&ls, &s.consts, self.opts.terms, self.opts.model, need != Need::Energy);
+            let state = self.frame_state(c.seg_start[seg] + i);
+            let e = density(&ls, &s.consts, state, self.opts.terms, self.opts.model, need != Need::Energy);
             out.energy += s.w * e.w;
             if need == Need::Energy {
                 continue;

@@ -18,7 +18,7 @@ pub use plastic::{PlasticUpdate, RuptureSite, StrainMode};
 pub use split::Cut;
 pub(crate) use samples::Cache;
 
-use crate::energy::{self, invariants::LocalState, EnergyTerms, FrameModel, Strains};
+use crate::energy::{self, invariants::LocalState, EnergyTerms, FrameModel, FrameState, HoldCrossSection, MaterialAngle, Strains};
 use crate::error::{Error, Result};
 use crate::material::Material;
 use crate::section::Section;
@@ -80,6 +80,10 @@ pub struct Rod {
     pub(crate) opts: RodOptions,
     /// Per-sample plastic offsets (SPEC §6); empty when the rod never yielded.
     pub(crate) plastic: Vec<Strains>,
+    /// Per-sample state of the frame model, carried in time; empty when the
+    /// model keeps none (Frenet).
+    #[serde(default)]
+    pub(crate) frames: Vec<FrameState>,
     #[serde(skip)]
     pub(crate) cache: Cache,
 }
@@ -145,11 +149,135 @@ impl Rod {
             material,
             opts,
             plastic: Vec::new(),
+            frames: Vec::new(),
             rest_sections: Vec::new(),
             cache: Cache::default(),
         };
         rod.prepare()?;
+        rod.frames = rod.initial_frames();
         Ok(rod)
+    }
+
+    /// The frame model's state of every sample at the current shape (empty
+    /// when the model keeps none).
+    fn initial_frames(&self) -> Vec<FrameState> {
+        let states: Vec<FrameState> = self
+            .cache
+            .samples
+            .iter()
+            .map(|s| self.opts.model.initial_state(&samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis)))
+            .collect();
+        if states.iter().all(|s| *s == FrameState::None) {
+            Vec::new()
+        } else {
+            states
+        }
+    }
+
+    /// The frame model's state at sample `i`.
+    pub(crate) fn frame_state(&self, i: usize) -> &FrameState {
+        static NONE: FrameState = FrameState::None;
+        self.frames.get(i).unwrap_or(&NONE)
+    }
+
+    /// Carries the frame model's per-sample state to the current shape
+    /// (after an accepted step; SPEC §2.3 parallel transport).
+    pub(crate) fn transport_frames(&mut self) {
+        if self.frames.is_empty() {
+            return;
+        }
+        let model = self.opts.model;
+        for (i, st) in self.frames.iter_mut().enumerate() {
+            let s = &self.cache.samples[i];
+            model.transport(st, &samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis));
+        }
+    }
+
+    /// The frame model of this rod.
+    pub fn frame_model(&self) -> FrameModel {
+        self.opts.model
+    }
+
+    /// The material angle at u (the angle of director d1 about the tangent
+    /// from `reference`, rad) with its derivative, as the frame model
+    /// defines it (see [`crate::energy::FrameKinematics::material_angle`]).
+    pub fn material_angle(&self, u: f64, reference: &Vector3<f64>) -> Result<MaterialAngle> {
+        let (ctrl, b) = self.basis_at(u)?;
+        let s = samples::local_state(&self.q, self.dofs, &ctrl, &b);
+        let s0 = samples::local_state(&self.q_rest, self.dofs, &ctrl, &b);
+        let delta = self.curvature_threshold() * s0.r1.norm().powi(3);
+        self.opts.model.material_angle(&s, self.frame_state(self.nearest_sample(u)), reference, delta)
+    }
+
+    /// How a clamp at u holds the cross-section, as the frame model says.
+    pub fn hold_cross_section(&self, u: f64) -> Result<HoldCrossSection> {
+        let (ctrl, b) = self.basis_at(u)?;
+        let s = samples::local_state(&self.q, self.dofs, &ctrl, &b);
+        let s0 = samples::local_state(&self.q_rest, self.dofs, &ctrl, &b);
+        Ok(self.opts.model.hold_cross_section(&s, self.curvature_threshold() * s0.r1.norm().powi(3)))
+    }
+
+    /// Index of the sample nearest to abscissa u (in its segment).
+    pub(crate) fn nearest_sample(&self, u: f64) -> usize {
+        let seg = self.knots.locate(u).unwrap_or(0).min(self.cache.seg_start.len().saturating_sub(2));
+        let (a, b) = (self.cache.seg_start[seg], self.cache.seg_start[seg + 1]);
+        (a..b).min_by(|&i, &j| (self.cache.samples[i].u - u).abs().total_cmp(&(self.cache.samples[j].u - u).abs())).unwrap_or(a)
+    }
+
+    /// The per-sample and per-segment data (for force fields and assembly).
+    pub(crate) fn cache(&self) -> &Cache {
+        &self.cache
+    }
+
+    /// Checks a rod's stored state (sizes consistent, everything finite and
+    /// in range): what `Rod::new` guarantees, re-checked for rods that come
+    /// from a file.
+    pub fn check_state(&self) -> Result<()> {
+        if self.dofs != 3 && self.dofs != 4 {
+            return Err(Error::invalid("rod dofs", self.dofs, "3 or 4"));
+        }
+        let n = self.knots.n_ctrl();
+        for (what, v) in [("coordinates", &self.q), ("velocities", &self.v), ("rest coordinates", &self.q_rest)] {
+            check_vec(what, v, n * self.dofs)?;
+        }
+        if self.sections.len() != n {
+            return Err(Error::invalid("rod sections", self.sections.len(), format!("{n} (one per control point)")));
+        }
+        if !self.rest_sections.is_empty() && self.rest_sections.len() != n {
+            return Err(Error::invalid("rod rest sections", self.rest_sections.len(), format!("0 or {n}")));
+        }
+        for s in self.sections.iter().chain(&self.rest_sections) {
+            s.validate()?;
+        }
+        self.material.validate()?;
+        crate::error::non_negative("curvature_threshold", self.opts.curvature_threshold)?;
+        crate::error::non_negative("drag coefficient", self.opts.drag)?;
+        if !(1..=8).contains(&self.opts.samples_per_segment) {
+            return Err(Error::invalid("samples_per_segment", self.opts.samples_per_segment, "in 1..=8"));
+        }
+        Ok(())
+    }
+
+    /// After deserialisation: checks the stored state, rebuilds the cache
+    /// and checks the per-sample data against it.
+    pub fn restore(&mut self) -> Result<()> {
+        self.check_state()?;
+        self.prepare()?;
+        let ns = self.cache.samples.len();
+        if !self.plastic.is_empty() {
+            if self.plastic.len() != ns {
+                return Err(Error::invalid("plastic offsets", self.plastic.len(), format!("0 or {ns} (one per sample)")));
+            }
+            for p in &self.plastic {
+                for x in [p.eps, p.kappa1, p.kappa2, p.omega] {
+                    crate::error::finite("plastic offset", x)?;
+                }
+            }
+        }
+        if !self.frames.is_empty() && self.frames.len() != ns {
+            return Err(Error::invalid("frame states", self.frames.len(), format!("0 or {ns} (one per sample)")));
+        }
+        Ok(())
     }
 
     /// Rebuilds the per-sample cache (after construction or deserialisation).
@@ -225,6 +353,11 @@ impl Rod {
         self.cache.mass
     }
 
+    /// Coordinates and velocities, for the pipeline to move.
+    pub(crate) fn state_mut(&mut self) -> (&mut [f64], &mut [f64]) {
+        (&mut self.q, &mut self.v)
+    }
+
     /// Replace coordinates (e.g. to pre-deform a rod); checks length and finiteness.
     pub fn set_coords(&mut self, q: &[f64]) -> Result<()> {
         check_vec("coordinates", q, self.q.len())?;
@@ -297,9 +430,10 @@ impl Rod {
         self.cache
             .samples
             .iter()
-            .map(|s| {
+            .enumerate()
+            .map(|(i, s)| {
                 let ls = samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis);
-                energy::strains(&ls, &s.consts, self.opts.model)
+                energy::strains(&ls, &s.consts, self.frame_state(i), self.opts.model)
             })
             .collect()
     }

@@ -68,7 +68,7 @@ impl Rod {
     fn relative_strain(&self, i: usize) -> Strains {
         let s = &self.cache.samples[i];
         let ls = samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis);
-        let e = energy::strains(&ls, &s.consts, self.opts.model);
+        let e = energy::strains(&ls, &s.consts, self.frame_state(i), self.opts.model);
         Strains { eps: e.eps, kappa1: e.kappa1 - s.rest[0], kappa2: e.kappa2 - s.rest[1], omega: e.omega - s.rest[2] }
     }
 

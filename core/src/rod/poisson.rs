@@ -23,10 +23,10 @@ impl Rod {
         }
         let n = self.n_ctrl();
         let (mut num, mut den) = (vec![0.0; n], vec![0.0; n]);
-        for s in &self.cache.samples {
+        for (i, s) in self.cache.samples.iter().enumerate() {
             let ctrl = &self.cache.seg_ctrl[s.seg];
             let ls = samples::local_state(&self.q, self.dofs, ctrl, &s.basis);
-            let eps = energy::strains(&ls, &s.consts, self.opts.model).eps;
+            let eps = energy::strains(&ls, &s.consts, self.frame_state(i), self.opts.model).eps;
             for k in 0..4 {
                 num[ctrl[k]] += s.w * s.basis[0][k] * eps;
                 den[ctrl[k]] += s.w * s.basis[0][k];

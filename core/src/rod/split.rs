@@ -36,12 +36,12 @@ impl Rod {
         if self.knots.kind() == KnotKind::Periodic {
             let (k, c) = open_ring_at(&self.knots, &packed, u)?;
             let map = |s: f64| self.knots.wrap(s + u);
-            let rod = self.piece(k, &c, |s| interpolate(&old_u, &old_p, map(s)))?;
+            let rod = self.piece(k, &c, map, &old_u, &old_p)?;
             return Ok(Cut::Opened(Box::new(rod)));
         }
         let [(kl, cl), (kr, cr)] = split_at(&self.knots, &packed, u)?;
-        let f = |s: f64| interpolate(&old_u, &old_p, s);
-        Ok(Cut::Two(Box::new([self.piece(kl, &cl, f)?, self.piece(kr, &cr, f)?])))
+        let same = |s: f64| s;
+        Ok(Cut::Two(Box::new([self.piece(kl, &cl, same, &old_u, &old_p)?, self.piece(kr, &cr, same, &old_u, &old_p)?])))
     }
 
     fn pack(&self) -> Vec<[f64; PACK]> {
@@ -61,7 +61,10 @@ impl Rod {
             .collect()
     }
 
-    fn piece(&self, knots: KnotVector, c: &[[f64; PACK]], plastic_at: impl Fn(f64) -> Strains) -> Result<Rod> {
+    /// A piece with knots and packed control values `c`; `old_abscissa`
+    /// maps its abscissae to the old rod's, whose samples are at `old_u`
+    /// with offsets `old_p`.
+    fn piece(&self, knots: KnotVector, c: &[[f64; PACK]], old_abscissa: impl Fn(f64) -> f64, old_u: &[f64], old_p: &[Strains]) -> Result<Rod> {
         let d = self.dofs;
         let flat = |off: usize| c.iter().flat_map(|p| p[off..off + d].to_vec()).collect::<Vec<f64>>();
         let shape = self.sections[0];
@@ -78,8 +81,13 @@ impl Rod {
         rod.sections = sections;
         rod.cache.refresh_stiffness(&rod.sections, rod.material.young, rod.material.shear_modulus())?;
         if !self.plastic.is_empty() {
-            let p: Vec<Strains> = rod.sample_params().into_iter().map(plastic_at).collect();
+            let p: Vec<Strains> = rod.sample_params().into_iter().map(|s| interpolate(old_u, old_p, old_abscissa(s))).collect();
             rod.set_plastic_offsets(&p)?;
+        }
+        // The frame model's state follows the material: each new sample
+        // takes the state of the old sample nearest its abscissa.
+        if !self.frames.is_empty() {
+            rod.frames = rod.sample_params().into_iter().map(|s| self.frames[self.nearest_sample(old_abscissa(s))].clone()).collect();
         }
         Ok(rod)
     }

@@ -27,6 +27,41 @@ pub enum LinearSolver {
     BandLu,
     Sparse,
 }
+/// The factorisation that solved a system. The chain tried is: for
+/// `LinearSolver::Auto` on a narrow band, band LDLᵀ (where it applies) →
+/// band LU → sparse; on a wide band (half-bandwidth ≥ 40), sparse → band LU;
+/// `Band`: LDLᵀ → LU; `BandLu` and `Sparse` alone.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Factorisation {
+    /// Unpivoted band LDLᵀ (systems with inertia).
+    BandLdlt,
+    /// Band LU with partial pivoting (LAPACK dgbtrf-style).
+    #[default]
+    BandLu,
+    /// faer's sparse LDLᵀ (regularised) or LU with a fill-reducing ordering.
+    Sparse,
+}
+
+/// What a successful solve used.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Solved {
+    /// Relative residual after one step of iterative refinement.
+    pub residual: f64,
+    pub factorisation: Factorisation,
+    /// Factorisations of the chain that failed before it.
+    pub fallbacks: u8,
+}
+
+/// A kernel's zero pivot at row i becomes the named unknown of row i.
+fn name_unknown(e: Error, describe: &impl Fn(usize) -> crate::error::Unknown) -> Error {
+    match e {
+        Error::Singular { unknown: Some(crate::error::Unknown::Index { index }), constraints, detail } => {
+            Error::Singular { unknown: Some(describe(index)), constraints, detail }
+        }
+        other => other,
+    }
+}
 use crate::rod::assemble::Need;
 use crate::rod::{Rod, SegBlock};
 
@@ -90,10 +125,8 @@ pub struct KktSystem {
     /// Symmetric factorisation tried first when there are no multiplier rows.
     pub ldlt: BandLdlt,
     pub sparse: SparseLu,
-    /// Solver used by the last `solve`: true = sparse.
-    pub used_sparse: bool,
-    /// The last solve used the band LDLᵀ (else the band LU or the sparse path).
-    pub used_ldlt: bool,
+    /// The factorisation of the last successful solve.
+    pub used: Factorisation,
     pub rhs: Vec<f64>,
     pub sol: Vec<f64>,
     work: Vec<f64>,
@@ -123,6 +156,7 @@ impl KktSystem {
         ext: &[Vec<f64>],
         cons: &[ConstraintRef],
         point_masses: &[(usize, f64, f64)],
+        field_stiffness: &[(usize, usize, usize, f64)],
         k: Coefficients,
         parallel: bool,
     ) -> Result<f64> {
@@ -189,6 +223,10 @@ impl KktSystem {
                     }
                 }
             }
+        }
+        // Stiffness −∂F/∂q of the force fields (harmonic traps), rod-local entries.
+        for &(r, i, j, v) in field_stiffness {
+            self.band.add(layout.dof(r, i), layout.dof(r, j), v);
         }
         for (c, cr) in cons.iter().enumerate() {
             let nr = cr.kind.n_rows();
@@ -273,7 +311,7 @@ impl KktSystem {
 
     /// Entries stored by the last factorisation, fill included.
     pub fn factor_entries(&self) -> usize {
-        if self.used_sparse {
+        if self.used == Factorisation::Sparse {
             self.sparse.factor_nnz().unwrap_or(0)
         } else {
             self.band.n() * (2 * self.band.kl() + self.band.ku() + 1)
@@ -323,78 +361,113 @@ impl KktSystem {
         }
     }
 
-    /// Factorises and solves; returns the relative residual after one step of
-    /// iterative refinement. Zero pivots become `Error::Singular` naming the
-    /// unknown.
-    pub fn solve(&mut self, layout: &Layout, solver: LinearSolver, describe: impl Fn(usize) -> crate::error::Unknown) -> Result<f64> {
+    /// The factorisations to try, in order, for this system and preference.
+    fn chain(&self, layout: &Layout, solver: LinearSolver) -> ([Option<Factorisation>; 3], usize) {
+        use Factorisation::*;
+        // Without multiplier rows and with inertia (c_m > 0: dynamics and
+        // pseudo-transient statics), A = c_m M + c_d D + K is symmetric and,
+        // for a well-posed step, positive definite (mildly indefinite when
+        // compression softens K): LDLᵀ does ¼ of the LU's work. With
+        // multiplier rows the matrix is a saddle point, but the layout puts
+        // each constraint's rows after at least half of the control points
+        // it touches (IV.3), so its pivot is −(part of L A⁻¹ Lᵀ) < 0, not
+        // zero: the unpivoted LDLᵀ still goes through on these
+        // quasi-definite orderings — only while the inertia is felt
+        // (c_m m ≥ 1e-12 max|A_ii|; a 40000-point steel rod at dt = 1e-3 has
+        // 4e-10): a step of 1e6 s is statics in disguise, whose
+        // ill-conditioned saddle point the unpivoted factorisation fails on.
+        // Pure Newton statics (c_m = 0) start with the LU: a free rod's K is
+        // singular only up to rounding, which the LU's zero-pivot test reports.
+        let felt = layout.n_rows == 0 || self.mass_scale >= 1e-12 * self.diag_max;
+        let ldlt = self.inertia && felt;
+        // The band LU as a last resort for a wide band, while its storage
+        // (n (3 bw + 1) entries) stays below 50 M entries (400 MB).
+        let band_ok = layout.n.saturating_mul(3 * layout.bandwidth + 1) <= 50_000_000;
+        let mut c = [None; 3];
+        let mut k = 0;
+        let mut push = |f: Factorisation| {
+            c[k] = Some(f);
+            k += 1;
+        };
+        match solver {
+            LinearSolver::Auto if prefer_sparse(layout.n, layout.bandwidth) => {
+                push(Sparse);
+                if band_ok {
+                    push(BandLu);
+                }
+            }
+            LinearSolver::Auto | LinearSolver::Band => {
+                if ldlt {
+                    push(BandLdlt);
+                }
+                push(BandLu);
+                if solver == LinearSolver::Auto {
+                    push(Sparse);
+                }
+            }
+            LinearSolver::BandLu => push(BandLu),
+            LinearSolver::Sparse => push(Sparse),
+        }
+        (c, k)
+    }
+
+    /// Factorises and solves, trying the factorisations of the chain in
+    /// order (see [`Factorisation`]) until one gives a solution whose
+    /// residual and constraint rows check out. Zero pivots become
+    /// `Error::Singular` naming the unknown; a truly singular system is
+    /// reported with the last factorisation's diagnosis.
+    pub fn solve(&mut self, layout: &Layout, solver: LinearSolver, describe: impl Fn(usize) -> crate::error::Unknown) -> Result<Solved> {
         // A right-hand side at underflow level (a system at exact rest) is
         // zero: its relative residual would only measure denormal noise.
         if self.rhs.iter().all(|b| b.abs() < f64::MIN_POSITIVE.sqrt()) {
             self.rhs.iter_mut().for_each(|b| *b = 0.0);
         }
         self.equilibrate(layout);
-        self.used_sparse = match solver {
-            LinearSolver::Auto => prefer_sparse(layout.n, layout.bandwidth),
-            LinearSolver::Band | LinearSolver::BandLu => false,
-            LinearSolver::Sparse => true,
-        };
         self.sol.resize(self.rhs.len(), 0.0);
-        // Without multiplier rows and with inertia (c_m > 0: dynamics and
-        // pseudo-transient statics), A = c_m M + c_d D + K is symmetric and,
-        // for a well-posed step, positive definite (mildly indefinite when
-        // compression softens K): LDLᵀ does ¼ of the LU's work. It declines
-        // small pivots, and a poor residual (which would betray an asymmetric
-        // or badly indefinite A) also sends the system to the pivoting LU, so
-        // diagnostics are as before. Pure
-        // Newton statics (c_m = 0) keep the LU: a free rod's K is singular
-        // only up to rounding, which the LU's zero-pivot test reports.
-        //
-        // With multiplier rows the matrix is a saddle point, but the layout
-        // puts each constraint's rows after at least half of the control
-        // points it touches (IV.3), so its pivot is −(part of L A⁻¹ Lᵀ) < 0,
-        // not zero: the unpivoted LDLᵀ still goes through on these
-        // quasi-definite orderings, under the same pivot and residual checks
-        // (and the row check below).
-        let mut ldlt_res = None;
-        self.used_ldlt = false;
-        //
-        // With rows, only while the inertia is felt (c_m m ≥ 1e-12 max|A_ii|;
-        // a 40000-point steel rod at dt = 1e-3 has 4e-10): a step of 1e6 s is
-        // statics in disguise, whose ill-conditioned saddle point the
-        // unpivoted factorisation fails on, and the attempt would only cost
-        // time before the LU.
-        let felt = layout.n_rows == 0 || self.mass_scale >= 1e-12 * self.diag_max;
-        if !self.used_sparse && solver != LinearSolver::BandLu && self.inertia && felt && self.ldlt.factor(&self.band).is_ok() {
-            let res = solve_refined(&self.band, &self.ldlt, &self.rhs, &mut self.sol, &mut self.work, 1)?;
-            if res <= LDLT_MAX_RESIDUAL {
-                self.used_ldlt = true;
-                if layout.n_rows == 0 {
-                    return Ok(self.finish_solve(res));
+        let (chain, len) = self.chain(layout, solver);
+        let mut fallbacks = 0u8;
+        let mut last = Error::singular("no factorisation applies");
+        for f in chain[..len].iter().flatten() {
+            match self.attempt(*f, layout, &describe) {
+                Ok(res) => {
+                    self.used = *f;
+                    let res = self.finish_solve(res);
+                    return Ok(Solved { residual: res, factorisation: *f, fallbacks });
                 }
-                ldlt_res = Some(res);
+                Err(e) => {
+                    fallbacks += 1;
+                    last = e;
+                }
             }
         }
-        let factored = match ldlt_res {
-            Some(_) => Ok(()),
-            None if self.used_sparse => self.sparse.factor(&self.band),
-            None => self.lu.factor(&self.band),
-        };
-        if let Err(e) = factored {
-            return Err(match e {
-                Error::Singular { unknown: Some(crate::error::Unknown::Index { index }), constraints, detail } => {
-                    Error::Singular { unknown: Some(describe(index)), constraints, detail }
+        Err(last)
+    }
+
+    /// One factorisation: factor, solve with one step of refinement, check
+    /// the residual and every constraint row. Returns the relative residual.
+    fn attempt(&mut self, f: Factorisation, layout: &Layout, describe: &impl Fn(usize) -> crate::error::Unknown) -> Result<f64> {
+        let res = match f {
+            Factorisation::BandLdlt => {
+                self.ldlt.factor(&self.band).map_err(|d| Error::singular(format!("band LDLᵀ declined: {d:?}")))?;
+                let res = solve_refined(&self.band, &self.ldlt, &self.rhs, &mut self.sol, &mut self.work, 1)?;
+                if !(res <= LDLT_MAX_RESIDUAL) {
+                    return Err(Error::singular(format!("band LDLᵀ residual {res:.3e}")));
                 }
-                other => other,
-            });
-        }
-        let res = if let Some(res) = ldlt_res {
-            res
-        } else if self.used_sparse {
-            self.sol.copy_from_slice(&self.rhs);
-            self.sparse.solve_refined_in_place(&mut self.sol)?
-        } else {
-            solve_refined(&self.band, &self.lu, &self.rhs, &mut self.sol, &mut self.work, 1)?
+                res
+            }
+            Factorisation::BandLu => {
+                self.lu.factor(&self.band).map_err(|e| name_unknown(e, describe))?;
+                solve_refined(&self.band, &self.lu, &self.rhs, &mut self.sol, &mut self.work, 1)?
+            }
+            Factorisation::Sparse => {
+                self.sparse.factor(&self.band).map_err(|e| name_unknown(e, describe))?;
+                self.sol.copy_from_slice(&self.rhs);
+                self.sparse.solve_refined_in_place(&mut self.sol)?
+            }
         };
+        if let Some(x) = self.sol.iter().position(|x| !x.is_finite()) {
+            return Err(Error::Singular { unknown: Some(describe(x)), constraints: Vec::new(), detail: format!("{f:?}: the solution is not finite") });
+        }
         // Each constraint row must hold on its own scale: contradictory
         // dependent rows are "solved" with huge multipliers and a violated
         // row, which the global relative residual hides.
@@ -425,7 +498,6 @@ impl KktSystem {
                 }
             }
         }
-        let res = self.finish_solve(res);
         if !(res < 1e-6) {
             return Err(Error::singular(format!("linear solve residual {res:.3e}: system numerically singular")));
         }

@@ -103,39 +103,10 @@ impl Layout {
     }
 }
 
-/// The global order of control points: rods in turn, except that the rods
-/// of each group are merged by relative position i/(n−1) along each rod
-/// (the two strands of a helix, the rails of a ladder alternate).
-pub fn control_point_order(n_ctrl: &[usize], groups: &[Vec<usize>]) -> Vec<(usize, usize)> {
-    let mut group_of = vec![usize::MAX; n_ctrl.len()];
-    for (g, rods) in groups.iter().enumerate() {
-        for &r in rods {
-            group_of[r] = g;
-        }
-    }
-    let mut done = vec![false; groups.len()];
-    let mut order = Vec::with_capacity(n_ctrl.iter().sum());
-    for (r, &n) in n_ctrl.iter().enumerate() {
-        match group_of[r] {
-            usize::MAX => order.extend((0..n).map(|i| (r, i))),
-            g if !done[g] => {
-                done[g] = true;
-                let mut merged: Vec<(f64, usize, usize)> = groups[g]
-                    .iter()
-                    .flat_map(|&q| (0..n_ctrl[q]).map(move |i| (i as f64 / (n_ctrl[q].max(2) - 1) as f64, q, i)))
-                    .collect();
-                merged.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-                order.extend(merged.into_iter().map(|(_, q, i)| (q, i)));
-            }
-            _ => {}
-        }
-    }
-    order
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::system::ordering::{control_point_order, RodGraph};
     fn chain(n: usize) -> Vec<[usize; 4]> {
         (0..n - 3).map(|s| [s, s + 1, s + 2, s + 3]).collect()
     }
@@ -160,7 +131,7 @@ mod tests {
     fn bandwidth_independent_of_constraint_count() {
         let segs = chain(400);
         let rods = [(400usize, 4usize, segs.as_slice())];
-        let order = control_point_order(&[400], &[]);
+        let order: Vec<(usize, usize)> = (0..400).map(|i| (0, i)).collect();
         let bw0 = Layout::build(&rods, &order, &[]).bandwidth;
         assert_eq!(bw0, 15);
         for every in [100, 20, 5, 1] {
@@ -179,8 +150,10 @@ mod tests {
             let rods = [(n, 4usize, segs.as_slice()), (n, 4usize, segs.as_slice())];
             let cons: Vec<_> =
                 (0..n - 3).map(|s| slot([0, 1], 1, [s, s + 1, s + 2, s + 3], Some([s, s + 1, s + 2, s + 3]))).collect();
-            let seq = Layout::build(&rods, &control_point_order(&[n, n], &[]), &cons);
-            let inter = Layout::build(&rods, &control_point_order(&[n, n], &[vec![0, 1]]), &cons);
+            let g = [RodGraph { n_ctrl: n, segments: &segs }, RodGraph { n_ctrl: n, segments: &segs }];
+            let seq_order: Vec<(usize, usize)> = (0..2).flat_map(|r| (0..n).map(move |i| (r, i))).collect();
+            let seq = Layout::build(&rods, &seq_order, &cons);
+            let inter = Layout::build(&rods, &control_point_order(&g, &[], &[vec![0, 1]]), &cons);
             // rows sit midway between the linked control points: half the span
             assert!(seq.bandwidth >= 2 * n, "sequential {}", seq.bandwidth);
             assert!(inter.bandwidth <= 45, "interleaved {}", inter.bandwidth);

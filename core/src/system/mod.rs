@@ -1,6 +1,10 @@
-//! The banded KKT system (SPEC §4–§5, thesis IV.A).
+//! The banded KKT system (SPEC §4–§5, thesis IV.A): the ordering of the
+//! unknowns, their layout in the band, assembly and the factorisation chain.
 pub mod kkt;
 pub mod layout;
+pub mod ordering;
+pub mod workspace;
 
-pub use kkt::{Coefficients, KktSystem, LinearSolver};
+pub use kkt::{Coefficients, Factorisation, KktSystem, LinearSolver, Solved};
 pub use layout::Layout;
+pub use workspace::Workspace;

@@ -21,9 +21,9 @@
 //!   frame moves no further than the last dynamic frame did (or 1e-4 of the
 //!   length, from rest) and the allowed motion doubles per frame until the
 //!   Newton step fits, so switching never makes the trajectory jump.
-use super::StepReport;
+use super::assemble::{assemble, Regime};
+use super::{definedness, post_solve, solve, StepReport};
 use crate::error::{Error, Result};
-use crate::system::Coefficients;
 use crate::world::{Event, World};
 use serde::{Deserialize, Serialize};
 
@@ -170,7 +170,7 @@ impl QuasiDynamic {
     pub fn step(&mut self, world: &mut World, clock: &mut dyn Clock) -> Result<FrameReport> {
         self.params.validate()?;
         let t0 = clock.now();
-        let free_length = world.free_length()?;
+        let free_length = free_length(world)?;
         let dt = if self.params.scale_with_free_length {
             // Bounded below so that a densely constrained rod still advances.
             self.params.dt0 * (free_length / self.initial_length).clamp(1e-3, 1.0)
@@ -194,7 +194,7 @@ impl QuasiDynamic {
                 // 1e-4 of the length, so it still leaves rest smoothly.
                 self.ramp = Some(self.last_motion.max(1e-4 * self.initial_length));
             }
-            match world.static_frame(dt, self.params.newton_fraction, self.ramp) {
+            match static_frame(world, dt, self.params.newton_fraction, self.ramp) {
                 Ok((motion, capped, events)) => {
                     self.ramp = if capped { self.ramp.map(|r| 2.0 * r) } else { None };
                     outcome = Some((Mode::QuasiStatic, motion, events));
@@ -207,10 +207,10 @@ impl QuasiDynamic {
         let (mode, motion, events) = match outcome {
             Some(o) => o,
             None => {
-                let before = world.all_coordinates();
+                let before = all_coordinates(world);
                 world.params.dt = dt;
                 let r: StepReport = world.step()?;
-                (Mode::Dynamic, world.position_change(&before), r.events)
+                (Mode::Dynamic, position_change(world, &before), r.events)
             }
         };
         self.mode = mode;
@@ -231,81 +231,77 @@ impl QuasiDynamic {
     }
 }
 
-impl World {
-    /// One quasi-static frame: a fraction of the Newton increment, capped at
-    /// `cap` (length unit) if given; velocities V = Δq / dt. Returns the
-    /// motion, whether the cap bound it, and the events. Error (Singular)
-    /// when the world is not statically defined.
-    pub(crate) fn static_frame(&mut self, dt: f64, fraction: f64, cap: Option<f64>) -> Result<(f64, bool, Vec<Event>)> {
-        let statics = Coefficients { mass: 0.0, drag: 0.0, momentum: 0.0 };
-        self.beads_static_load();
-        self.assemble(statics)?;
-        self.check_anchored()?;
-        self.check_statically_defined()?;
-        self.solve_system()?;
-        let full = self.ws.layout.cp_index.iter().zip(self.rods.iter()).fold(0.0f64, |m, (cps, (_, rod))| {
-            cps.iter().fold(m, |m, &g| (0..3.min(rod.dofs)).fold(m, |m, a| m.max(self.ws.sys.sol[g + a].abs())))
-        });
-        let mut scale = fraction;
-        let mut capped = false;
-        if let Some(c) = cap {
-            if full * scale > c {
-                scale = if full > 0.0 { c / full } else { 0.0 };
-                capped = true;
+/// One quasi-static frame: a fraction of the Newton increment, capped at
+/// `cap` (length unit) if given; velocities V = Δq / dt. Returns the
+/// motion, whether the cap bound it, and the events. Error (Singular)
+/// when the world is not statically defined.
+fn static_frame(world: &mut World, dt: f64, fraction: f64, cap: Option<f64>) -> Result<(f64, bool, Vec<Event>)> {
+    super::beads::static_load(world);
+    assemble(world, Regime::Statics { bead_unknowns: false })?;
+    definedness::check_anchored(world)?;
+    definedness::check_statically_defined(world)?;
+    solve::solve(world)?;
+    let full = world.ws.layout.cp_index.iter().zip(world.rods.iter()).fold(0.0f64, |m, (cps, (_, rod))| {
+        cps.iter().fold(m, |m, &g| (0..3.min(rod.dofs())).fold(m, |m, a| m.max(world.ws.sys.sol[g + a].abs())))
+    });
+    let mut scale = fraction;
+    let mut capped = false;
+    if let Some(c) = cap {
+        if full * scale > c {
+            scale = if full > 0.0 { c / full } else { 0.0 };
+            capped = true;
+        }
+    }
+    let (motion, _) = solve::apply(world, scale, Some(1.0 / dt));
+    world.beads.iter_mut().for_each(|(_, b)| b.velocity = 0.0);
+    world.time += dt;
+    world.steps += 1;
+    let mut events = Vec::new();
+    post_solve::run(world, None, &mut events)?;
+    Ok((motion, capped, events))
+}
+
+/// Coordinates of every rod (flat, in rod order).
+fn all_coordinates(world: &World) -> Vec<f64> {
+    world.rods.iter().flat_map(|(_, r)| r.coords().to_vec()).collect()
+}
+
+/// Largest position change since `before` (same rods, same order).
+fn position_change(world: &World, before: &[f64]) -> f64 {
+    let now = all_coordinates(world);
+    if now.len() != before.len() {
+        return f64::NAN; // a rupture changed the rods: no comparison
+    }
+    let mut m = 0.0f64;
+    let mut k = 0;
+    for (_, r) in world.rods.iter() {
+        let n = r.coords().len();
+        for i in 0..n {
+            if i % r.dofs() < 3 {
+                m = m.max((now[k + i] - before[k + i]).abs());
             }
         }
-        let (motion, _) = self.apply_solution(scale, Some(1.0 / dt));
-        self.beads.iter_mut().for_each(|(_, b)| b.velocity = 0.0);
-        self.time += dt;
-        self.steps += 1;
-        let mut events = self.drop_departed_sliders();
-        events.extend(self.break_constraints()?);
-        events.extend(self.update_clips()?);
-        self.inelastic_update(&mut events)?;
-        Ok((motion, capped, events))
+        k += n;
     }
+    m
+}
 
-    /// Coordinates of every rod (flat, in rod order).
-    fn all_coordinates(&self) -> Vec<f64> {
-        self.rods.iter().flat_map(|(_, r)| r.q.clone()).collect()
-    }
-
-    /// Largest position change since `before` (same rods, same order).
-    fn position_change(&self, before: &[f64]) -> f64 {
-        let now = self.all_coordinates();
-        if now.len() != before.len() {
-            return f64::NAN; // a rupture changed the rods: no comparison
-        }
-        let mut m = 0.0f64;
-        let mut k = 0;
-        for (_, r) in self.rods.iter() {
-            for i in 0..r.q.len() {
-                if i % r.dofs < 3 {
-                    m = m.max((now[k + i] - before[k + i]).abs());
+/// Longest stretch of rest arc length between the constrained abscissae
+/// of a rod (or its ends), over all rods (IV.15).
+pub fn free_length(world: &World) -> Result<f64> {
+    let mut longest = 0.0f64;
+    for (h, rod) in world.rods() {
+        let mut cuts: Vec<f64> = Vec::new();
+        for (_, c) in world.constraints() {
+            let sides = [c.rod, c.other.unwrap_or(c.rod)];
+            c.kind.visit_abscissae(&mut |side, u| {
+                let s = if c.other.is_none() { 0 } else { side.min(1) as usize };
+                if sides[s] == h {
+                    cuts.push(u);
                 }
-            }
-            k += r.q.len();
+            });
         }
-        m
+        longest = longest.max(rod.longest_free_arc(&mut cuts)?);
     }
-
-    /// Longest stretch of rest arc length between the constrained abscissae
-    /// of a rod (or its ends), over all rods (IV.15).
-    pub fn free_length(&self) -> Result<f64> {
-        let mut longest = 0.0f64;
-        for (h, rod) in self.rods() {
-            let mut cuts: Vec<f64> = Vec::new();
-            for (_, c) in self.constraints() {
-                let mut kind = c.kind.clone();
-                let sides = [c.rod, c.other.unwrap_or(c.rod)];
-                for (side, u) in kind.abscissae_mut() {
-                    if sides[side as usize] == h {
-                        cuts.push(*u);
-                    }
-                }
-            }
-            longest = longest.max(rod.longest_free_arc(&mut cuts)?);
-        }
-        Ok(longest)
-    }
+    Ok(longest)
 }

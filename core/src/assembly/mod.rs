@@ -1,0 +1,262 @@
+//! An [`Assembly`] describes a structure (SPEC §9.0): rods (rest shape,
+//! section, material, frame model), beads, constraints (with compliance
+//! and break thresholds), loads and named labels, referring to its own rods
+//! by index. Builders return one; [`World::insert`] adds it in one batch —
+//! everything checked first, the dependency check run once on the sparse
+//! structure, nothing added on any error — in time linear in its size, and
+//! returns the handles. An Assembly written to JSON and read back is the
+//! same Assembly.
+use crate::bead::Bead;
+use crate::constraint::{BreakPolicy, Breaking, ConstraintKind};
+use crate::error::{Error, Result};
+use crate::force::Load;
+use crate::handles::{BeadHandle, ConstraintHandle, LoadHandle, RodHandle};
+use crate::rod::Rod;
+use crate::world::{Constraint, Item, World};
+use serde::{Deserialize, Serialize};
+
+/// Documented caps on what an Assembly may hold (checked before anything
+/// is allocated for it).
+pub const MAX_RODS: usize = 1_000_000;
+pub const MAX_CONSTRAINTS: usize = 10_000_000;
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AssemblyRod {
+    pub rod: Rod,
+    #[serde(default)]
+    pub label: Option<String>,
+}
+
+/// A constraint between the assembly's rods `rods[0]` (and `rods[1]` for a
+/// relative kind).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AssemblyConstraint {
+    pub rod: usize,
+    #[serde(default)]
+    pub other: Option<usize>,
+    pub kind: ConstraintKind,
+    #[serde(default)]
+    pub compliance: f64,
+    #[serde(default)]
+    pub breaking: Option<Breaking>,
+    #[serde(default)]
+    pub label: Option<String>,
+}
+
+impl AssemblyConstraint {
+    /// Compliance C (length/force; 0 = hard).
+    pub fn compliance(&mut self, c: f64) -> &mut Self {
+        self.compliance = c;
+        self
+    }
+    /// Breaks above `force` measured by `policy`.
+    pub fn breaks(&mut self, force: f64, policy: BreakPolicy) -> &mut Self {
+        self.breaking = Some(Breaking { force, policy });
+        self
+    }
+    pub fn label(&mut self, label: impl Into<String>) -> &mut Self {
+        self.label = Some(label.into());
+        self
+    }
+}
+
+/// A load on one of the assembly's rods: the load's own rod handle is
+/// replaced by the handle of `rods[rod]` at insertion.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AssemblyLoad {
+    pub rod: usize,
+    pub load: Load,
+    #[serde(default)]
+    pub label: Option<String>,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AssemblyBead {
+    pub rod: usize,
+    /// Abscissa (spline parameter) on the rod.
+    pub u: f64,
+    /// Mass (mass unit), viscous friction (force per speed), radius (length).
+    pub mass: f64,
+    #[serde(default)]
+    pub friction: f64,
+    #[serde(default)]
+    pub radius: f64,
+    #[serde(default)]
+    pub label: Option<String>,
+}
+
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Assembly {
+    pub rods: Vec<AssemblyRod>,
+    #[serde(default)]
+    pub constraints: Vec<AssemblyConstraint>,
+    #[serde(default)]
+    pub loads: Vec<AssemblyLoad>,
+    #[serde(default)]
+    pub beads: Vec<AssemblyBead>,
+}
+
+/// Handles of what `World::insert` added, in the assembly's order, and the
+/// half-bandwidth of the world's system afterwards.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Inserted {
+    pub rods: Vec<RodHandle>,
+    pub constraints: Vec<ConstraintHandle>,
+    pub loads: Vec<LoadHandle>,
+    pub beads: Vec<BeadHandle>,
+    pub bandwidth: usize,
+}
+
+impl Assembly {
+    pub fn new() -> Self {
+        Self::default()
+    }
+    /// Adds a rod; returns its index in the assembly.
+    pub fn add_rod(&mut self, rod: Rod, label: Option<&str>) -> usize {
+        self.rods.push(AssemblyRod { rod, label: label.map(str::to_string) });
+        self.rods.len() - 1
+    }
+    /// A one-rod constraint on rod `rod` (hard, unbreakable, unlabelled until set).
+    pub fn constrain(&mut self, rod: usize, kind: impl Into<ConstraintKind>) -> &mut AssemblyConstraint {
+        self.constraints.push(AssemblyConstraint { rod, other: None, kind: kind.into(), compliance: 0.0, breaking: None, label: None });
+        let n = self.constraints.len() - 1;
+        &mut self.constraints[n]
+    }
+    /// A relative constraint between rods `a` and `b`.
+    pub fn link(&mut self, a: usize, b: usize, kind: impl Into<ConstraintKind>) -> &mut AssemblyConstraint {
+        self.constraints.push(AssemblyConstraint { rod: a, other: Some(b), kind: kind.into(), compliance: 0.0, breaking: None, label: None });
+        let n = self.constraints.len() - 1;
+        &mut self.constraints[n]
+    }
+    pub fn add_load(&mut self, rod: usize, load: impl Into<Load>, label: Option<&str>) -> usize {
+        self.loads.push(AssemblyLoad { rod, load: load.into(), label: label.map(str::to_string) });
+        self.loads.len() - 1
+    }
+    pub fn add_bead(&mut self, rod: usize, u: f64, mass: f64, friction: f64, radius: f64, label: Option<&str>) -> usize {
+        self.beads.push(AssemblyBead { rod, u, mass, friction, radius, label: label.map(str::to_string) });
+        self.beads.len() - 1
+    }
+    /// Every label of the assembly (for a quick look at its groups).
+    pub fn labels(&self) -> impl Iterator<Item = &str> {
+        let r = self.rods.iter().filter_map(|x| x.label.as_deref());
+        let c = self.constraints.iter().filter_map(|x| x.label.as_deref());
+        let l = self.loads.iter().filter_map(|x| x.label.as_deref());
+        let b = self.beads.iter().filter_map(|x| x.label.as_deref());
+        r.chain(c).chain(l).chain(b)
+    }
+    pub fn to_json(&self) -> Result<String> {
+        serde_json::to_string(self).map_err(|e| Error::io("", format!("assembly: {e}")))
+    }
+    /// Reads an assembly and rebuilds its rods (checked like a snapshot's).
+    pub fn from_json(s: &str) -> Result<Assembly> {
+        let mut a: Assembly = serde_json::from_str(s).map_err(|e| Error::io("", format!("assembly: {e}")))?;
+        for (i, r) in a.rods.iter_mut().enumerate() {
+            r.rod.restore().map_err(|e| e.context(format_args!("assembly rod {i}")))?;
+        }
+        Ok(a)
+    }
+
+    fn rod_index(&self, what: &str, i: usize) -> Result<usize> {
+        if i < self.rods.len() {
+            Ok(i)
+        } else {
+            Err(Error::invalid(what, i, format!("an index of the assembly's rods (0..{})", self.rods.len())))
+        }
+    }
+}
+
+impl World {
+    /// Adds an assembly in one batch and returns the handles of everything
+    /// it added. Every part is checked before anything is added (rod
+    /// indices, constraint kinds against their rods, duplicates, linear
+    /// dependence — once, on the sparse structure —, loads, beads, labels);
+    /// on any error the world is unchanged.
+    pub fn insert(&mut self, asm: &Assembly) -> Result<Inserted> {
+        crate::error::size("assembly rods", asm.rods.len(), MAX_RODS)?;
+        crate::error::size("assembly constraints", asm.constraints.len(), MAX_CONSTRAINTS)?;
+        // 1. Everything that does not need the world.
+        for (i, r) in asm.rods.iter().enumerate() {
+            r.rod.check_state().map_err(|e| e.context(format_args!("assembly rod {i}")))?;
+            if let Some(l) = &r.label {
+                crate::world::groups::check_label(l)?;
+            }
+        }
+        for (i, c) in asm.constraints.iter().enumerate() {
+            let ctx = |e: Error| e.context(format_args!("assembly constraint {i}"));
+            let a = asm.rod_index("constraint rod", c.rod).map_err(ctx)?;
+            let b = c.other.map(|o| asm.rod_index("constraint other rod", o)).transpose().map_err(ctx)?;
+            let rods = [&asm.rods[a].rod, &asm.rods[b.unwrap_or(a)].rod];
+            let probe = Constraint { breaking: c.breaking, label: c.label.clone(), ..Constraint::new(RodHandle { index: 0, generation: 0 }, b.map(|_| RodHandle { index: 1, generation: 0 }), c.kind.clone(), c.compliance) };
+            probe.check(&rods).map_err(ctx)?;
+        }
+        for (i, l) in asm.loads.iter().enumerate() {
+            let r = asm.rod_index("load rod", l.rod)?;
+            l.load.validate(&asm.rods[r].rod).map_err(|e| e.context(format_args!("assembly load {i}")))?;
+            if let Some(x) = &l.label {
+                crate::world::groups::check_label(x)?;
+            }
+        }
+        for (i, b) in asm.beads.iter().enumerate() {
+            let r = asm.rod_index("bead rod", b.rod)?;
+            let bead = Bead::new(RodHandle { index: 0, generation: 0 }, b.u, b.mass, b.friction, b.radius)?;
+            bead.validate(&asm.rods[r].rod).map_err(|e| e.context(format_args!("assembly bead {i}")))?;
+            if let Some(x) = &b.label {
+                crate::world::groups::check_label(x)?;
+            }
+        }
+        // 2. Rods go in; from here every failure removes them again.
+        let rods: Vec<RodHandle> = asm.rods.iter().map(|r| self.add_rod(r.rod.clone())).collect();
+        let batch: Vec<Constraint> = asm
+            .constraints
+            .iter()
+            .map(|c| Constraint {
+                breaking: c.breaking,
+                label: c.label.clone(),
+                ..Constraint::new(rods[c.rod], c.other.map(|o| rods[o]), c.kind.clone(), c.compliance)
+            })
+            .collect();
+        let constraints = match self.insert_constraints(batch) {
+            Ok(h) => h,
+            Err(e) => {
+                for r in &rods {
+                    let _ = self.remove_rod(*r);
+                }
+                return Err(e);
+            }
+        };
+        // 3. Loads, beads, labels: already checked, cannot fail.
+        let mut loads = Vec::with_capacity(asm.loads.len());
+        for l in &asm.loads {
+            let mut load = l.load.clone();
+            *load.rod_mut() = rods[l.rod];
+            loads.push(LoadHandle::from(self.loads.insert(load)));
+        }
+        let mut beads = Vec::with_capacity(asm.beads.len());
+        for b in &asm.beads {
+            let bead = Bead::new(rods[b.rod], b.u, b.mass, b.friction, b.radius)?;
+            beads.push(BeadHandle::from(self.beads.insert(bead)));
+        }
+        for (r, h) in asm.rods.iter().zip(&rods) {
+            if let Some(l) = &r.label {
+                self.groups.add(l, Item::Rod(*h))?;
+            }
+        }
+        for (l, h) in asm.loads.iter().zip(&loads) {
+            if let Some(x) = &l.label {
+                self.groups.add(x, Item::Load(*h))?;
+            }
+        }
+        for (b, h) in asm.beads.iter().zip(&beads) {
+            if let Some(x) = &b.label {
+                self.groups.add(x, Item::Bead(*h))?;
+            }
+        }
+        let bandwidth = crate::pipeline::bandwidth(self)?;
+        Ok(Inserted { rods, constraints, loads, beads, bandwidth })
+    }
+}

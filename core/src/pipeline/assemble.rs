@@ -1,0 +1,239 @@
+//! The first stages of every solve: gather the external forces (force
+//! fields, beads), place the unknowns (ordering and layout, rebuilt only
+//! when the topology changes) and assemble the KKT system.
+use crate::bead::Bead;
+use crate::constraint::MAX_TOUCHED;
+use crate::contact::ContactSet;
+use crate::error::Result;
+use crate::force::{gravity::Gravity, ForceField, Load};
+use crate::handles::{Arena, RodHandle};
+use crate::rod::Rod;
+use crate::system::kkt::{BeadRef, Coefficients, ConstraintRef};
+use crate::system::layout::ConstraintSlot;
+use crate::system::ordering::{control_point_order, Link, RodGraph};
+use crate::system::workspace::recycle;
+use crate::system::{Layout, Workspace};
+use crate::world::{position_of, Constraint, IntegrationParameters, World};
+
+/// What kind of solve the system is assembled for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum Regime {
+    /// Linearised implicit Euler with step h (II.77–II.82).
+    Dynamic { h: f64 },
+    /// Newton statics (II.83); `bead_unknowns`: beads' abscissae are
+    /// unknowns, placed like sliders next to the control points they touch.
+    Statics { bead_unknowns: bool },
+}
+
+impl Regime {
+    pub fn coefficients(self) -> Coefficients {
+        match self {
+            Regime::Dynamic { h } => Coefficients { mass: 1.0 / (h * h), drag: 1.0 / h, momentum: 1.0 / h },
+            Regime::Statics { .. } => Coefficients { mass: 0.0, drag: 0.0, momentum: 0.0 },
+        }
+    }
+    /// Time the forces are evaluated at: the end of a dynamic step.
+    fn force_time(self, now: f64) -> f64 {
+        match self {
+            Regime::Dynamic { h } => now + h,
+            Regime::Statics { .. } => now,
+        }
+    }
+    fn bead_unknowns(self) -> bool {
+        matches!(self, Regime::Statics { bead_unknowns: true })
+    }
+}
+
+/// Which control points each segment uses, folded into one number (a rod
+/// replaced by one of the same size but other knot multiplicities changes it).
+fn segment_fingerprint(r: &Rod) -> usize {
+    r.cache().seg_ctrl.iter().enumerate().fold(r.n_segments(), |h, (s, c)| h.wrapping_mul(31).wrapping_add(c[0] ^ (c[3] << 20) ^ s))
+}
+
+/// Fills the constraint slots (constraints, active contacts, beads when they
+/// are unknowns) and rebuilds the layout if the topology changed.
+fn place(
+    ws: &mut Workspace,
+    rods: &[&Rod],
+    constraints: &Arena<Constraint>,
+    beads: &Arena<Bead>,
+    contacts: &ContactSet,
+    interleave: &[Vec<RodHandle>],
+    bead_unknowns: bool,
+) -> Result<()> {
+    ws.slots.clear();
+    ws.contact_ids.clear();
+    let pos = &ws.rod_pos;
+    for (_, c) in constraints.iter() {
+        let (a, b) = (position_of(pos, c.rod)?, position_of(pos, c.other.unwrap_or(c.rod))?);
+        let t = c.kind.touched(&[rods[a], rods[b]])?;
+        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: c.kind.n_rows(), n_extra: c.kind.n_extra(), touched: t.items, len: t.len });
+    }
+    for (i, p) in contacts.active() {
+        let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
+        let t = p.kind.touched(&[rods[a], rods[b]])?;
+        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 1, n_extra: 0, touched: t.items, len: t.len });
+        ws.contact_ids.push(i);
+    }
+    if bead_unknowns {
+        for (_, b) in beads.iter() {
+            let r = position_of(pos, b.rod)?;
+            let ctrl = rods[r].basis_at(b.u)?.0;
+            let mut touched = [(0u8, 0usize); MAX_TOUCHED];
+            for (t, c) in touched.iter_mut().zip(ctrl) {
+                *t = (0, c);
+            }
+            ws.slots.push(ConstraintSlot { rods: [r, r], n_rows: 0, n_extra: 1, touched, len: 4 });
+        }
+    }
+    // The layout (algorithms 9–10) changes only with the topology: rods
+    // (identity, size), constraint slots (touched control points move
+    // when a slider changes segment) and interleaving. Rebuilt then only,
+    // so a step allocates nothing.
+    let shape_now = rods.iter().zip(&ws.rod_ids).map(|(r, i)| (*i, r.n_ctrl(), r.dofs(), segment_fingerprint(r)));
+    let same = ws.layout_rods.len() == rods.len()
+        && ws.layout_rods.iter().copied().eq(shape_now)
+        && ws.layout_slots == ws.slots
+        && ws.layout_groups.as_slice() == interleave;
+    if !same {
+        let graphs: Vec<RodGraph<'_>> = rods.iter().map(|r| RodGraph { n_ctrl: r.n_ctrl(), segments: &r.cache().seg_ctrl }).collect();
+        let links: Vec<Link> = ws
+            .slots
+            .iter()
+            .filter(|s| s.rods[0] != s.rods[1])
+            .filter_map(|s| {
+                let t = &s.touched[..s.len];
+                let a = t.iter().find(|e| e.0 == 0)?;
+                let b = t.iter().find(|e| e.0 == 1)?;
+                Some((s.rods[0], a.1, s.rods[1], b.1))
+            })
+            .collect();
+        let groups: Vec<Vec<usize>> =
+            interleave.iter().map(|g| g.iter().map(|h| position_of(pos, *h)).collect::<Result<Vec<_>>>()).collect::<Result<_>>()?;
+        let order = control_point_order(&graphs, &links, &groups);
+        let segs: Vec<_> = rods.iter().map(|r| (r.n_ctrl(), r.dofs(), r.cache().seg_ctrl.as_slice())).collect();
+        ws.layout = Layout::build(&segs, &order, &ws.slots);
+        ws.layout_rods = rods.iter().zip(&ws.rod_ids).map(|(r, i)| (*i, r.n_ctrl(), r.dofs(), segment_fingerprint(r))).collect();
+        ws.layout_slots.clone_from(&ws.slots);
+        ws.layout_groups = interleave.to_vec();
+    }
+    Ok(())
+}
+
+/// Refreshes the rod and constraint ids and the handle → position map.
+fn index(ws: &mut Workspace, rods: &Arena<Rod>, constraints: &Arena<Constraint>) {
+    ws.rod_ids.clear();
+    ws.rod_ids.extend(rods.iter().map(|(i, _)| i));
+    ws.con_ids.clear();
+    ws.con_ids.extend(constraints.iter().map(|(i, _)| i));
+    ws.rod_pos.clear();
+    ws.rod_pos.resize(rods.capacity(), None);
+    for (k, i) in ws.rod_ids.iter().enumerate() {
+        ws.rod_pos[i.0 as usize] = Some((i.1, k));
+    }
+}
+
+/// Builds the layout only (for reporting the bandwidth).
+pub(crate) fn layout(world: &mut World, bead_unknowns: bool) -> Result<()> {
+    let World { rods: rod_arena, constraints, beads, contacts, interleave, ws, .. } = world;
+    index(ws, rod_arena, constraints);
+    let rods: Vec<&Rod> = rod_arena.iter().map(|(_, r)| r).collect();
+    place(ws, &rods, constraints, beads, contacts, interleave, bead_unknowns)
+}
+
+/// Assembles the system for `regime`: contacts detected, forces gathered,
+/// layout placed. Returns the elastic energy.
+pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
+    world.params.validate()?;
+    let World { rods: rod_arena, constraints, loads, beads, contacts, detectors, interleave, params, ws, time, .. } = world;
+    // Contacts follow the closest points of their rods.
+    for (_, c) in constraints.iter_mut() {
+        if let (Some(a), Some(b)) = (rod_arena.get(c.rod.into()), rod_arena.get(c.other.unwrap_or(c.rod).into())) {
+            c.kind.project(&[a, b])?;
+        }
+    }
+    if !detectors.is_empty() {
+        let list: Vec<_> = rod_arena.iter().map(|(i, r)| (i.into(), r)).collect();
+        contacts.pairs.clear();
+        for d in detectors.iter() {
+            d.detect(&list, contacts)?;
+        }
+    }
+    for p in contacts.pairs.iter_mut() {
+        if let (Some(a), Some(b)) = (rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
+            p.kind.project(&[a, b])?;
+        }
+    }
+    index(ws, rod_arena, constraints);
+    let mut rods: Vec<&Rod> = recycle(std::mem::take(&mut ws.rod_refs));
+    rods.extend(rod_arena.iter().map(|(_, r)| r));
+    let placed = place(ws, &rods, constraints, beads, contacts, interleave, regime.bead_unknowns());
+    let energy = placed.and_then(|_| gather_and_assemble(ws, &rods, constraints, loads, beads, contacts, params, *time, regime));
+    ws.rod_refs = recycle(rods);
+    let energy = energy?;
+    for (_, b) in beads.iter_mut() {
+        b.u_assembled = b.u;
+    }
+    Ok(energy)
+}
+
+/// External generalised forces (III.1–III.10: gravity and the loads, the
+/// beads' forces on their rods) and the assembly proper.
+#[allow(clippy::too_many_arguments)]
+fn gather_and_assemble(
+    ws: &mut Workspace,
+    rods: &[&Rod],
+    constraints: &Arena<Constraint>,
+    loads: &Arena<Load>,
+    beads: &Arena<Bead>,
+    contacts: &ContactSet,
+    params: &IntegrationParameters,
+    time: f64,
+    regime: Regime,
+) -> Result<f64> {
+    let t = regime.force_time(time);
+    let pos = &ws.rod_pos;
+    ws.ext.resize_with(rods.len(), Vec::new);
+    let gravity = Gravity(params.gravity);
+    for (r, rod) in rods.iter().enumerate() {
+        let f = &mut ws.ext[r];
+        f.clear();
+        f.resize(rod.coords().len(), 0.0);
+        gravity.add_force(rod, t, f)?;
+    }
+    ws.field_k.clear();
+    for (_, l) in loads.iter() {
+        let r = position_of(pos, l.rod())?;
+        l.add_force(rods[r], t, &mut ws.ext[r])?;
+        let fk = &mut ws.field_k;
+        l.add_stiffness(rods[r], t, &mut |i, j, v| fk.push((r, i, j, v)))?;
+    }
+    ws.masses.clear();
+    for (_, b) in beads.iter() {
+        let r = position_of(pos, b.rod)?;
+        let (ctrl, bs) = rods[r].basis_at(b.u)?;
+        crate::force::spread(&mut ws.ext[r], rods[r].dofs(), &ctrl, &bs[0], &b.rod_force);
+        ws.masses.push((r, b.u, b.mass));
+    }
+    let mut crefs: Vec<ConstraintRef<'_>> = recycle(std::mem::take(&mut ws.con_refs));
+    for (_, c) in constraints.iter() {
+        let (a, b) = (position_of(pos, c.rod)?, position_of(pos, c.other.unwrap_or(c.rod))?);
+        crefs.push(ConstraintRef { rods: [a, b], kind: &c.kind, compliance: c.compliance, lambda: &c.multipliers });
+    }
+    for &i in &ws.contact_ids {
+        let p = &contacts.pairs[i];
+        let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
+        crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: 0.0, lambda: std::slice::from_ref(&p.force) });
+    }
+    let k = regime.coefficients();
+    let mut energy = ws.sys.assemble(&ws.layout, rods, &ws.ext, &crefs, &ws.masses, &ws.field_k, k, params.parallel);
+    if energy.is_ok() && regime.bead_unknowns() {
+        let static_beads: Vec<BeadRef> = beads
+            .iter()
+            .map(|(_, b)| Ok(BeadRef { rod: position_of(pos, b.rod)?, u: b.u, load: b.rod_force, mass: b.mass }))
+            .collect::<Result<_>>()?;
+        energy = energy.and_then(|e| ws.sys.assemble_beads(&ws.layout, rods, crefs.len(), &static_beads, k).map(|_| e));
+    }
+    ws.con_refs = recycle(crefs);
+    energy
+}

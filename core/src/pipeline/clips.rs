@@ -1,0 +1,84 @@
+//! Clips after a solve (thesis algorithms 4–5): release held rods pulled
+//! out harder than the clip's resistance, capture rods that entered an
+//! armed clip.
+use crate::constraint::kinds::Position;
+use crate::error::Result;
+use crate::handles::RodHandle;
+use crate::rod::Rod;
+use crate::world::{Event, World};
+use nalgebra::Vector3;
+
+pub(crate) fn update(world: &mut World) -> Result<Vec<Event>> {
+    let mut events = Vec::new();
+    let ids: Vec<_> = world.clips.iter().map(|(i, _)| i).collect();
+    for i in ids {
+        let Some(clip) = world.clips.get(i).cloned() else { continue };
+        let axis = Vector3::from(clip.axis);
+        if let Some((rod, con)) = clip.held {
+            // Force of the clip on the rod along −axis = pull-out force.
+            let pull = match world.reaction(con) {
+                Ok(r) => -Vector3::from(r.force).dot(&axis),
+                Err(_) => 0.0, // the constraint was removed (rod removed, broken)
+            };
+            if world.constraint(con).is_err() || pull > clip.resistance {
+                let _ = world.remove_constraint(con);
+                if let Some(c) = world.clips.get_mut(i) {
+                    c.held = None;
+                    c.disarmed = true;
+                }
+                events.push(Event::ClipReleased { clip: i.into(), rod, force: pull, time: world.time });
+            }
+            continue;
+        }
+        // Closest sample of every rod to the centre.
+        let centre = Vector3::from(clip.center);
+        let mut best: Option<(RodHandle, f64, f64)> = None;
+        for (h, rod) in world.rods() {
+            for (u, p) in rod.sample_params().into_iter().zip(rod.sample_points()) {
+                let d = (p - centre).norm();
+                if d <= clip.radius && best.is_none_or(|b| d < b.2) {
+                    best = Some((h, u, d));
+                }
+            }
+        }
+        match best {
+            None => {
+                if let Some(c) = world.clips.get_mut(i) {
+                    c.disarmed = false;
+                }
+            }
+            Some((rod, u, _)) if !clip.disarmed => {
+                let u = closest_abscissa(world.rod(rod)?, centre, u)?;
+                let kind = Position { u, axes: [true, true, true, false], target: [clip.center[0], clip.center[1], clip.center[2], 0.0] };
+                if let Ok(con) = world.add_constraint(rod, kind, 0.0) {
+                    if let Some(c) = world.clips.get_mut(i) {
+                        c.held = Some((rod, con));
+                    }
+                    events.push(Event::ClipCaptured { clip: i.into(), rod, constraint: con, u, time: world.time });
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(events)
+}
+
+/// Abscissa of the point of `rod` closest to `p`, by Newton from `u`.
+fn closest_abscissa(rod: &Rod, p: Vector3<f64>, mut u: f64) -> Result<f64> {
+    let (lo, hi) = rod.domain();
+    for _ in 0..20 {
+        let (r, d1, d2) = (rod.eval(u, 0)?, rod.eval(u, 1)?, rod.eval(u, 2)?);
+        let v = Vector3::new(r[0], r[1], r[2]) - p;
+        let (t, c) = (Vector3::new(d1[0], d1[1], d1[2]), Vector3::new(d2[0], d2[1], d2[2]));
+        let h = t.dot(&t) + v.dot(&c);
+        if !(h > 0.0) {
+            break;
+        }
+        let du = v.dot(&t) / h;
+        u = (u - du).clamp(lo, hi);
+        if du.abs() < 1e-14 * (1.0 + u.abs()) {
+            break;
+        }
+    }
+    Ok(u)
+}

@@ -1,0 +1,104 @@
+//! The stepping of a world (SPEC §3), one pipeline for every regime:
+//!
+//!   gather forces (force fields, beads) → detect contacts → assemble the
+//!   KKT system → factorise/solve (fallback chain) → apply → post-solve
+//!   stages (one ordered list, [`post_solve::STAGES`]) → events
+//!
+//! used by the linearised implicit Euler step ([`dynamic`]), the quasi-static
+//! equilibrium ([`statics`]) and the quasi-dynamic frames
+//! ([`quasi_dynamic`]). The world holds the data; this module holds the
+//! behaviour, and the world never calls into it (`World::step` and
+//! `World::relax` are one-line conveniences defined here).
+mod assemble;
+mod beads;
+mod clips;
+mod definedness;
+pub mod dynamic;
+pub mod post_solve;
+pub mod quasi_dynamic;
+mod rupture;
+mod solve;
+pub mod statics;
+
+use crate::error::Result;
+use crate::system::Factorisation;
+use crate::world::{Event, World};
+use serde::{Deserialize, Serialize};
+
+
+/// What a step did.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct StepReport {
+    /// Time after the step.
+    pub time: f64,
+    pub n_unknowns: usize,
+    pub n_multipliers: usize,
+    /// Half-bandwidth of the KKT band.
+    pub bandwidth: usize,
+    /// Relative residual of the last linear solve.
+    pub residual: f64,
+    /// The factorisation that solved the last system, and how many of the
+    /// chain failed before it (see [`Factorisation`]).
+    pub factorisation: Factorisation,
+    pub fallbacks: u8,
+    /// Entries stored by the factorisation (fill included): n (2 kl + ku + 1)
+    /// for the band LU, the factor's nonzeros for the sparse path.
+    pub factor_entries: usize,
+    /// Elastic energy before the step.
+    pub elastic_energy: f64,
+    /// Samples whose plastic offset moved after this step (SPEC §6).
+    pub plastic_samples: usize,
+    /// Contact pairs active at the end of the step.
+    pub active_contacts: usize,
+    /// What happened in this step (broken constraints, departed sliders,
+    /// clips, ruptures), in the order it happened.
+    pub events: Vec<Event>,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct RelaxReport {
+    /// Linear solves performed (accepted and rejected).
+    pub iterations: usize,
+    pub rejected: usize,
+    /// Final Newton increment (max norm, length unit) and constraint violation.
+    pub increment: f64,
+    pub violation: f64,
+    /// Total potential energy U − Fᵀq at the end.
+    pub potential: f64,
+    pub bandwidth: usize,
+    pub n_unknowns: usize,
+    /// The factorisation of the last solve.
+    pub factorisation: Factorisation,
+    /// Samples whose plastic offset moved during the solve (counted at
+    /// every intermediate equilibrium) (SPEC §6).
+    pub plastic_samples: usize,
+    /// Largest plastic offset increment of the last round (see
+    /// `IntegrationParameters::plastic_tolerance`); above the tolerance when
+    /// the flow stagnated (a plastic distribution left indeterminate).
+    pub plastic_increment: f64,
+    /// What happened at the equilibrium found (broken constraints, clips,
+    /// a rupture — which ends the solve).
+    pub events: Vec<Event>,
+}
+
+impl World {
+    /// Advances the world by one time step `params.dt` (linearised implicit
+    /// Euler, [`dynamic::step`]).
+    pub fn step(&mut self) -> Result<StepReport> {
+        dynamic::step(self)
+    }
+    /// Moves the world to static equilibrium under its loads and
+    /// constraints ([`statics::relax`]).
+    pub fn relax(&mut self) -> Result<RelaxReport> {
+        statics::relax(self)
+    }
+}
+
+/// The half-bandwidth the world's system has now (builds the layout).
+pub fn bandwidth(world: &mut World) -> Result<usize> {
+    if world.rods.is_empty() {
+        return Ok(0);
+    }
+    assemble::layout(world, false)?;
+    Ok(world.ws.layout.bandwidth)
+}

@@ -1,0 +1,87 @@
+//! What happens after every accepted solve, defined once and run in one
+//! order by step, relax and the quasi-dynamic frames:
+//!
+//! 1. departed sliders are removed (`SliderLeft`);
+//! 2. beads advance along their rods (dynamics only; `BeadLeft`);
+//! 3. the frame model's per-sample state is transported to the new shape;
+//! 4. constraints whose measure exceeds their break force are removed
+//!    (`ConstraintBroken`, algorithm 5);
+//! 5. clips release and capture (`ClipReleased`, `ClipCaptured`, algorithms 4–5);
+//! 6. plasticity, Poisson contraction and material rupture (`RodRuptured`,
+//!    algorithms 1–3).
+use super::rupture::{inelastic_update, Inelastic};
+use crate::constraint::BreakPolicy;
+use crate::error::Result;
+use crate::world::{Event, World};
+
+/// One post-solve stage.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    Sliders,
+    Beads,
+    Frames,
+    Breaking,
+    Clips,
+    Inelastic,
+}
+
+/// The stages, in the order they run.
+pub const STAGES: [Stage; 6] = [Stage::Sliders, Stage::Beads, Stage::Frames, Stage::Breaking, Stage::Clips, Stage::Inelastic];
+
+/// Runs every stage after a solve; `h` is the time step of a dynamic solve
+/// (None: a static one, whose beads were unknowns of the solve). Events are
+/// appended in the order they happen.
+pub(crate) fn run(world: &mut World, h: Option<f64>, events: &mut Vec<Event>) -> Result<Inelastic> {
+    let mut inelastic = Inelastic::default();
+    for stage in STAGES {
+        match stage {
+            Stage::Sliders => drop_departed_sliders(world, events),
+            Stage::Beads => {
+                if let Some(h) = h {
+                    events.extend(super::beads::advance(world, h)?);
+                }
+            }
+            Stage::Frames => world.rods.iter_mut().for_each(|(_, r)| r.transport_frames()),
+            Stage::Breaking => break_constraints(world, events)?,
+            Stage::Clips => events.extend(super::clips::update(world)?),
+            Stage::Inelastic => inelastic = inelastic_update(world, events)?,
+        }
+    }
+    Ok(inelastic)
+}
+
+/// Removes the sliders that left their rod during the last solve.
+pub(crate) fn drop_departed_sliders(world: &mut World, events: &mut Vec<Event>) {
+    for h in std::mem::take(&mut world.ws.left) {
+        if let Some(c) = world.constraints.remove(h) {
+            events.push(Event::SliderLeft { constraint: h.into(), label: c.label, time: world.time, kind: c.kind });
+        }
+    }
+}
+
+/// Removes the constraints whose last reaction exceeds their break force
+/// (algorithm 5), measured by their policy, and reports them.
+fn break_constraints(world: &mut World, events: &mut Vec<Event>) -> Result<()> {
+    let mut broken = Vec::new();
+    for (h, c) in world.constraints.iter() {
+        let Some(b) = c.breaking else { continue };
+        let rods = world.rods_of(c)?;
+        let measure = match b.policy {
+            BreakPolicy::Magnitude => Some(c.kind.reaction(&rods, &c.multipliers)?.magnitude()),
+            BreakPolicy::Tension => c.kind.tension(&rods, &c.multipliers)?,
+            BreakPolicy::Compression => c.kind.tension(&rods, &c.multipliers)?.map(|t| -t),
+        };
+        if let Some(f) = measure.filter(|f| *f > b.force) {
+            broken.push((h, f, b.policy));
+        }
+    }
+    for (h, force, policy) in broken {
+        if let Some(c) = world.constraints.remove(h) {
+            if c.label.is_some() {
+                world.groups.mark_broken(h.into(), world.time, force);
+            }
+            events.push(Event::ConstraintBroken { constraint: h.into(), label: c.label, time: world.time, force, policy, kind: c.kind });
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,231 @@
+//! Solve and apply: factorise along the chain of [`crate::system::Factorisation`],
+//! with the contact active set settled around it, then move the rods, store
+//! the multipliers and advance the sliders.
+use super::assemble::{assemble, Regime};
+use crate::constraint::{Row, MAX_ROWS};
+use crate::error::{Result, Unknown};
+use crate::handles::Index;
+use crate::system::{Layout, Solved};
+use crate::world::World;
+
+/// Most re-solves one step spends settling the contact active set.
+const MAX_ACTIVE_SET_ROUNDS: usize = 10;
+
+/// Names unknown `g` of the system for error messages.
+fn describe(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], contact_ids: &[usize], g: usize) -> Unknown {
+    for (r, cps) in layout.cp_index.iter().enumerate() {
+        for (i, &start) in cps.iter().enumerate() {
+            if g >= start && g < start + layout.dofs[r] {
+                return Unknown::Coordinate { rod: rod_ids[r].into(), ctrl: i, axis: g - start };
+            }
+        }
+    }
+    let (nc, np) = (con_ids.len(), contact_ids.len());
+    for (c, &start) in layout.extra_index.iter().enumerate() {
+        if g >= start && g < layout.row_index[c] {
+            return match con_ids.get(c) {
+                Some(&h) => Unknown::Abscissa { constraint: h.into() },
+                None => Unknown::BeadAbscissa { bead: c - nc - np },
+            };
+        }
+    }
+    for (c, &start) in layout.row_index.iter().enumerate() {
+        if g >= start && g < start + layout.row_count[c] {
+            if let Some(&h) = con_ids.get(c) {
+                return Unknown::Multiplier { constraint: h.into(), row: g - start };
+            }
+            if let Some(&p) = contact_ids.get(c - nc) {
+                return Unknown::Contact { pair: p };
+            }
+        }
+    }
+    Unknown::Index { index: g }
+}
+
+/// Solves the assembled system.
+pub(crate) fn solve(world: &mut World) -> Result<Solved> {
+    let ws = &mut world.ws;
+    let (layout, rod_ids, con_ids, contact_ids) = (&ws.layout, &ws.rod_ids, &ws.con_ids, &ws.contact_ids);
+    ws.sys.solve(layout, world.params.linear_solver, |g| describe(layout, rod_ids, con_ids, contact_ids, g))
+}
+
+/// Assembles and solves for `regime`, settling the contact active set: a
+/// pair whose multiplier would pull leaves it, a pair the solution would
+/// push through its gap enters it, and the system is solved again. Returns
+/// the elastic energy and the solve.
+pub(crate) fn assemble_and_solve(world: &mut World, regime: Regime) -> Result<(f64, Solved)> {
+    if !world.contacts.is_empty() {
+        activate_touching(world)?;
+    }
+    let mut rounds = 0;
+    loop {
+        let energy = assemble(world, regime)?;
+        let solved = solve(world)?;
+        if world.contacts.is_empty() || rounds >= MAX_ACTIVE_SET_ROUNDS || !update_active_set(world)? {
+            return Ok((energy, solved));
+        }
+        rounds += 1;
+    }
+}
+
+/// Takes into the active set every pair at or past contact now.
+fn activate_touching(world: &mut World) -> Result<()> {
+    let mut rows = [Row::default(); MAX_ROWS];
+    let World { rods, contacts, .. } = world;
+    for p in contacts.pairs.iter_mut() {
+        let pair = [rods.get(p.rods[0].into()), rods.get(p.rods[1].into())];
+        if let [Some(a), Some(b)] = pair {
+            p.kind.linearize(&[a, b], &mut rows[..1])?;
+            // rhs = target − g: the gap g − target = −rhs.
+            if -rows[0].rhs <= 0.0 {
+                p.active = true;
+            }
+        }
+    }
+    Ok(())
+}
+
+/// After a solve (for callers that assemble and solve themselves): settles
+/// the contact active set; true when it changed and the system must be
+/// assembled and solved again.
+pub(crate) fn settle_contacts(world: &mut World) -> Result<bool> {
+    if world.contacts.is_empty() {
+        return Ok(false);
+    }
+    update_active_set(world)
+}
+
+/// After a solve: drop pulling pairs, add pairs the step would penetrate.
+/// Returns whether the set changed.
+fn update_active_set(world: &mut World) -> Result<bool> {
+    let mut changed = false;
+    let mut rows = [Row::default(); MAX_ROWS];
+    let World { rods, contacts, ws, .. } = world;
+    let layout = &ws.layout;
+    let nc = ws.con_ids.len();
+    let mut row_of = vec![usize::MAX; contacts.pairs.len()];
+    for (k, &i) in ws.contact_ids.iter().enumerate() {
+        row_of[i] = layout.row_index[nc + k];
+    }
+    for (i, p) in contacts.pairs.iter_mut().enumerate() {
+        if p.active {
+            let force = -ws.sys.sol[row_of[i]];
+            if force < 0.0 {
+                p.active = false;
+                changed = true;
+            }
+            continue;
+        }
+        let (Some(a), Some(b)) = (rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) else { continue };
+        p.kind.linearize(&[a, b], &mut rows[..1])?;
+        let pos = |h: crate::handles::RodHandle| ws.rod_pos.get(Index::from(h).0 as usize).copied().flatten().map(|x| x.1);
+        let (Some(ra), Some(rb)) = (pos(p.rods[0]), pos(p.rods[1])) else { continue };
+        let sides = [ra, rb];
+        let moved: f64 = rows[0].entries().iter().filter(|e| e.0 < 2).map(|&(w, l, v)| v * ws.sys.sol[layout.dof(sides[w as usize], l)]).sum();
+        if -rows[0].rhs + moved < 0.0 {
+            p.active = true;
+            changed = true;
+        }
+    }
+    Ok(changed)
+}
+
+/// Applies the solution: q += scale ΔX (and V = ΔX / h when given), stores
+/// the multipliers Λ = −y, moves the sliders. Returns max |ΔX| over
+/// positions and over roll.
+pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) -> (f64, f64) {
+    let World { rods, constraints, contacts, ws, .. } = world;
+    let (mut dx_max, mut dth_max) = (0.0f64, 0.0f64);
+    for (r, (_, rod)) in rods.iter_mut().enumerate() {
+        let d = rod.dofs();
+        let (q, v) = rod.state_mut();
+        for i in 0..q.len() / d {
+            for a in 0..d {
+                let dx = scale * ws.sys.sol[ws.layout.cp_index[r][i] + a];
+                q[i * d + a] += dx;
+                if let Some(inv_h) = set_velocity {
+                    v[i * d + a] = dx * inv_h;
+                }
+                if a < 3 {
+                    dx_max = dx_max.max(dx.abs());
+                } else {
+                    dth_max = dth_max.max(dx.abs());
+                }
+            }
+        }
+    }
+    for (c, (h, con)) in constraints.iter_mut().enumerate() {
+        let r0 = ws.layout.row_index[c];
+        for (i, m) in con.multipliers.iter_mut().enumerate() {
+            *m = -ws.sys.sol[r0 + i];
+        }
+        let ne = con.kind.n_extra();
+        if ne > 0 {
+            let mut du = [0.0; 2];
+            for (k, x) in du.iter_mut().enumerate().take(ne) {
+                *x = scale * ws.sys.sol[ws.layout.extra_index[c] + k];
+            }
+            let (Some(a), Some(b)) = (rods.get(con.rod.into()), rods.get(con.other.unwrap_or(con.rod).into())) else {
+                continue;
+            };
+            if !con.kind.advance(&[a, b], &du[..ne]) {
+                ws.left.push(h);
+            }
+        }
+    }
+    let nc = ws.con_ids.len();
+    for p in contacts.pairs.iter_mut() {
+        p.force = 0.0;
+    }
+    for (k, &i) in ws.contact_ids.iter().enumerate() {
+        contacts.pairs[i].force = -ws.sys.sol[ws.layout.row_index[nc + k]];
+    }
+    (dx_max, dth_max)
+}
+
+/// Largest constraint residual |E − CΛ| of the assembled system (a
+/// compliant row is at rest when its violation equals C Λ).
+pub(crate) fn violation(world: &World) -> f64 {
+    let mut v = 0.0f64;
+    for (c, (_, con)) in world.constraints.iter().enumerate() {
+        for i in 0..con.kind.n_rows() {
+            let e = world.ws.sys.rhs[world.ws.layout.row_index[c] + i];
+            v = v.max((e - con.compliance * con.multipliers[i]).abs());
+        }
+    }
+    v
+}
+
+/// Largest constraint violation |target − g(q)| at the current coordinates.
+pub(crate) fn constraint_violation(world: &World) -> Result<f64> {
+    let mut rows = [Row::default(); MAX_ROWS];
+    let mut v = 0.0f64;
+    for (_, c) in world.constraints.iter() {
+        let nr = c.kind.n_rows();
+        let pair = world.rods_of(c)?;
+        let mut kind = c.kind.clone();
+        kind.project(&pair)?; // contacts: at the current closest points
+        kind.linearize(&pair, &mut rows[..nr])?;
+        v = rows[..nr].iter().zip(&c.multipliers).fold(v, |m, (r, l)| m.max((r.rhs - c.compliance * l).abs()));
+    }
+    Ok(v)
+}
+
+/// Total potential energy: elastic energy plus the potentials of gravity,
+/// the loads and the beads' loads on their rods (−F_b · r(u_b)).
+pub(crate) fn potential(world: &World) -> Result<f64> {
+    use crate::force::ForceField;
+    let t = world.time;
+    let gravity = crate::force::gravity::Gravity(world.params.gravity);
+    let mut p = 0.0;
+    for (_, rod) in world.rods.iter() {
+        p += rod.elastic_energy() + gravity.potential(rod, t)?;
+    }
+    for (_, l) in world.loads.iter() {
+        p += l.potential(world.rod(l.rod())?, t)?;
+    }
+    for (_, b) in world.beads.iter() {
+        p -= nalgebra::Vector3::from(b.rod_force).dot(&world.rod(b.rod)?.position(b.u)?);
+    }
+    Ok(p)
+}

@@ -1,0 +1,147 @@
+//! Quasi-static equilibrium (II.83): K ΔX = F + P iterated to equilibrium.
+//! K is indefinite under compression and large rotations defeat plain
+//! Newton, so each iterate solves the damped system (K + λ D) ΔX = F + P
+//! with D = |diag K| (Levenberg–Marquardt; the thesis' "incomplete Newton"
+//! is a fixed damping), accepted when the potential energy U − Fᵀq does not
+//! rise (or while constraints are still being reached); λ ÷4 after an
+//! accepted step and ×4 after a rejected one. Once λ is negligible the
+//! iteration is Newton's method, and convergence is declared on the Newton
+//! increment. A mass-based damping (pseudo-transient continuation, M/h²)
+//! was tried first: it stalls when the mass is very unevenly distributed,
+//! e.g. a bead on a light string.
+use super::assemble::{assemble, Regime};
+use super::{beads, definedness, post_solve, solve, RelaxReport};
+use crate::error::{Error, Result};
+use crate::world::{Event, World};
+
+/// Moves the world to static equilibrium under its loads and constraints
+/// (velocities are zeroed). Errors when a rod is not statically defined or
+/// when the iteration does not converge. An equilibrium reached is followed
+/// by the post-solve stages; plastic flow there moves the equilibrium, so
+/// the iteration continues until the offsets stop moving, while a break, a
+/// clip event or a rupture ends the solve with its events.
+pub fn relax(world: &mut World) -> Result<RelaxReport> {
+    world.params.validate()?;
+    let tol = world.params.relax_tolerance;
+    let length = world.rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
+    for (_, r) in world.rods.iter_mut() {
+        r.state_mut().1.iter_mut().for_each(|v| *v = 0.0);
+    }
+    beads::static_load(world);
+    // Statically defined? (rigid-body modes not held by constraints nor by stiffness)
+    assemble(world, Regime::Statics { bead_unknowns: false })?;
+    definedness::check_statically_defined(world)?;
+    let mut lambda: f64 = 1.0;
+    let mut report = RelaxReport::default();
+    let mut potential = solve::potential(world)?;
+    let statics = Regime::Statics { bead_unknowns: true };
+    for _ in 0..world.params.relax_max_iterations {
+        let newton = lambda < 1e-9;
+        assemble(world, statics)?;
+        if !newton {
+            let ws = &mut world.ws;
+            ws.sys.damp(&ws.layout, lambda);
+        }
+        let violation = solve::violation(world);
+        let saved: Vec<Vec<f64>> = world.rods.iter().map(|(_, r)| r.coords().to_vec()).collect();
+        let saved_beads: Vec<f64> = world.beads.iter().map(|(_, b)| b.u).collect();
+        let saved_kinds: Vec<_> = world.constraints.iter().map(|(_, c)| c.kind.clone()).collect();
+        let solved = solve::solve(world);
+        report.iterations += 1;
+        let solved = match solved {
+            Ok(s) => s,
+            Err(e) => {
+                if lambda < 1e6 {
+                    lambda = (lambda * 4.0).max(1e-6); // singular K: damp more
+                    report.rejected += 1;
+                    continue;
+                }
+                return Err(e);
+            }
+        };
+        if solve::settle_contacts(world)? {
+            continue; // the contact active set changed: solve again
+        }
+        report.factorisation = solved.factorisation;
+        let (dx, dth) = solve::apply(world, 1.0, None);
+        let n_cons = world.ws.layout.row_index.len() - world.beads.len();
+        let du: Vec<f64> = (0..world.beads.len()).map(|j| world.ws.sys.sol[world.ws.layout.extra_index[n_cons + j]]).collect();
+        let dbead = beads::apply(world, &du)?;
+        if !world.ws.left.is_empty() {
+            // A slider left its rod: the configuration changed, start anew.
+            post_solve::drop_departed_sliders(world, &mut report.events);
+            potential = solve::potential(world)?;
+            continue;
+        }
+        let trial = solve::potential(world)?;
+        let vtrial = solve::constraint_violation(world)?;
+        if std::env::var_os("STRANDKIT_DEBUG").is_some() {
+            eprintln!("relax it {} λ {lambda:.3e} newton {newton} dx {dx:.3e} dth {dth:.3e} viol {violation:.3e} vtrial {vtrial:.3e} pot {potential:.9e} -> {trial:.9e}", report.iterations);
+        }
+        // Energy comparisons are meaningless at round-off level: a step
+        // below the tolerance is accepted as is.
+        // Otherwise a step must halve the constraint violation, or lower
+        // the potential without increasing the violation.
+        let tiny = dx <= tol * length && dth <= tol && dbead <= tol * 1e3;
+        let accept = trial.is_finite()
+            && (tiny
+                || (violation > 1e-5 * tol * length && vtrial <= 0.5 * violation)
+                || (trial <= potential + 1e-11 * potential.abs() && vtrial <= violation.max(tol.sqrt() * length)));
+        if !accept {
+            for ((_, r), q) in world.rods.iter_mut().zip(saved) {
+                r.state_mut().0.copy_from_slice(&q);
+            }
+            for ((_, c), k) in world.constraints.iter_mut().zip(saved_kinds) {
+                c.kind = k;
+            }
+            for ((_, b), u) in world.beads.iter_mut().zip(saved_beads) {
+                b.u = u;
+            }
+            world.ws.left.clear();
+            report.rejected += 1;
+            lambda = (lambda * 4.0).max(1e-6);
+            if lambda > 1e8 {
+                return Err(Error::not_converged(
+                    report.iterations,
+                    report.violation.max(report.increment),
+                    format!("relax: no descent step found (potential {potential:.6e})"),
+                ));
+            }
+            continue;
+        }
+        potential = trial;
+        report.increment = dx;
+        report.violation = violation;
+        if newton && dx <= tol * length && dth <= tol && violation <= tol * length && dbead <= tol * 1e3 {
+            let mut events: Vec<Event> = Vec::new();
+            let inelastic = post_solve::run(world, None, &mut events)?;
+            let topology_changed = !events.is_empty();
+            report.events.extend(events);
+            report.plastic_samples += inelastic.yielded;
+            if std::env::var_os("STRANDKIT_DEBUG").is_some() {
+                eprintln!("relax plastic: {} samples, max increment {:.3e}", inelastic.yielded, inelastic.max_increment);
+            }
+            // Stop when the flow has converged, or when it stagnates: a
+            // rod at yield all along (uniform moment) has an indeterminate
+            // plastic distribution, and the rounds then trade a constant
+            // small increment between samples (reported, not an error).
+            let stagnant = inelastic.max_increment > 0.99 * report.plastic_increment && report.plastic_increment > 0.0;
+            report.plastic_increment = inelastic.max_increment;
+            if inelastic.max_increment > world.params.plastic_tolerance && !topology_changed && !stagnant {
+                potential = solve::potential(world)?;
+                lambda = 1e-6;
+                continue;
+            }
+            report.potential = potential;
+            report.bandwidth = world.ws.layout.bandwidth;
+            report.n_unknowns = world.ws.layout.n;
+            return Ok(report);
+        }
+        lambda /= 4.0;
+    }
+    Err(Error::not_converged(
+        report.iterations,
+        report.violation.max(report.increment),
+        format!("relax: last increment {:.3e}, violation {:.3e}", report.increment, report.violation),
+    ))
+}

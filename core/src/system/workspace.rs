@@ -1,0 +1,53 @@
+//! Scratch space of the pipeline, owned by the world but not part of its
+//! data: the KKT system and its factorisations, the layout and what it was
+//! built for, and buffers recycled across steps so that a step allocates
+//! nothing once warmed up.
+use super::kkt::{ConstraintRef, KktSystem};
+use super::layout::{ConstraintSlot, Layout};
+use crate::handles::{Index, RodHandle};
+
+#[derive(Debug, Default)]
+pub struct Workspace {
+    pub(crate) sys: KktSystem,
+    pub(crate) layout: Layout,
+    /// What `layout` was built for: rods (id, control points, dofs,
+    /// segment fingerprint), constraint slots, interleaved groups.
+    pub(crate) layout_rods: Vec<(Index, usize, usize, usize)>,
+    pub(crate) layout_slots: Vec<ConstraintSlot>,
+    pub(crate) layout_groups: Vec<Vec<RodHandle>>,
+    pub(crate) slots: Vec<ConstraintSlot>,
+    /// Allocations kept for the per-step vectors of references (always
+    /// empty between steps, see [`recycle`]).
+    pub(crate) rod_refs: Vec<&'static crate::rod::Rod>,
+    pub(crate) con_refs: Vec<ConstraintRef<'static>>,
+    pub(crate) masses: Vec<(usize, f64, f64)>,
+    pub(crate) field_k: Vec<(usize, usize, usize, f64)>,
+    pub(crate) ext: Vec<Vec<f64>>,
+    pub(crate) rod_ids: Vec<Index>,
+    pub(crate) con_ids: Vec<Index>,
+    /// Slot index → position of each rod in iteration order.
+    pub(crate) rod_pos: Vec<Option<(u32, usize)>>,
+    /// Contact pairs in the system (indices into the contact set), after
+    /// the constraints.
+    pub(crate) contact_ids: Vec<usize>,
+    /// Sliders that left their rod in the last solve.
+    pub(crate) left: Vec<Index>,
+}
+
+/// Empties a vector and reuses its allocation for another element type of
+/// the same size and alignment — here references of another lifetime — so
+/// per-step vectors of borrows keep their buffer between steps (the
+/// in-place `collect` of `vec::IntoIter` keeps the allocation).
+pub(crate) fn recycle<T, U>(mut v: Vec<T>) -> Vec<U> {
+    v.clear();
+    // The vector is empty, so the closure never runs.
+    v.into_iter().map(|_| unreachable!("the vector was cleared")).collect()
+}
+
+/// The workspace is scratch space: a cloned world starts with empty buffers
+/// (and rebuilds its layout on its first solve).
+impl Clone for Workspace {
+    fn clone(&self) -> Self {
+        Workspace::default()
+    }
+}

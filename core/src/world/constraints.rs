@@ -1,0 +1,247 @@
+//! The constraint set of a world: adding (checked: abscissae, targets,
+//! duplicates, linear dependence on what the rods already carry), moving
+//! targets, break thresholds, reactions.
+use super::{bad_con, World};
+use crate::constraint::{BreakPolicy, Breaking, ConstraintKind, Reaction};
+use crate::error::{Error, Result};
+use crate::handles::{ConstraintHandle, RodHandle};
+use crate::rod::Rod;
+use serde::{Deserialize, Serialize};
+
+/// A constraint on one rod (or two, for relative kinds) with its
+/// compliance (0 = hard; > 0: a spring of stiffness 1/C), the multipliers
+/// of the last solve (force/torque units), its break threshold and label.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Constraint {
+    pub rod: RodHandle,
+    /// Second rod of a relative constraint (None: the constraint is on `rod` only).
+    pub other: Option<RodHandle>,
+    pub kind: ConstraintKind,
+    pub compliance: f64,
+    pub multipliers: Vec<f64>,
+    /// Force-threshold rupture (III.C.3, algorithm 5); None = unbreakable.
+    pub breaking: Option<Breaking>,
+    /// Group label, e.g. "hbond[17]".
+    #[serde(default)]
+    pub label: Option<String>,
+}
+
+impl Constraint {
+    /// A constraint with zero multipliers, not breakable, unlabelled.
+    pub fn new(rod: RodHandle, other: Option<RodHandle>, kind: ConstraintKind, compliance: f64) -> Constraint {
+        let n = kind.n_rows();
+        Constraint { rod, other, kind, compliance, multipliers: vec![0.0; n], breaking: None, label: None }
+    }
+
+    /// Everything about the constraint that can be checked against its rods.
+    pub(crate) fn check(&self, rods: &[&Rod]) -> Result<()> {
+        let arity = 1 + usize::from(self.other.is_some());
+        if arity != self.kind.n_rods() {
+            let use_ = if self.kind.n_rods() == 2 { "a relative kind: use add_link" } else { "a one-rod kind: use add_constraint" };
+            return Err(Error::invalid(format!("{} constraint", self.kind.name()), format!("{arity} rod(s)"), use_));
+        }
+        self.kind.validate(rods)?;
+        crate::error::non_negative("compliance", self.compliance)?;
+        if self.multipliers.len() != self.kind.n_rows() {
+            return Err(Error::invalid("constraint multipliers", self.multipliers.len(), format!("{} values (one per row)", self.kind.n_rows())));
+        }
+        for m in &self.multipliers {
+            crate::error::finite("constraint multiplier", *m)?;
+        }
+        if let Some(b) = self.breaking {
+            check_breaking(&self.kind, rods, b)?;
+        }
+        if let Some(l) = &self.label {
+            super::groups::check_label(l)?;
+        }
+        Ok(())
+    }
+}
+
+/// A break threshold must be positive, and tension/compression need a line
+/// of action.
+pub(crate) fn check_breaking(kind: &ConstraintKind, rods: &[&Rod], b: Breaking) -> Result<()> {
+    crate::error::positive("break force", b.force)?;
+    if b.policy != BreakPolicy::Magnitude && kind.tension(rods, &vec![0.0; kind.n_rows()])?.is_none() {
+        return Err(Error::invalid(
+            format!("break policy of a {} constraint", kind.name()),
+            format!("{:?}", b.policy).to_lowercase(),
+            "magnitude (this kind has no line of action; tension/compression apply to distance links, contacts and relative positions with an offset)",
+        ));
+    }
+    Ok(())
+}
+
+impl World {
+    /// Adds a hard (compliance 0) or compliant one-rod constraint. Errors:
+    /// removed rod, abscissa outside the rod, non-finite target, duplicate,
+    /// linearly dependent on the rod's other constraints.
+    pub fn add_constraint(&mut self, rod: RodHandle, kind: impl Into<ConstraintKind>, compliance: f64) -> Result<ConstraintHandle> {
+        self.insert_constraint(Constraint::new(rod, None, kind.into(), compliance))
+    }
+
+    /// Adds a relative constraint between rod `a` (abscissa ua) and rod `b`
+    /// (ub); `a` and `b` may be the same rod.
+    pub fn add_link(&mut self, a: RodHandle, b: RodHandle, kind: impl Into<ConstraintKind>, compliance: f64) -> Result<ConstraintHandle> {
+        self.insert_constraint(Constraint::new(a, Some(b), kind.into(), compliance))
+    }
+
+    /// Adds a fully described constraint (breaking and label included), with
+    /// the same checks as `add_constraint`.
+    pub fn insert_constraint(&mut self, c: Constraint) -> Result<ConstraintHandle> {
+        let mut hs = self.insert_constraints(vec![c])?;
+        hs.pop().ok_or_else(|| Error::input("insert_constraint: nothing inserted"))
+    }
+
+    /// Adds a batch of constraints at once: every one is checked, then the
+    /// batch's rows (with those already on the rods it touches) are checked
+    /// for linear dependence once, on the sparse structure. On any error
+    /// nothing is added.
+    pub fn insert_constraints(&mut self, batch: Vec<Constraint>) -> Result<Vec<ConstraintHandle>> {
+        for (k, c) in batch.iter().enumerate() {
+            let rods = self.rods_of(c)?;
+            c.check(&rods).map_err(|e| if batch.len() > 1 { e.context(format_args!("constraint {k} of the batch")) } else { e })?;
+        }
+        self.check_duplicates(&batch)?;
+        super::independence::check(self, &batch)?;
+        let mut out = Vec::with_capacity(batch.len());
+        for c in batch {
+            let label = c.label.clone();
+            let h: ConstraintHandle = self.constraints.insert(c).into();
+            if let Some(l) = label {
+                self.groups.add(&l, super::Item::Constraint(h))?;
+            }
+            out.push(h);
+        }
+        Ok(out)
+    }
+
+    /// Rejects a constraint that repeats one already on the same rods (or
+    /// earlier in the batch) at the same place.
+    fn check_duplicates(&self, batch: &[Constraint]) -> Result<()> {
+        use std::collections::HashMap;
+        // Existing constraints by rod pair, only for the pairs the batch uses.
+        let pairs: std::collections::HashSet<(RodHandle, Option<RodHandle>)> = batch.iter().map(|c| (c.rod, c.other)).collect();
+        let mut seen: HashMap<(RodHandle, Option<RodHandle>), Vec<(String, &ConstraintKind)>> = HashMap::new();
+        if !pairs.is_empty() {
+            for (h, c) in self.constraints.iter() {
+                if pairs.contains(&(c.rod, c.other)) {
+                    seen.entry((c.rod, c.other)).or_default().push((format!("constraint {}", h.0), &c.kind));
+                }
+            }
+        }
+        for (k, c) in batch.iter().enumerate() {
+            let list = seen.entry((c.rod, c.other)).or_default();
+            if let Some((who, _)) = list.iter().find(|(_, o)| o.duplicates(&c.kind)) {
+                return Err(Error::invalid(
+                    "duplicate constraint",
+                    format!("{} repeating {who}", c.kind.name()),
+                    "a constraint that does not repeat one on the same rods at the same abscissa",
+                ));
+            }
+            list.push((format!("constraint {k} of the batch"), &c.kind));
+        }
+        Ok(())
+    }
+
+    /// Coplanar relative clamp between rod a at ua and rod b at ub (III.61):
+    /// α0, α1 are solved from the current geometry, r_a − r_b = α0 r_a' +
+    /// α1 r_b'. Errors when the tangents are parallel or the link is not in
+    /// their plane (the thesis' restriction).
+    pub fn add_coplanar_clamp(&mut self, a: RodHandle, ua: f64, b: RodHandle, ub: f64, compliance: f64) -> Result<ConstraintHandle> {
+        let v3 = |d: [f64; 4]| nalgebra::Vector3::new(d[0], d[1], d[2]);
+        let (ra, rb) = (self.rod(a)?, self.rod(b)?);
+        let d = v3(ra.eval(ua, 0)?) - v3(rb.eval(ub, 0)?);
+        let (ta, tb) = (v3(ra.eval(ua, 1)?), v3(rb.eval(ub, 1)?));
+        let m = nalgebra::Matrix3x2::from_columns(&[ta, tb]);
+        let mtm = m.transpose() * m;
+        let inv = mtm.try_inverse().filter(|_| ta.cross(&tb).norm() > 1e-9 * ta.norm() * tb.norm()).ok_or_else(|| {
+            Error::invalid("coplanar clamp tangents", "parallel", "two non-parallel tangents (for parallel ones use RelativePosition + RelativeOrientation)")
+        })?;
+        let alpha = inv * (m.transpose() * d);
+        if (m * alpha - d).norm() > 1e-9 * d.norm().max(1e-300) {
+            return Err(Error::invalid("coplanar clamp link", "out of the plane of the two tangents", "a link in the plane of the two tangents"));
+        }
+        let kind = crate::constraint::kinds::CoplanarClamp { ua, ub, alpha: [alpha[0], alpha[1]] };
+        self.add_link(a, b, kind, compliance)
+    }
+
+    /// Clamps `rod` at `u`: position (x, y, z) and tangent at their current
+    /// values, and the cross-section held as the rod's frame model says
+    /// (`Rod::hold_cross_section`): the roll coordinate where θ is the
+    /// section's angle, else an absolute `MaterialRoll` (Frenet model on a
+    /// curved stretch). Rods without roll get position and tangent only.
+    /// Returns the handles [position, tangent, (material roll)].
+    pub fn clamp(&mut self, rod: RodHandle, u: f64, compliance: f64) -> Result<Vec<ConstraintHandle>> {
+        use crate::constraint::kinds::{MaterialRoll, Position, Tangent};
+        use crate::energy::HoldCrossSection;
+        let r = self.rod(rod)?;
+        let p = r.eval(u, 0)?;
+        let t = r.tangent(u)?;
+        let mut batch = Vec::with_capacity(3);
+        let hold = if r.dofs() == 4 { Some(r.hold_cross_section(u)?) } else { None };
+        let roll_coordinate = hold == Some(HoldCrossSection::RollCoordinate);
+        let axes = [true, true, true, roll_coordinate];
+        batch.push(Constraint::new(rod, None, Position { u, axes, target: p }.into(), compliance));
+        batch.push(Constraint::new(rod, None, Tangent { u, direction: t.into() }.into(), compliance));
+        if hold == Some(HoldCrossSection::MaterialAngle) {
+            // Measure the angle from a fixed axis ⟂ t: the current d1 is at 0.
+            let (e1, _) = crate::constraint::perpendicular_pair(&t);
+            let angle = r.material_angle(u, &e1)?.angle;
+            batch.push(Constraint::new(rod, None, MaterialRoll { u, reference: e1.into(), angle }.into(), compliance));
+        }
+        self.insert_constraints(batch)
+    }
+
+    pub fn remove_constraint(&mut self, h: ConstraintHandle) -> Result<Constraint> {
+        self.constraints.remove(h.into()).ok_or_else(|| bad_con(h))
+    }
+    pub fn constraint(&self, h: ConstraintHandle) -> Result<&Constraint> {
+        self.constraints.get(h.into()).ok_or_else(|| bad_con(h))
+    }
+    /// Replaces a constraint's kind (moving targets: how a user drags,
+    /// rotates or pulls). The new kind must be of the same kind and rows.
+    pub fn set_constraint(&mut self, h: ConstraintHandle, kind: impl Into<ConstraintKind>) -> Result<()> {
+        let kind = kind.into();
+        let probe = Constraint { kind, ..self.constraint(h)?.clone() };
+        let old = &self.constraint(h)?.kind;
+        if probe.kind.n_rows() != old.n_rows() || probe.kind.name() != old.name() {
+            return Err(Error::invalid("set_constraint kind", probe.kind.name(), format!("a {} with {} rows (the constraint's kind)", old.name(), old.n_rows())));
+        }
+        probe.check(&self.rods_of(&probe)?)?;
+        if let Some(c) = self.constraints.get_mut(h.into()) {
+            c.kind = probe.kind;
+        }
+        Ok(())
+    }
+    /// Makes a constraint breakable (None: unbreakable again).
+    pub fn set_breaking(&mut self, h: ConstraintHandle, breaking: Option<Breaking>) -> Result<()> {
+        let c = self.constraint(h)?;
+        if let Some(b) = breaking {
+            check_breaking(&c.kind, &self.rods_of(c)?, b)?;
+        }
+        if let Some(c) = self.constraints.get_mut(h.into()) {
+            c.breaking = breaking;
+        }
+        Ok(())
+    }
+
+    /// Force and torque the constraint exerted on its (first) rod in the last solve.
+    pub fn reaction(&self, h: ConstraintHandle) -> Result<Reaction> {
+        let c = self.constraint(h)?;
+        c.kind.reaction(&self.rods_of(c)?, &c.multipliers)
+    }
+    /// Tension along the constraint's line of action in the last solve
+    /// (force unit; None for kinds without one).
+    pub fn tension(&self, h: ConstraintHandle) -> Result<Option<f64>> {
+        let c = self.constraint(h)?;
+        c.kind.tension(&self.rods_of(c)?, &c.multipliers)
+    }
+
+    /// The rods a constraint acts on (the first twice for one-rod kinds).
+    pub(crate) fn rods_of(&self, c: &Constraint) -> Result<[&Rod; 2]> {
+        let a = self.rod(c.rod)?;
+        Ok([a, c.other.map_or(Ok(a), |b| self.rod(b))?])
+    }
+}

@@ -1,0 +1,124 @@
+//! Named groups (SPEC §9.0): objects of a world carry labels such as
+//! "hbond[17]" or "plank[3]"; a group is every object whose label has that
+//! base name ("hbond"), in insertion order, or one label exactly. The world
+//! answers group queries — forces, broken flags, positions — without the
+//! caller keeping handle lists.
+use crate::error::{Error, Result};
+use crate::handles::{BeadHandle, ClipHandle, ConstraintHandle, LoadHandle, RodHandle};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+
+/// A labelled object.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Item {
+    Rod(RodHandle),
+    Constraint(ConstraintHandle),
+    Load(LoadHandle),
+    Bead(BeadHandle),
+    Clip(ClipHandle),
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Member {
+    pub label: String,
+    pub item: Item,
+}
+
+/// What a constraint's break left behind: when and at which measure.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Broken {
+    pub time: f64,
+    pub force: f64,
+}
+
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Groups {
+    /// Members by base name, in insertion order.
+    by_base: BTreeMap<String, Vec<Member>>,
+    /// Labelled constraints that broke, sorted by handle.
+    broken: Vec<(ConstraintHandle, Broken)>,
+}
+
+/// Longest label accepted (characters).
+pub const MAX_LABEL: usize = 256;
+
+/// The base name of a label: "hbond[17]" → "hbond".
+pub fn base_of(label: &str) -> &str {
+    label.split('[').next().unwrap_or(label)
+}
+
+/// A label is a non-empty name of letters, digits, `_`, `-`, `.`, `:`, `/`,
+/// optionally followed by one bracketed index list such as "[3]" or "[4,7]".
+pub fn check_label(label: &str) -> Result<()> {
+    let bad = || Error::invalid("label", format!("{label:?}"), "a name of letters, digits, _-.:/ optionally followed by [i] or [i,j] (at most 256 characters)");
+    if label.is_empty() || label.chars().count() > MAX_LABEL {
+        return Err(bad());
+    }
+    let (name, rest) = match label.find('[') {
+        Some(i) => (&label[..i], &label[i..]),
+        None => (label, ""),
+    };
+    if name.is_empty() || !name.chars().all(|c| c.is_alphanumeric() || "_-.:/".contains(c)) {
+        return Err(bad());
+    }
+    if !rest.is_empty() {
+        let inner = rest.strip_prefix('[').and_then(|r| r.strip_suffix(']')).ok_or_else(bad)?;
+        if inner.is_empty() || !inner.split(',').all(|p| !p.trim().is_empty() && p.trim().chars().all(|c| c.is_ascii_digit())) {
+            return Err(bad());
+        }
+    }
+    Ok(())
+}
+
+impl Groups {
+    pub(crate) fn add(&mut self, label: &str, item: Item) -> Result<()> {
+        check_label(label)?;
+        self.by_base.entry(base_of(label).to_string()).or_default().push(Member { label: label.to_string(), item });
+        Ok(())
+    }
+    pub(crate) fn mark_broken(&mut self, h: ConstraintHandle, time: f64, force: f64) {
+        let b = Broken { time, force };
+        match self.broken.binary_search_by(|x| x.0.cmp(&h)) {
+            Ok(i) => self.broken[i].1 = b,
+            Err(i) => self.broken.insert(i, (h, b)),
+        }
+    }
+    /// When a labelled constraint broke (None: not broken).
+    pub fn broken(&self, h: ConstraintHandle) -> Option<Broken> {
+        self.broken.binary_search_by(|x| x.0.cmp(&h)).ok().map(|i| self.broken[i].1)
+    }
+    /// Members of a group: every label with this base name (`"hbond"`), or
+    /// the one label given exactly (`"hbond[17]"`).
+    pub fn members(&self, name: &str) -> Result<Vec<Member>> {
+        let list = self.by_base.get(base_of(name));
+        let found: Vec<Member> = match list {
+            Some(l) if name.contains('[') => l.iter().filter(|m| m.label == name).cloned().collect(),
+            Some(l) => l.clone(),
+            None => Vec::new(),
+        };
+        if found.is_empty() {
+            let known: Vec<&str> = self.by_base.keys().map(|k| k.as_str()).take(20).collect();
+            return Err(Error::invalid("group", format!("{name:?}"), format!("one of the world's groups {known:?}")));
+        }
+        Ok(found)
+    }
+    /// Base names of all groups.
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.by_base.keys().map(|k| k.as_str())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    #[test]
+    fn labels() {
+        for ok in ["hbond[17]", "plank", "interlock[4,7]", "strand.5p"] {
+            check_label(ok).unwrap();
+        }
+        for bad in ["", "[3]", "a b", "x[", "x[a]", "x[1]y", "x[]"] {
+            assert!(check_label(bad).is_err(), "{bad}");
+        }
+        assert_eq!(base_of("hbond[3]"), "hbond");
+    }
+}
