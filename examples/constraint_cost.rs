@@ -6,6 +6,7 @@
 //! the same kind of system): the minimum, because on this shared machine
 //! the neighbours' load moves medians by ±30 %. Two columns: the band path
 //! (LDLᵀ, falling back to the LU) and the pivoting band LU forced.
+use strandkit::prelude::*;
 use nalgebra::Vector3;
 use std::time::Instant;
 use strandkit::*;
@@ -33,7 +34,7 @@ fn fastest_step(w: &mut World, reps: usize) -> (f64, bool) {
         let s = Instant::now();
         let r = w.step().unwrap();
         best = best.min(s.elapsed().as_secs_f64());
-        ldlt &= r.ldlt;
+        ldlt &= r.factorisation == strandkit::Factorisation::BandLdlt;
     }
     (best, ldlt)
 }
@@ -44,11 +45,11 @@ fn make(kind: &str, w: &World, h: RodHandle, u: f64) -> ConstraintKind {
     let p = r.position(u).unwrap();
     let t = r.tangent(u).unwrap();
     match kind {
-        "position (3 rows)" => ConstraintKind::Position { u, axes: [true, true, true, false], target: [p.x, p.y, p.z, 0.0] },
-        "tangent (2 rows)" => ConstraintKind::Tangent { u, direction: t.into() },
-        "plane (1 row)" => ConstraintKind::Plane { u, origin: p.into(), normal: [0.0, 1.0, 0.0] },
-        "distance (1 row)" => ConstraintKind::Distance { u, point: [p.x, p.y + 1.0, p.z], distance: 1.0 },
-        _ => ConstraintKind::SlidingPoint { u, point: p.into(), friction: 0.0 },
+        "position (3 rows)" => ConstraintKind::Position(Position { u, axes: [true, true, true, false], target: [p.x, p.y, p.z, 0.0] }),
+        "tangent (2 rows)" => ConstraintKind::Tangent(Tangent { u, direction: t.into() }),
+        "plane (1 row)" => ConstraintKind::Plane(Plane { u, origin: p.into(), normal: [0.0, 1.0, 0.0] }),
+        "distance (1 row)" => ConstraintKind::Distance(Distance { u, point: [p.x, p.y + 1.0, p.z], distance: 1.0 }),
+        _ => ConstraintKind::SlidingPoint(SlidingPoint { u, point: p.into(), friction: 0.0 }),
     }
 }
 

@@ -3,7 +3,9 @@
 //! segment, and a short dynamic run of the same beam dropped under its load.
 //! Run: cargo run --release --example showcase
 use std::time::Instant;
-use strandkit::builders::scenarios::{cantilever, tip, CANTILEVER_REFERENCES};
+#[path = "../tests/common/scenarios.rs"]
+mod scenarios;
+use scenarios::{cantilever, tip, CANTILEVER_REFERENCES};
 
 fn main() -> strandkit::Result<()> {
     println!("Cantilever L = 4 m, R = 0.05 m, E = 200 GPa, 20 control points, 5 Gauss points/segment");

@@ -1,7 +1,7 @@
 //! Beads (sliding-abscissa particles, SPEC §4 and §9.4).
 mod common;
+use strandkit::prelude::*;
 use nalgebra::Vector3;
-use strandkit::*;
 
 /// A light, nearly inextensible string (EA = 1e4 N, 4.5e-7 kg/m) of length
 /// `len` between (0,0,0) and (span,0,0), started from a sagging arc. Its
@@ -36,8 +36,8 @@ fn bead_on_a_string_matches_the_reference() {
     let h = string(&mut w, 1.2, 1.0, 721, 2.2e-5);
     let (u0, u1) = w.rod(h).unwrap().domain();
     let xyz = [true, true, true, false];
-    let a = w.add_constraint(h, ConstraintKind::Position { u: u0, axes: xyz, target: [0.0; 4] }, 0.0).unwrap();
-    let b = w.add_constraint(h, ConstraintKind::Position { u: u1, axes: xyz, target: [1.0, 0.0, 0.0, 0.0] }, 0.0).unwrap();
+    let a = w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: xyz, target: [0.0; 4] }), 0.0).unwrap();
+    let b = w.add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: xyz, target: [1.0, 0.0, 0.0, 0.0] }), 0.0).unwrap();
     // Off-centre start: the bead must find the middle by itself.
     let bead = w.add_bead(h, u0 + 0.4 * (u1 - u0), 0.1, 0.0, 0.0).unwrap();
     let rep = w.relax().unwrap();
@@ -64,8 +64,8 @@ fn inclined_rod(w: &mut World, alpha: f64) -> RodHandle {
     let h = w.add_rod(rod);
     let (u0, u1) = w.rod(h).unwrap().domain();
     let xyz = [true, true, true, false];
-    w.add_constraint(h, ConstraintKind::Position { u: u0, axes: xyz, target: [0.0; 4] }, 0.0).unwrap();
-    w.add_constraint(h, ConstraintKind::Position { u: u1, axes: xyz, target: [end.x, end.y, 0.0, 0.0] }, 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: xyz, target: [0.0; 4] }), 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: xyz, target: [end.x, end.y, 0.0, 0.0] }), 0.0).unwrap();
     h
 }
 

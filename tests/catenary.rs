@@ -3,8 +3,8 @@
 //! A nearly inextensible, nearly perfectly flexible rope: EA = 1e4 N (strain
 //! < 1e-4), EI = 1e-6 N·m² (bending boundary layer √(EI/H) ≈ 1.5 mm).
 mod common;
+use strandkit::prelude::*;
 use nalgebra::Vector3;
-use strandkit::*;
 
 #[test]
 fn catenary_sag_and_tensions() {
@@ -26,11 +26,11 @@ fn catenary_sag_and_tensions() {
     let mut w = World::new(IntegrationParameters::default());
     let h = w.add_rod(rod);
     let xyz = [true, true, true, false];
-    let a = w.add_constraint(h, ConstraintKind::Position { u: u0, axes: xyz, target: [0.0; 4] }, 0.0).unwrap();
+    let a = w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: xyz, target: [0.0; 4] }), 0.0).unwrap();
     let b = w
-        .add_constraint(h, ConstraintKind::Position { u: u1, axes: xyz, target: [1.0, 0.0, 0.0, 0.0] }, 0.0)
+        .add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: xyz, target: [1.0, 0.0, 0.0, 0.0] }), 0.0)
         .unwrap();
-    w.add_load(Load::Distributed { rod: h, force_per_length: [0.0, -1.0, 0.0] }).unwrap();
+    w.add_load(Load::Distributed(Distributed { rod: h, force_per_length: [0.0, -1.0, 0.0] })).unwrap();
     let rep = w.relax().unwrap();
     let rod = w.rod(h).unwrap();
     let (um, _) = rod.domain();

@@ -1,5 +1,6 @@
 //! Clips (III.A.5.a, algorithms 4–5): capture of a rod entering the clip
 //! sphere, release when the pull-out force exceeds the clip's resistance.
+use strandkit::prelude::*;
 use nalgebra::Vector3;
 use strandkit::*;
 
@@ -19,17 +20,17 @@ fn clip_captures_and_releases_at_its_resistance() {
     let mut w = World::new(IntegrationParameters::default());
     let h = w.add_rod(rod);
     let (u0, u1) = w.rod(h).unwrap().domain();
-    w.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: [0.0; 4] }, 0.0).unwrap();
-    w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true; 4], target: [0.0; 4] }), 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
     let clip = w.add_clip([0.5, 0.0, 0.0], 0.02, [0.0, 1.0, 0.0], 990.0).unwrap();
     let rep = w.relax().unwrap();
     assert!(matches!(rep.events.as_slice(), [Event::ClipCaptured { .. }]), "captured: {:?}", rep.events);
     assert!(w.clip(clip).unwrap().held.is_some());
-    let load = w.add_load(Load::PointForce { rod: h, u: u1, force: [0.0; 3] }).unwrap();
+    let load = w.add_load(Load::PointForce(PointForce { rod: h, u: u1, force: [0.0; 3] })).unwrap();
     let mut tip_before = 0.0;
     for k in 1..100 {
         let f = 20.0 * k as f64;
-        w.set_load(load, Load::PointForce { rod: h, u: u1, force: [0.0, f, 0.0] }).unwrap();
+        w.set_load(load, Load::PointForce(PointForce { rod: h, u: u1, force: [0.0, f, 0.0] })).unwrap();
         let rep = w.relax().unwrap();
         if let Some(Event::ClipReleased { force, .. }) = rep.events.first() {
             println!("released at F = {f} N with pull-out {force:.1} N (2.5 F = {})", 2.5 * f);

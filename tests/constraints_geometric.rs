@@ -2,6 +2,7 @@
 //! is known (issue 3): plane, distance, axis, curvature, compliance, and
 //! force-threshold rupture.
 mod common;
+use strandkit::prelude::*;
 use nalgebra::Vector3;
 use strandkit::*;
 
@@ -11,14 +12,14 @@ fn beam(n: usize, roll: bool) -> Rod {
 }
 
 fn pos(u: f64, axes: [bool; 4], target: [f64; 4]) -> ConstraintKind {
-    ConstraintKind::Position { u, axes, target }
+    ConstraintKind::Position(Position { u, axes, target })
 }
 
 /// Clamp at x = 0 (position, roll, tangent).
 fn clamped(w: &mut World, h: RodHandle) {
     let u0 = w.rod(h).unwrap().domain().0;
     w.add_constraint(h, pos(u0, [true; 4], [0.0; 4]), 0.0).unwrap();
-    w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
 }
 
 /// A rod resting on a frictionless plane at both ends carries exactly the
@@ -33,8 +34,8 @@ fn plane_supports_carry_the_normal_load() {
     let pin = w.add_constraint(h, pos(u0, [true, true, false, false], [0.0; 4]), 0.0).unwrap();
     w.add_constraint(h, pos(u1, [false, true, false, false], [0.0; 4]), 0.0).unwrap();
     let (p0, p1) = (
-        w.add_constraint(h, ConstraintKind::Plane { u: u0, origin: [0.0; 3], normal: [0.0, 0.0, 1.0] }, 0.0).unwrap(),
-        w.add_constraint(h, ConstraintKind::Plane { u: u1, origin: [0.0; 3], normal: [0.0, 0.0, 1.0] }, 0.0).unwrap(),
+        w.add_constraint(h, ConstraintKind::Plane(Plane { u: u0, origin: [0.0; 3], normal: [0.0, 0.0, 1.0] }), 0.0).unwrap(),
+        w.add_constraint(h, ConstraintKind::Plane(Plane { u: u1, origin: [0.0; 3], normal: [0.0, 0.0, 1.0] }), 0.0).unwrap(),
     );
     w.relax().unwrap();
     let (r0, r1) = (w.reaction(p0).unwrap().force, w.reaction(p1).unwrap().force);
@@ -57,8 +58,8 @@ fn distance_link_and_axis_prop_a_cantilever() {
         clamped(&mut w, h);
         let (_, u1) = w.rod(h).unwrap().domain();
         let kind = match which {
-            "distance" => ConstraintKind::Distance { u: u1, point: [4.0, 1000.0, 0.0], distance: 1000.0 },
-            _ => ConstraintKind::Axis { u: u1, origin: [0.0; 3], direction: [1.0, 0.0, 0.0] },
+            "distance" => ConstraintKind::Distance(Distance { u: u1, point: [4.0, 1000.0, 0.0], distance: 1000.0 }),
+            _ => ConstraintKind::Axis(Axis { u: u1, origin: [0.0; 3], direction: [1.0, 0.0, 0.0] }),
         };
         let c = w.add_constraint(h, kind, 0.0).unwrap();
         w.relax().unwrap();
@@ -84,25 +85,28 @@ fn curvature_constraint_is_met_and_balanced_by_the_clamp() {
     let h = w.add_rod(beam(20, true));
     let u0 = w.rod(h).unwrap().domain().0;
     let clamp = w.add_constraint(h, pos(u0, [true; 4], [0.0; 4]), 0.0).unwrap();
-    let tangent = w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    let tangent = w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
     let u1 = w.rod(h).unwrap().domain().1;
     let now = w.rod(h).unwrap().eval(u1, 2).unwrap();
-    let c = w.add_constraint(h, ConstraintKind::Curvature { u: u1, target: [now[0], now[1], now[2]] }, 0.0).unwrap();
+    let c = w.add_constraint(h, ConstraintKind::Curvature(Curvature { u: u1, target: [now[0], now[1], now[2]] }), 0.0).unwrap();
     w.relax().unwrap();
     assert!(w.constraint(c).unwrap().multipliers.iter().all(|l| l.abs() < 1e-6));
     let target = [0.0, 0.05, 0.02];
-    w.set_constraint(c, ConstraintKind::Curvature { u: u1, target }).unwrap();
+    w.set_constraint(c, ConstraintKind::Curvature(Curvature { u: u1, target })).unwrap();
     w.relax().unwrap();
     let rod = w.rod(h).unwrap();
     let r2 = rod.eval(u1, 2).unwrap();
     for a in 0..3 {
         assert!((r2[a] - target[a]).abs() < 1e-9, "r'' {r2:?} vs {target:?}");
     }
-    let lam = Vector3::from(w.reaction(c).unwrap().force);
+    let lam = Vector3::from_column_slice(&w.constraint(c).unwrap().multipliers);
     let couple = Vector3::new(r2[0], r2[1], r2[2]).cross(&lam);
+    // The reported reaction is that couple (no net force).
+    let r = w.reaction(c).unwrap();
+    assert!((Vector3::from(r.torque) - couple).norm() <= 1e-12 * couple.norm() && Vector3::from(r.force).norm() == 0.0);
     let f = Vector3::from(w.reaction(clamp).unwrap().force);
-    // Clamp moment = tangent-row moment + roll torque about x.
-    let m = Vector3::from(w.reaction(tangent).unwrap().torque) + Vector3::x() * w.reaction(clamp).unwrap().torque[0];
+    // Clamp moment = tangent-row moment + roll torque about the tangent (x).
+    let m = Vector3::from(w.reaction(tangent).unwrap().torque) + Vector3::from(w.reaction(clamp).unwrap().torque);
     println!("Λ {lam:?}, couple {couple:?}, clamp force {f:?}, clamp moment {m:?}");
     assert!(lam.norm() > 1.0, "a real constraint force");
     assert!(f.norm() < 1e-6 * lam.norm());
@@ -123,7 +127,7 @@ fn compliant_link_is_a_spring() {
     let compliance = 1.0 / k_beam; // as stiff as the beam
     let spring = w.add_constraint(h, pos(u1, [false, true, false, false], [0.0; 4]), compliance).unwrap();
     let f = 1000.0;
-    w.add_load(Load::PointForce { rod: h, u: u1, force: [0.0, -f, 0.0] }).unwrap();
+    w.add_load(Load::PointForce(PointForce { rod: h, u: u1, force: [0.0, -f, 0.0] })).unwrap();
     w.relax().unwrap();
     let y = w.rod(h).unwrap().position(u1).unwrap().y;
     let lam = w.constraint(spring).unwrap().multipliers[0];
@@ -148,18 +152,18 @@ fn most_loaded_hanger_breaks_first() {
         .map(|i| {
             let x = i as f64;
             let u = u0 + (u1 - u0) * x / 4.0;
-            let c = w.add_constraint(h, ConstraintKind::Distance { u, point: [x, 5.0, 0.0], distance: 5.0 }, 0.0).unwrap();
-            w.set_breaking(c, Some(Breaking { force: threshold, tension_only: true })).unwrap();
+            let c = w.add_constraint(h, ConstraintKind::Distance(Distance { u, point: [x, 5.0, 0.0], distance: 5.0 }), 0.0).unwrap();
+            w.set_breaking(c, Some(Breaking { force: threshold, policy: BreakPolicy::Tension })).unwrap();
             c
         })
         .collect();
     let ul = u0 + (u1 - u0) * 3.2 / 4.0;
-    let load = w.add_load(Load::PointForce { rod: h, u: ul, force: [0.0; 3] }).unwrap();
+    let load = w.add_load(Load::PointForce(PointForce { rod: h, u: ul, force: [0.0; 3] })).unwrap();
     let step = 250.0;
     let mut previous: Vec<f64> = vec![0.0; 5];
     for k in 1..100 {
         let f = step * k as f64;
-        w.set_load(load, Load::PointForce { rod: h, u: ul, force: [0.0, -f, 0.0] }).unwrap();
+        w.set_load(load, Load::PointForce(PointForce { rod: h, u: ul, force: [0.0, -f, 0.0] })).unwrap();
         let rep = w.relax().unwrap();
         if let Some(Event::ConstraintBroken { constraint, force, .. }) = rep.events.first() {
             let i = hangers.iter().position(|c| c == constraint).unwrap();

@@ -1,4 +1,5 @@
 //! Sliding constraints (III.37–III.42, issue 3).
+use strandkit::prelude::*;
 use nalgebra::Vector3;
 use strandkit::*;
 
@@ -31,26 +32,26 @@ fn frictionless_ring_transmits_equal_tension() {
     let h = w.add_rod(rod_of(Vector3::new(-1.0, 0.0, 0.0), Vector3::new(1.0, 0.0, 0.0), 60, 0.03));
     let (u0, u1) = w.rod(h).unwrap().domain();
     let xyz = [true, true, true, false];
-    let a = w.add_constraint(h, ConstraintKind::Position { u: u0, axes: xyz, target: [-1.0, 0.0, 0.0, 0.0] }, 0.0).unwrap();
-    let b = w.add_constraint(h, ConstraintKind::Position { u: u1, axes: xyz, target: [1.0, 0.0, 0.0, 0.0] }, 0.0).unwrap();
+    let a = w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: xyz, target: [-1.0, 0.0, 0.0, 0.0] }), 0.0).unwrap();
+    let b = w.add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: xyz, target: [1.0, 0.0, 0.0, 0.0] }), 0.0).unwrap();
     let ring = [0.3, -0.2, 0.0];
     // Start the slider at the abscissa closest to the ring and move the ring
     // there gradually (a moving target), then relax.
     let um = u0 + (u1 - u0) * 0.65;
-    let s = w.add_constraint(h, ConstraintKind::SlidingPoint { u: um, point: [0.3, 0.0, 0.0], friction: 0.0 }, 0.0).unwrap();
+    let s = w.add_constraint(h, ConstraintKind::SlidingPoint(SlidingPoint { u: um, point: [0.3, 0.0, 0.0], friction: 0.0 }), 0.0).unwrap();
     for k in 1..=10 {
         let y = ring[1] * k as f64 / 10.0;
         let u = match w.constraint(s).unwrap().kind {
-            ConstraintKind::SlidingPoint { u, .. } => u,
+            ConstraintKind::SlidingPoint(SlidingPoint { u, .. }) => u,
             _ => unreachable!(),
         };
-        w.set_constraint(s, ConstraintKind::SlidingPoint { u, point: [0.3, y, 0.0], friction: 0.0 }).unwrap();
+        w.set_constraint(s, ConstraintKind::SlidingPoint(SlidingPoint { u, point: [0.3, y, 0.0], friction: 0.0 })).unwrap();
         w.relax().unwrap();
     }
     let (fa, fb) = (Vector3::from(w.reaction(a).unwrap().force), Vector3::from(w.reaction(b).unwrap().force));
     let fr = Vector3::from(w.reaction(s).unwrap().force);
     let u = match w.constraint(s).unwrap().kind {
-        ConstraintKind::SlidingPoint { u, .. } => u,
+        ConstraintKind::SlidingPoint(SlidingPoint { u, .. }) => u,
         _ => unreachable!(),
     };
     let rod = w.rod(h).unwrap();
@@ -83,7 +84,7 @@ fn slider_leaving_the_rod_is_reported() {
     let h = w.add_rod(rope(Vector3::new(0.0, 0.0, 0.0), Vector3::new(0.0, -0.2, 0.0), 8));
     let (u0, u1) = w.rod(h).unwrap().domain();
     let s = w
-        .add_constraint(h, ConstraintKind::SlidingPoint { u: u0 + 0.01 * (u1 - u0), point: [0.0, -0.002, 0.0], friction: 0.0 }, 0.0)
+        .add_constraint(h, ConstraintKind::SlidingPoint(SlidingPoint { u: u0 + 0.01 * (u1 - u0), point: [0.0, -0.002, 0.0], friction: 0.0 }), 0.0)
         .unwrap();
     for k in 0..2000 {
         let rep = w.step().unwrap();
@@ -129,16 +130,16 @@ fn oriented_slider_is_a_guided_clamp() {
         let mut w = World::new(IntegrationParameters::default());
         let h = w.add_rod(steel(Vector3::zeros(), Vector3::new(2.0, 0.0, 0.0), n, true));
         let (u0, u1) = w.rod(h).unwrap().domain();
-        w.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: [0.0; 4] }, 0.0).unwrap();
-        w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+        w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true; 4], target: [0.0; 4] }), 0.0).unwrap();
+        w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
         let tube = w
             .add_constraint(
                 h,
-                ConstraintKind::OrientedSlidingPoint { u: 0.5 * (u0 + u1), point: [1.0, 0.0, 0.0], direction: [1.0, 0.0, 0.0], friction: 0.0 },
+                ConstraintKind::OrientedSlidingPoint(OrientedSlidingPoint { u: 0.5 * (u0 + u1), point: [1.0, 0.0, 0.0], direction: [1.0, 0.0, 0.0], friction: 0.0 }),
                 0.0,
             )
             .unwrap();
-        w.add_load(Load::PointForce { rod: h, u: u1, force: [0.0, -f, 0.0] }).unwrap();
+        w.add_load(Load::PointForce(PointForce { rod: h, u: u1, force: [0.0, -f, 0.0] })).unwrap();
         w.relax().unwrap();
         let y = -w.rod(h).unwrap().position(u1).unwrap().y;
         let r = w.reaction(tube).unwrap();
@@ -162,24 +163,24 @@ fn contact_between_crossing_rods_slides() {
     let a = w.add_rod(steel(Vector3::new(-1.0, 0.0, 0.0), Vector3::new(1.0, 0.0, 0.0), 21, false));
     let (a0, a1) = w.rod(a).unwrap().domain();
     let xyz = [true, true, true, false];
-    w.add_constraint(a, ConstraintKind::Position { u: a0, axes: xyz, target: [-1.0, 0.0, 0.0, 0.0] }, 0.0).unwrap();
-    w.add_constraint(a, ConstraintKind::Position { u: a1, axes: xyz, target: [1.0, 0.0, 0.0, 0.0] }, 0.0).unwrap();
+    w.add_constraint(a, ConstraintKind::Position(Position { u: a0, axes: xyz, target: [-1.0, 0.0, 0.0, 0.0] }), 0.0).unwrap();
+    w.add_constraint(a, ConstraintKind::Position(Position { u: a1, axes: xyz, target: [1.0, 0.0, 0.0, 0.0] }), 0.0).unwrap();
     let d = 0.04; // the two radii
     let b = w.add_rod(steel(Vector3::new(-0.2, -1.0, d), Vector3::new(-0.2, 0.0, d), 11, false));
     let (b0, b1) = w.rod(b).unwrap().domain();
-    let hinge = w.add_constraint(b, ConstraintKind::Position { u: b0, axes: xyz, target: [-0.2, -1.0, d, 0.0] }, 0.0).unwrap();
-    let guide = w.add_constraint(b, ConstraintKind::Position { u: b1, axes: [true, false, false, false], target: [-0.2, 0.0, 0.0, 0.0] }, 0.0).unwrap();
+    let hinge = w.add_constraint(b, ConstraintKind::Position(Position { u: b0, axes: xyz, target: [-0.2, -1.0, d, 0.0] }), 0.0).unwrap();
+    let guide = w.add_constraint(b, ConstraintKind::Position(Position { u: b1, axes: [true, false, false, false], target: [-0.2, 0.0, 0.0, 0.0] }), 0.0).unwrap();
     let ua = 0.5 * (a0 + a1);
-    let contact = w.add_link(b, a, ConstraintKind::Contact { ua: b1, ub: ua, distance: d }, 0.0).unwrap();
+    let contact = w.add_link(b, a, ConstraintKind::Contact(Contact { ua: b1, ub: ua, distance: d }), 0.0).unwrap();
     let p = 1000.0;
-    w.add_load(Load::PointForce { rod: b, u: 0.5 * (b0 + b1), force: [0.0, 0.0, -p] }).unwrap();
+    w.add_load(Load::PointForce(PointForce { rod: b, u: 0.5 * (b0 + b1), force: [0.0, 0.0, -p] })).unwrap();
     for x in [-0.2, 0.0, 0.3] {
-        w.set_constraint(hinge, ConstraintKind::Position { u: b0, axes: xyz, target: [x, -1.0, d, 0.0] }).unwrap();
-        w.set_constraint(guide, ConstraintKind::Position { u: b1, axes: [true, false, false, false], target: [x, 0.0, 0.0, 0.0] }).unwrap();
+        w.set_constraint(hinge, ConstraintKind::Position(Position { u: b0, axes: xyz, target: [x, -1.0, d, 0.0] })).unwrap();
+        w.set_constraint(guide, ConstraintKind::Position(Position { u: b1, axes: [true, false, false, false], target: [x, 0.0, 0.0, 0.0] })).unwrap();
         w.relax().unwrap();
         let c = w.constraint(contact).unwrap();
         let (ub_, ua_) = match c.kind {
-            ConstraintKind::Contact { ua, ub, .. } => (ua, ub),
+            ConstraintKind::Contact(Contact { ua, ub, .. }) => (ua, ub),
             _ => unreachable!(),
         };
         let pa = w.rod(a).unwrap().position(ua_).unwrap();

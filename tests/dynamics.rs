@@ -1,9 +1,9 @@
 //! Issue "Show 5": momentum and energy of a free rod, the rigid-rod
 //! pendulum frequency, and quasi-static = dynamic with a huge step (IV.B.1.c).
 mod common;
+use strandkit::prelude::*;
 use common::*;
 use nalgebra::Vector3;
-use strandkit::*;
 
 fn soft_rod(n: usize, roll: bool) -> Rod {
     RodBuilder::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0))
@@ -92,7 +92,7 @@ fn pinned_stiff_rod_swings_like_a_rigid_pendulum() {
     let dt = 1e-3;
     let mut w = World::new(IntegrationParameters { dt, gravity: [0.0, -g, 0.0], parallel: false, ..Default::default() });
     let h = w.add_rod(rod);
-    w.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true, true, true, false], target: [0.0; 4] }, 0.0)
+    w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true, true, true, false], target: [0.0; 4] }), 0.0)
         .unwrap();
     let mut crossings = Vec::new();
     let mut prev = w.rod(h).unwrap().position(u1).unwrap().x;

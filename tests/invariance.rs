@@ -11,8 +11,8 @@
 //! - SPEC §2.2: a straight free rod stays straight and stable in dynamics.
 mod common;
 
+use strandkit::prelude::*;
 use nalgebra::{Rotation3, Unit, Vector3};
-use strandkit::*;
 
 const E: f64 = 1e7;
 const R: f64 = 0.02;
@@ -181,11 +181,11 @@ fn clamped_helix_relaxes_to_itself() {
     let q0 = rod.coords().to_vec();
     let mut world = World::new(IntegrationParameters::default());
     let h = world.add_rod(rod);
-    world.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: p }, 0.0).unwrap();
-    world.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: t.into() }, 0.0).unwrap();
+    world.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true; 4], target: p }), 0.0).unwrap();
+    world.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: t.into() }), 0.0).unwrap();
     // Reference = Frenet normal: then the material-roll angle is θ(u0).
     let roll = world
-        .add_constraint(h, ConstraintKind::MaterialRoll { u: u0, reference: n.into(), angle: p[3] }, 0.0)
+        .add_constraint(h, ConstraintKind::MaterialRoll(MaterialRoll { u: u0, reference: n.into(), angle: p[3] }), 0.0)
         .unwrap();
     let rep = world.relax().expect("relax of an unloaded clamped helix");
     let q = world.rod(h).unwrap().coords();
@@ -215,9 +215,9 @@ fn rotated_clamped_helix_relaxes_to_itself() {
     let n = s.r1.cross(&s.r2).normalize().cross(&t);
     let mut world = World::new(IntegrationParameters::default());
     let h = world.add_rod(rod);
-    world.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: p }, 0.0).unwrap();
-    world.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: t.into() }, 0.0).unwrap();
-    world.add_constraint(h, ConstraintKind::MaterialRoll { u: u0, reference: n.into(), angle: p[3] }, 0.0).unwrap();
+    world.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true; 4], target: p }), 0.0).unwrap();
+    world.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: t.into() }), 0.0).unwrap();
+    world.add_constraint(h, ConstraintKind::MaterialRoll(MaterialRoll { u: u0, reference: n.into(), angle: p[3] }), 0.0).unwrap();
     world.relax().expect("relax of the rotated clamped helix");
     let qa = world.rod(h).unwrap().coords();
     let dq = max_abs(&qa.iter().zip(&q).map(|(a, b)| a - b).collect::<Vec<_>>());

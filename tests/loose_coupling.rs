@@ -4,8 +4,8 @@
 //! model is a linear spring (stiffness k_e) holding the tip of a loaded
 //! cantilever; the coupled iteration converges to the monolithic answer
 //! y_tip = −F / (3EI/L³ + k_e).
+use strandkit::prelude::*;
 use nalgebra::Vector3;
-use strandkit::*;
 
 #[test]
 fn four_step_protocol_converges_to_the_coupled_equilibrium() {
@@ -22,10 +22,10 @@ fn four_step_protocol_converges_to_the_coupled_equilibrium() {
     let mut w = World::new(IntegrationParameters::default());
     let h = w.add_rod(rod);
     let (u0, u1) = w.rod(h).unwrap().domain();
-    w.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: [0.0; 4] }, 0.0).unwrap();
-    w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
-    w.add_load(Load::PointForce { rod: h, u: u1, force: [0.0, -f, 0.0] }).unwrap();
-    let tip = |y: f64| ConstraintKind::Position { u: u1, axes: [false, true, false, false], target: [0.0, y, 0.0, 0.0] };
+    w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true; 4], target: [0.0; 4] }), 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
+    w.add_load(Load::PointForce(PointForce { rod: h, u: u1, force: [0.0, -f, 0.0] })).unwrap();
+    let tip = |y: f64| ConstraintKind::Position(Position { u: u1, axes: [false, true, false, false], target: [0.0, y, 0.0, 0.0] });
     let link = w.add_constraint(h, tip(0.0), 0.0).unwrap();
     let mut y_e = 0.0; // the external model's attachment point
     for it in 0..60 {

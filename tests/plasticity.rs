@@ -1,10 +1,10 @@
 //! Perfect plasticity (SPEC §6, thesis II.C.2.a, algorithm 1, II.D.1.f):
 //! permanent curvature and elongation after release, elastic return below
 //! yield, offsets reset by yielding the other way, plastic letters.
+use strandkit::prelude::*;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 use strandkit::material::StrainLimits;
-use strandkit::*;
 
 const L: f64 = 1.0;
 const INF: (f64, f64) = (f64::NEG_INFINITY, f64::INFINITY);
@@ -23,8 +23,8 @@ fn wire(n_ctrl: usize, limits: StrainLimits) -> Rod {
 
 fn clamp_start(w: &mut World, h: RodHandle) {
     let u0 = w.rod(h).unwrap().domain().0;
-    w.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true, true, true, false], target: [0.0; 4] }, 0.0).unwrap();
-    w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true, true, true, false], target: [0.0; 4] }), 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
 }
 
 /// Clamped at s = 0, end tangent turned to angle φ in the xy plane (a pure
@@ -36,14 +36,14 @@ fn bend_and_release(phi: f64, yield_curvature: f64) -> (World, RodHandle, Vec<f6
     let h = w.add_rod(wire(16, limits));
     clamp_start(&mut w, h);
     let u1 = w.rod(h).unwrap().domain().1;
-    let end = w.add_constraint(h, ConstraintKind::Tangent { u: u1, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    let end = w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u1, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
     // A rod without roll can spin about its clamped tangent: the wire lies
     // on a frictionless table (z = 0 at its end).
-    w.add_constraint(h, ConstraintKind::Plane { u: u1, origin: [0.0; 3], normal: [0.0, 0.0, 1.0] }, 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Plane(Plane { u: u1, origin: [0.0; 3], normal: [0.0, 0.0, 1.0] }), 0.0).unwrap();
     let steps = 20;
     for k in 1..=steps {
         let a = phi * k as f64 / steps as f64;
-        w.set_constraint(end, ConstraintKind::Tangent { u: u1, direction: [a.cos(), a.sin(), 0.0] }).unwrap();
+        w.set_constraint(end, ConstraintKind::Tangent(Tangent { u: u1, direction: [a.cos(), a.sin(), 0.0] })).unwrap();
         w.relax().unwrap();
     }
     // Loaded: uniform moment, so uniform curvature φ/L up to the spline's
@@ -102,7 +102,7 @@ fn stretched_past_yield_keeps_a_permanent_elongation() {
     let h = w.add_rod(wire(8, limits));
     clamp_start(&mut w, h);
     let u1 = w.rod(h).unwrap().domain().1;
-    let pos = |x: f64| ConstraintKind::Position { u: u1, axes: [true, true, true, false], target: [x, 0.0, 0.0, 0.0] };
+    let pos = |x: f64| ConstraintKind::Position(Position { u: u1, axes: [true, true, true, false], target: [x, 0.0, 0.0, 0.0] });
     let end = w.add_constraint(h, pos(L), 0.0).unwrap();
     for k in 1..=4 {
         w.set_constraint(end, pos(L * (1.0 + 0.005 * k as f64))).unwrap();
@@ -163,11 +163,11 @@ fn plastic_letter_keeps_its_shape_after_release() {
         let (u0, u1) = w.rod(h).unwrap().domain();
         let points = 8;
         let at = |j: usize| (j as f64 / points as f64, u0 + (u1 - u0) * j as f64 / points as f64);
-        let pin = |p: Vector3<f64>, u: f64| ConstraintKind::Position { u, axes: [true, true, false, false], target: [p.x, p.y, 0.0, 0.0] };
+        let pin = |p: Vector3<f64>, u: f64| ConstraintKind::Position(Position { u, axes: [true, true, false, false], target: [p.x, p.y, 0.0, 0.0] });
         // (the last pin and the table hold the end: x, y by the pin, z by the table)
         let pins: Vec<_> = (1..=points).map(|j| w.add_constraint(h, pin(shape(at(j).0 * L, 0.0), at(j).1), 0.0).unwrap()).collect();
         // On a frictionless table (z = 0 at the end): a rod without roll could spin about its clamp.
-        w.add_constraint(h, ConstraintKind::Plane { u: u1, origin: [0.0; 3], normal: [0.0, 0.0, 1.0] }, 0.0).unwrap();
+        w.add_constraint(h, ConstraintKind::Plane(Plane { u: u1, origin: [0.0; 3], normal: [0.0, 0.0, 1.0] }), 0.0).unwrap();
         let steps = 24;
         for k in 1..=steps {
             let kk = kappa * k as f64 / steps as f64;

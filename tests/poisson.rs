@@ -1,8 +1,8 @@
 //! Poisson contraction of the section (II.59, `RodOptions::poisson_update`):
 //! a bar stretched by ε thins to R⁰(1 − νε), its axial force follows the
 //! thinner section, and it gets R⁰ back when released.
+use strandkit::prelude::*;
 use nalgebra::Vector3;
-use strandkit::*;
 
 #[test]
 fn stretched_bar_thins_by_nu_epsilon_and_recovers() {
@@ -19,9 +19,9 @@ fn stretched_bar_thins_by_nu_epsilon_and_recovers() {
     let mass0 = rod.mass();
     let mut w = World::new(IntegrationParameters::default());
     let h = w.add_rod(rod);
-    let pos = |u: f64, x: f64| ConstraintKind::Position { u, axes: [true, true, true, false], target: [x, 0.0, 0.0, 0.0] };
+    let pos = |u: f64, x: f64| ConstraintKind::Position(Position { u, axes: [true, true, true, false], target: [x, 0.0, 0.0, 0.0] });
     w.add_constraint(h, pos(u0, 0.0), 0.0).unwrap();
-    w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
     let end = w.add_constraint(h, pos(u1, 1.0 + eps), 0.0).unwrap();
     w.relax().unwrap();
     w.relax().unwrap(); // the force of the thinned section

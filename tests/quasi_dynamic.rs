@@ -3,6 +3,7 @@
 //! world is under-constrained, continuity across switches, the velocity
 //! hand-over, and the free-length time step (IV.15).
 mod common;
+use strandkit::prelude::*;
 use strandkit::*;
 
 /// A clock whose frames take scripted durations (seconds): `now()` is
@@ -123,7 +124,7 @@ fn time_step_scales_with_the_free_length() {
         u -= (s - 1.0) / rod.tangent(u).map(|_| (rod.rest_arc_length(u + 1e-6).unwrap() - s) / 1e-6).unwrap();
     }
     let p = rod.position(u).unwrap();
-    w.add_constraint(c.rod, ConstraintKind::Position { u, axes: [false, true, true, false], target: [0.0, p.y, p.z, 0.0] }, 0.0).unwrap();
+    w.add_constraint(c.rod, ConstraintKind::Position(Position { u, axes: [false, true, true, false], target: [0.0, p.y, p.z, 0.0] }), 0.0).unwrap();
     let r = qd.step(w, &mut clock).unwrap();
     println!("free length {:.6} m, dt {:.6e} s", r.free_length, r.dt);
     assert!((r.free_length - 3.0).abs() < 1e-9);

@@ -2,6 +2,7 @@
 //! cut by a knot of multiplicity 4 at its most strained sample; the pieces
 //! reproduce the pre-rupture rod exactly and then move independently;
 //! constraints and beads follow the piece holding their abscissa.
+use strandkit::prelude::*;
 use nalgebra::Vector3;
 use strandkit::material::StrainLimits;
 use strandkit::spline::KnotKind;
@@ -106,10 +107,10 @@ fn pulled_strand() -> (World, RodHandle, ConstraintHandle, BeadHandle, BeadHandl
     let (u0, u1) = rod.domain();
     let mut w = World::new(IntegrationParameters { parallel: false, ..Default::default() });
     let h = w.add_rod(rod);
-    w.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true, true, true, false], target: [0.0; 4] }, 0.0).unwrap();
-    w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true, true, true, false], target: [0.0; 4] }), 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
     let end = w
-        .add_constraint(h, ConstraintKind::Position { u: u1, axes: [true, true, true, false], target: [1.0, 0.0, 0.0, 0.0] }, 0.0)
+        .add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: [true, true, true, false], target: [1.0, 0.0, 0.0, 0.0] }), 0.0)
         .unwrap();
     let left = w.add_bead(h, u0 + 0.25 * (u1 - u0), 0.001, 0.0, 0.0).unwrap();
     let right = w.add_bead(h, u0 + 0.85 * (u1 - u0), 0.001, 0.0, 0.0).unwrap();
@@ -125,7 +126,7 @@ fn pulled_past_rupture_splits_at_the_most_strained_sample() {
     for k in 1..=400 {
         let before = w.clone();
         let x = 1.0 + speed * w.params.dt * k as f64;
-        w.set_constraint(end, ConstraintKind::Position { u: u1, axes: [true, true, true, false], target: [x, 0.0, 0.0, 0.0] }).unwrap();
+        w.set_constraint(end, ConstraintKind::Position(Position { u: u1, axes: [true, true, true, false], target: [x, 0.0, 0.0, 0.0] })).unwrap();
         let report = w.step().unwrap();
         if let Some(e) = report.events.iter().find(|e| matches!(e, Event::RodRuptured { .. })) {
             rupture = Some((before, x, e.clone()));
@@ -141,7 +142,7 @@ fn pulled_past_rupture_splits_at_the_most_strained_sample() {
     // The same step without rupture limits gives the pre-rupture state.
     let mut reference = before;
     reference.rod_mut(h).unwrap().set_strain_limits(None, None).unwrap();
-    reference.set_constraint(end, ConstraintKind::Position { u: u1, axes: [true, true, true, false], target: [x, 0.0, 0.0, 0.0] }).unwrap();
+    reference.set_constraint(end, ConstraintKind::Position(Position { u: u1, axes: [true, true, true, false], target: [x, 0.0, 0.0, 0.0] })).unwrap();
     reference.step().unwrap();
     let ref_rod = reference.rod(h).unwrap();
     let strains = ref_rod.relative_strains();
@@ -191,13 +192,13 @@ fn slider_falling_off_a_broken_piece_is_reported() {
         0.5 * (a + b)
     };
     let x = rod.position(11.05).unwrap().x + 0.005;
-    let ring = w.add_constraint(h, ConstraintKind::SlidingPoint { u: at(x), point: [x, 0.0, 0.0], friction: 0.0 }, 0.0).unwrap();
+    let ring = w.add_constraint(h, ConstraintKind::SlidingPoint(SlidingPoint { u: at(x), point: [x, 0.0, 0.0], friction: 0.0 }), 0.0).unwrap();
     let mut broke = None;
     let mut left = None;
     for k in 1..=1500 {
         if broke.is_none() {
             let xe = 1.0 + 0.5 * w.params.dt * k as f64;
-            w.set_constraint(end, ConstraintKind::Position { u: u1, axes: [true, true, true, false], target: [xe, 0.0, 0.0, 0.0] }).unwrap();
+            w.set_constraint(end, ConstraintKind::Position(Position { u: u1, axes: [true, true, true, false], target: [xe, 0.0, 0.0, 0.0] })).unwrap();
         }
         for e in w.step().unwrap().events {
             match e {
@@ -225,7 +226,7 @@ fn relax_stops_at_a_rupture_and_reports_it() {
     w.remove_bead(lb).unwrap();
     w.remove_bead(rb).unwrap();
     let u1 = w.rod(h).unwrap().domain().1;
-    let pull = |x: f64| ConstraintKind::Position { u: u1, axes: [true, true, true, false], target: [x, 0.0, 0.0, 0.0] };
+    let pull = |x: f64| ConstraintKind::Position(Position { u: u1, axes: [true, true, true, false], target: [x, 0.0, 0.0, 0.0] });
     w.set_constraint(end, pull(1.02)).unwrap();
     assert!(w.relax().unwrap().events.is_empty());
     w.set_constraint(end, pull(1.06)).unwrap();
@@ -269,9 +270,9 @@ fn broken_ring_opens_and_keeps_its_attachments() {
     let q: Vec<f64> = w.rod(h).unwrap().coords().iter().map(|x| 1.08 * x).collect();
     w.rod_mut(h).unwrap().set_coords(&q).unwrap();
     let bead = w.add_bead(h, 11.3, 1e-3, 0.0, 0.0).unwrap();
-    let pin = w.add_constraint(h, ConstraintKind::Position { u: 13.7, axes: [true, true, true, false], target: [0.0; 4] }, 0.0).unwrap();
+    let pin = w.add_constraint(h, ConstraintKind::Position(Position { u: 13.7, axes: [true, true, true, false], target: [0.0; 4] }), 0.0).unwrap();
     let target = w.rod(h).unwrap().position(13.7).unwrap();
-    w.set_constraint(pin, ConstraintKind::Position { u: 13.7, axes: [true, true, true, false], target: [target.x, target.y, target.z, 0.0] }).unwrap();
+    w.set_constraint(pin, ConstraintKind::Position(Position { u: 13.7, axes: [true, true, true, false], target: [target.x, target.y, target.z, 0.0] })).unwrap();
     let mut reference = w.clone();
     reference.rod_mut(h).unwrap().set_strain_limits(None, None).unwrap();
     reference.step().unwrap();

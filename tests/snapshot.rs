@@ -1,6 +1,7 @@
 //! Snapshots (serde JSON) reload bit-for-bit: a world saved mid-run and
 //! reloaded continues exactly like the uninterrupted run.
 mod common;
+use strandkit::prelude::*;
 use common::*;
 
 #[test]
@@ -54,8 +55,8 @@ fn snapshot_keeps_plastic_and_poisson_state() {
     let u0 = rod.domain().0;
     let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], parallel: false, ..Default::default() });
     let h = w.add_rod(rod);
-    w.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: [0.0; 4] }, 0.0).unwrap();
-    w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true; 4], target: [0.0; 4] }), 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
     let mut qd = QuasiDynamic::new(&w, QuasiDynamicParameters::default()).unwrap();
     let mut clock = WallClock::default();
     for _ in 0..40 {

@@ -2,8 +2,8 @@
 //! tangent and absolute material roll) whose clamp roll is turned through a
 //! full turn sweeps a circle with its free end: the tip's distance to the
 //! clamp axis stays constant (within 2 %) while its azimuth covers 2π.
+use strandkit::prelude::*;
 use nalgebra::Vector3;
-use strandkit::*;
 
 #[test]
 fn turning_the_clamp_roll_sweeps_a_circle() {
@@ -22,11 +22,11 @@ fn turning_the_clamp_roll_sweeps_a_circle() {
     let (u0, u1) = rod.domain();
     let mut w = World::new(IntegrationParameters { relax_max_iterations: 3000, ..Default::default() });
     let h = w.add_rod(rod);
-    w.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true, true, true, false], target: [0.0; 4] }, 0.0)
+    w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true, true, true, false], target: [0.0; 4] }), 0.0)
         .unwrap();
-    w.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
     let roll = w
-        .add_constraint(h, ConstraintKind::MaterialRoll { u: u0, reference: [0.0, 1.0, 0.0], angle: 0.0 }, 0.0)
+        .add_constraint(h, ConstraintKind::MaterialRoll(MaterialRoll { u: u0, reference: [0.0, 1.0, 0.0], angle: 0.0 }), 0.0)
         .unwrap();
     w.relax().unwrap();
     let tip0 = w.rod(h).unwrap().position(u1).unwrap();
@@ -37,7 +37,7 @@ fn turning_the_clamp_roll_sweeps_a_circle() {
     let steps = 90;
     for k in 1..=steps {
         let angle = 2.0 * std::f64::consts::PI * k as f64 / steps as f64;
-        w.set_constraint(roll, ConstraintKind::MaterialRoll { u: u0, reference: [0.0, 1.0, 0.0], angle }).unwrap();
+        w.set_constraint(roll, ConstraintKind::MaterialRoll(MaterialRoll { u: u0, reference: [0.0, 1.0, 0.0], angle })).unwrap();
         w.relax().unwrap();
         let p = w.rod(h).unwrap().position(u1).unwrap();
         let rho = (p.y * p.y + p.z * p.z).sqrt();

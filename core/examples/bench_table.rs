@@ -20,6 +20,7 @@
 //! Then: a breakdown (segment kernels / scatter / factorisation / solve /
 //! world overhead) and the SPEC §10 cantilever at F = 1e5 N solved by
 //! `relax()` and by a damped dynamic run to rest.
+use strandkit_core::prelude::*;
 use std::time::{Duration, Instant};
 use strandkit_core::energy::invariants::LocalState;
 use strandkit_core::energy::{density, EnergyTerms, FrameModel, SampleConsts};
@@ -188,7 +189,7 @@ fn breakdown(n: usize, reps: usize) -> [f64; 7] {
     let t_step = b.measure(n, &Budget { min_time: Duration::from_millis(300), min_reps: reps, big_reps: reps, max_reps: 4 * reps }).time;
     let rod = b.world.rod(b.h).unwrap().clone();
     let segs: Vec<[usize; 4]> = (0..rod.n_segments()).map(|s| rod.knots().segment_ctrl(s)).collect();
-    let order = strandkit_core::system::layout::control_point_order(&[rod.n_ctrl()], &[]);
+    let order: Vec<(usize, usize)> = (0..rod.n_ctrl()).map(|i| (0, i)).collect();
     let layout = Layout::build(&[(rod.n_ctrl(), rod.dofs(), segs.as_slice())], &order, &[]);
     let ext = vec![vec![0.0; rod.coords().len()]];
     let k = Coefficients { mass: 1e6, drag: 1e3, momentum: 1e3 };
@@ -219,7 +220,7 @@ fn breakdown(n: usize, reps: usize) -> [f64; 7] {
     let mut acc = 0.0;
     let t_density = time_median(reps, || {
         for s in &states {
-            let e = density(s, &c, EnergyTerms::default(), FrameModel::Frenet, true);
+            let e = density(s, &c, &strandkit_core::energy::FrameState::None, EnergyTerms::default(), FrameModel::Frenet, true);
             acc += e.hess[(0, 0)];
         }
     });
@@ -228,13 +229,13 @@ fn breakdown(n: usize, reps: usize) -> [f64; 7] {
     let mut sys = KktSystem::default();
     let rods = [&rod];
     let t_sys = time_median(reps, || {
-        sys.assemble(&layout, &rods, &ext, &[], &[], k, false).unwrap();
+        sys.assemble(&layout, &rods, &ext, &[], &[], &[], k, false).unwrap();
     });
     // (3) the factorisation the step uses here (no multiplier rows, c_m > 0):
     // band LDLᵀ (copy of the lower band + elimination), on the assembled band;
     // (3') for comparison, the pivoting band LU (the fallback, and the path of
     // systems with constraint rows).
-    sys.assemble(&layout, &rods, &ext, &[], &[], k, false).unwrap();
+    sys.assemble(&layout, &rods, &ext, &[], &[], &[], k, false).unwrap();
     let band = sys.band.clone();
     let mut ldlt = BandLdlt::new();
     let mut ldlt_ok = true;
@@ -247,9 +248,9 @@ fn breakdown(n: usize, reps: usize) -> [f64; 7] {
     // (4) full solve = equilibration + factorisation + solve + 1 refinement.
     let mut t_solve_v = Vec::new();
     for i in 0..reps + 2 {
-        sys.assemble(&layout, &rods, &ext, &[], &[], k, false).unwrap();
+        sys.assemble(&layout, &rods, &ext, &[], &[], &[], k, false).unwrap();
         let s = Instant::now();
-        sys.solve(&layout, strandkit_core::LinearSolver::Band, |_| String::new()).unwrap();
+        sys.solve(&layout, strandkit_core::LinearSolver::Band, |g| strandkit_core::Unknown::Index { index: g }).unwrap();
         if i >= 2 {
             t_solve_v.push(s.elapsed().as_secs_f64());
         }
@@ -308,9 +309,9 @@ fn cantilever(force: f64, drag: f64) -> (World, RodHandle) {
     let (u0, u1) = r.domain();
     let mut world = World::new(IntegrationParameters { parallel: false, ..Default::default() });
     let h = world.add_rod(r);
-    world.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: [0.0; 4] }, 0.0).unwrap();
-    world.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
-    world.add_load(Load::PointForce { rod: h, u: u1, force: [0.0, -force, 0.0] }).unwrap();
+    world.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true; 4], target: [0.0; 4] }), 0.0).unwrap();
+    world.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
+    world.add_load(Load::PointForce(PointForce { rod: h, u: u1, force: [0.0, -force, 0.0] })).unwrap();
     (world, h)
 }
 

@@ -44,3 +44,16 @@ pub use rod::{Cut, Rod, RodBuilder, RodOptions, StrainMode};
 pub use section::Section;
 pub use system::{Factorisation, LinearSolver};
 pub use world::{Constraint, Event, IntegrationParameters, Item, World};
+
+/// Everything a scene script needs, in one import: the world and its
+/// objects, every constraint kind and load kind by name.
+pub mod prelude {
+    pub use crate::assembly::Assembly;
+    pub use crate::constraint::kinds::*;
+    pub use crate::constraint::{BreakPolicy, Breaking, ConstraintKind, Reaction};
+    pub use crate::force::{Distributed, Load, PointForce, PointTorque, Trap};
+    pub use crate::{
+        BeadHandle, ClipHandle, ConstraintHandle, Error, IntegrationParameters, LoadHandle, Material, Result, Rod, RodBuilder, RodHandle,
+        RodOptions, Section, World,
+    };
+}

@@ -49,7 +49,7 @@ fn ad(d: &Vec11, c: &SampleConsts, t: EnergyTerms) -> (f64, Vec11, nalgebra::SMa
 }
 
 fn closed(d: &Vec11, c: &SampleConsts, t: EnergyTerms) -> strandkit_core::energy::LocalEnergy {
-    density(&LocalState::from_vec(d), c, t, FrameModel::Frenet, true)
+    density(&LocalState::from_vec(d), c, &strandkit_core::energy::FrameState::None, t, FrameModel::Frenet, true)
 }
 
 fn rel_err_vec(a: &[f64], b: &[f64]) -> f64 {

@@ -1,9 +1,9 @@
 //! Scenario builders shared by the validation tests (SPEC §10).
 #![allow(dead_code)]
-use strandkit::builders::scenarios;
-pub use strandkit::builders::scenarios::Cantilever;
+pub mod scenarios;
+pub use scenarios::Cantilever;
 #[allow(unused_imports)]
-pub use strandkit::builders::scenarios::CANTILEVER_REFERENCES;
+pub use scenarios::CANTILEVER_REFERENCES;
 use strandkit::{RodHandle, World};
 
 pub fn cantilever(n_ctrl: usize, samples: usize, force: [f64; 3]) -> Cantilever {

@@ -2,9 +2,9 @@
 //! The rod of thesis table IV.1 as the benchmarks use it (SPEC §11): a 4 m
 //! steel rod, R = 5 cm, 5 Gauss points per segment, free and pre-deformed
 //! for the dynamic rows, clamped and tip-loaded for the static row.
+use strandkit_core::prelude::*;
 use nalgebra::Vector3;
 use strandkit_core::energy::EnergyTerms;
-use strandkit_core::*;
 
 pub const LENGTH: f64 = 4.0;
 pub const RADIUS: f64 = 0.05;
@@ -53,9 +53,9 @@ pub fn static_world(r: Rod) -> (World, RodHandle, Vec<f64>) {
     let q0 = r.coords().to_vec();
     let mut world = World::new(IntegrationParameters { dt: 1e6, parallel: false, ..Default::default() });
     let h = world.add_rod(r);
-    world.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: [0.0; 4] }, 0.0).unwrap();
-    world.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
-    world.add_load(Load::PointForce { rod: h, u: u1, force: [0.0, -100.0, 50.0] }).unwrap();
+    world.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true; 4], target: [0.0; 4] }), 0.0).unwrap();
+    world.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
+    world.add_load(Load::PointForce(PointForce { rod: h, u: u1, force: [0.0, -100.0, 50.0] })).unwrap();
     (world, h, q0)
 }
 

@@ -44,7 +44,7 @@ impl LoadLaw for PointTorque {
     fn validate(&self, rod: &Rod) -> Result<()> {
         rod.knots().locate(crate::error::finite("point torque abscissa u", self.u)?)?;
         if rod.dofs() == 3 {
-            return Err(Error::invalid("point torque", "a rod without roll coordinate", "a rod with roll (4 coordinates per control point)"));
+            return Err(Error::input("point torque: the rod has no roll coordinate (3 coordinates per control point)"));
         }
         crate::error::finite("point torque", self.torque).map(|_| ())
     }

@@ -158,7 +158,7 @@ impl RodBuilder {
         let dofs = if self.with_roll { 4 } else { 3 };
         if let Some(r) = &self.roll {
             if !self.with_roll {
-                return Err(Error::input("roll angles given for a rod without roll"));
+                return Err(Error::input("roll angles given, but the rod has no roll coordinate (with_roll(false))"));
             }
             super::check_vec("roll angles", r, n)?;
         }

@@ -426,7 +426,7 @@ impl KktSystem {
         self.sol.resize(self.rhs.len(), 0.0);
         let (chain, len) = self.chain(layout, solver);
         let mut fallbacks = 0u8;
-        let mut last = Error::singular("no factorisation applies");
+        let mut last = None;
         for f in chain[..len].iter().flatten() {
             match self.attempt(*f, layout, &describe) {
                 Ok(res) => {
@@ -436,11 +436,11 @@ impl KktSystem {
                 }
                 Err(e) => {
                     fallbacks += 1;
-                    last = e;
+                    last = Some(e);
                 }
             }
         }
-        Err(last)
+        Err(last.unwrap_or_else(|| Error::singular("no factorisation applies")))
     }
 
     /// One factorisation: factor, solve with one step of refinement, check

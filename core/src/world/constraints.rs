@@ -134,11 +134,10 @@ impl World {
         for (k, c) in batch.iter().enumerate() {
             let list = seen.entry((c.rod, c.other)).or_default();
             if let Some((who, _)) = list.iter().find(|(_, o)| o.duplicates(&c.kind)) {
-                return Err(Error::invalid(
-                    "duplicate constraint",
-                    format!("{} repeating {who}", c.kind.name()),
-                    "a constraint that does not repeat one on the same rods at the same abscissa",
-                ));
+                return Err(Error::input(format!(
+                    "duplicate constraint: {} repeats {who} on the same rods at the same abscissa",
+                    c.kind.name()
+                )));
             }
             list.push((format!("constraint {k} of the batch"), &c.kind));
         }

@@ -173,16 +173,12 @@ pub(crate) fn check(world: &World, batch: &[Constraint]) -> Result<()> {
     for (k, c) in batch.iter().enumerate() {
         for row in rows_of(c, &mut buf)? {
             if !red.add(&row) {
-                let on: Vec<String> = related.iter().map(|(i, _)| i.to_string()).take(12).collect();
+                let on: Vec<usize> = related.iter().map(|(i, _)| *i).take(12).collect();
                 let who = if batch.len() > 1 { format!("{} (constraint {k} of the batch)", c.kind.name()) } else { c.kind.name().to_string() };
-                return Err(Error::invalid(
-                    "linearly dependent constraint",
-                    who,
-                    format!(
-                        "rows independent of what the constraints already on the same rods impose (existing constraints {on:?}{}): redundant rows leave the forces undefined, contradictory ones have no solution",
-                        if batch.len() > 1 { " and the batch's earlier ones" } else { "" }
-                    ),
-                ));
+                return Err(Error::input(format!(
+                    "linearly dependent constraint: {who} repeats what constraints {on:?}{} on the same rods already impose (redundant rows leave the forces undefined; contradictory ones have no solution)",
+                    if batch.len() > 1 { " and the batch's earlier ones" } else { "" }
+                )));
             }
         }
     }

@@ -81,4 +81,9 @@ impl ConstraintLaw for Barycentric {
         let r = axes_reaction(rods[0], self.driven, &self.axes, lambda)?;
         Ok(Reaction { force: r.force.map(|f| -f), torque: r.torque.map(|t| -t) })
     }
+    /// Two of them at one abscissa can be legitimate (two planes make an
+    /// axis); only the dependence check rejects repeated rows.
+    fn duplicates(&self, _other: &Self) -> bool {
+        false
+    }
 }

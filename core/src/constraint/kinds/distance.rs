@@ -69,4 +69,9 @@ impl ConstraintLaw for Distance {
     fn tension(&self, _rods: &[&Rod], lambda: &[f64]) -> Result<Option<f64>> {
         Ok(Some(-lambda[0]))
     }
+    /// Two of them at one abscissa can be legitimate (two planes make an
+    /// axis); only the dependence check rejects repeated rows.
+    fn duplicates(&self, _other: &Self) -> bool {
+        false
+    }
 }

@@ -46,7 +46,7 @@ impl ConstraintLaw for MaterialRoll {
     }
     fn validate(&self, rods: &[&Rod]) -> Result<()> {
         if rods[0].dofs() == 3 {
-            return Err(Error::invalid("material roll constraint", "a rod without roll coordinate", "a rod with roll (4 coordinates per control point)"));
+            return Err(Error::input("material roll constraint: the rod has no roll coordinate (3 coordinates per control point)"));
         }
         unit(&self.reference, "material roll reference")?;
         crate::error::finite("material roll angle", self.angle).map(|_| ())

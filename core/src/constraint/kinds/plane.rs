@@ -51,4 +51,9 @@ impl ConstraintLaw for Plane {
     fn reaction(&self, _rods: &[&Rod], lambda: &[f64]) -> Result<Reaction> {
         Ok(Reaction::force(unit(&self.normal, "plane normal")? * lambda[0]))
     }
+    /// Two of them at one abscissa can be legitimate (two planes make an
+    /// axis); only the dependence check rejects repeated rows.
+    fn duplicates(&self, _other: &Self) -> bool {
+        false
+    }
 }

@@ -86,7 +86,7 @@ impl ConstraintLaw for RelativeOrientation {
     }
     fn validate(&self, rods: &[&Rod]) -> Result<()> {
         if self.roll && (rods[0].dofs() == 3 || rods[1].dofs() == 3) {
-            return Err(Error::invalid("relative orientation roll", true, "false (a rod has no roll coordinate)"));
+            return Err(Error::input("relative orientation roll: a rod has no roll coordinate"));
         }
         Ok(())
     }

@@ -1,7 +1,8 @@
 //! Reference scenarios of SPEC §10, shared by the showcase, the tests and
 //! the benchmarks (SI units).
+use strandkit::prelude::*;
 use nalgebra::Vector3;
-use strandkit_core::{
+use strandkit::{
     ConstraintHandle, ConstraintKind, IntegrationParameters, Load, LoadHandle, Material, RodBuilder, RodHandle,
     RodOptions, Result, Section, World,
 };
@@ -9,6 +10,7 @@ use strandkit_core::{
 /// SPEC §10 cantilever: L = 4 m, R = 0.05 m, E = 200 GPa (ν 0.3, ρ 7800
 /// kg/m³), clamped at x = 0 by position + roll and tangent, tip force
 /// `force` (N) at x = L.
+#[allow(dead_code)]
 pub struct Cantilever {
     pub world: World,
     pub rod: RodHandle,
@@ -28,9 +30,9 @@ pub fn cantilever(n_ctrl: usize, samples: usize, force: [f64; 3]) -> Result<Cant
     let (u0, u1) = rod.domain();
     let mut world = World::new(IntegrationParameters::default());
     let h = world.add_rod(rod);
-    let clamp = world.add_constraint(h, ConstraintKind::Position { u: u0, axes: [true; 4], target: [0.0; 4] }, 0.0)?;
-    let clamp_tangent = world.add_constraint(h, ConstraintKind::Tangent { u: u0, direction: [1.0, 0.0, 0.0] }, 0.0)?;
-    let load = world.add_load(Load::PointForce { rod: h, u: u1, force })?;
+    let clamp = world.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true; 4], target: [0.0; 4] }), 0.0)?;
+    let clamp_tangent = world.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0)?;
+    let load = world.add_load(Load::PointForce(PointForce { rod: h, u: u1, force }))?;
     Ok(Cantilever { world, rod: h, clamp, clamp_tangent, load })
 }
 
