@@ -30,6 +30,8 @@ pub enum FieldType {
     Vec4,
     /// A list of (abscissa, weight) pairs.
     WeightedAbscissae,
+    /// A rod of the world (loads name the rod they act on).
+    Rod,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

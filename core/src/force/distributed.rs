@@ -1,4 +1,5 @@
 //! A uniform force per unit rest length along a whole rod: ∫ f b_k ds0.
+use crate::constraint::catalogue::{FieldInfo, FieldType::*};
 use super::{finite_all, spread, ForceField, LoadInfo, LoadLaw, OnRupture};
 use crate::error::Result;
 use crate::handles::RodHandle;
@@ -30,6 +31,10 @@ impl LoadLaw for Distributed {
         name: "Distributed",
         helper: "distributed",
         doc: "Uniform force per unit rest length (force/length, 3 values) along the whole rod.",
+        fields: &[
+            FieldInfo::new("rod", Rod, "", "the rod it acts on"),
+            FieldInfo::new("force_per_length", Vec3, "force/length", "force per unit rest length"),
+        ],
     };
     fn rod(&self) -> RodHandle {
         self.rod

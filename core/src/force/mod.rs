@@ -17,6 +17,7 @@ pub mod point_force;
 pub mod point_torque;
 pub mod trap;
 
+use crate::constraint::catalogue::FieldInfo;
 use crate::error::Result;
 use crate::handles::RodHandle;
 use crate::rod::Rod;
@@ -51,12 +52,13 @@ pub enum OnRupture {
     Copy,
 }
 
-/// Catalogue entry of a load kind.
+/// Catalogue entry of a load kind (as [`crate::constraint::KindInfo`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct LoadInfo {
     pub name: &'static str,
     pub helper: &'static str,
     pub doc: &'static str,
+    pub fields: &'static [FieldInfo],
 }
 
 /// A per-rod load kind (one file, one registration line).

@@ -1,5 +1,6 @@
 //! A force applied at r(u): generalised force f b_k(u) on the position
 //! coordinates of the four control points of u (III.1).
+use crate::constraint::catalogue::{FieldInfo, FieldType::*};
 use super::{finite_all, spread, ForceField, LoadInfo, LoadLaw};
 use crate::error::Result;
 use crate::handles::RodHandle;
@@ -26,7 +27,16 @@ impl ForceField for PointForce {
 }
 
 impl LoadLaw for PointForce {
-    const INFO: LoadInfo = LoadInfo { name: "PointForce", helper: "point_force", doc: "Force (force unit, 3 values) applied at r(u) of `rod`." };
+    const INFO: LoadInfo = LoadInfo {
+        name: "PointForce",
+        helper: "point_force",
+        doc: "Force (force unit, 3 values) applied at r(u) of `rod`.",
+        fields: &[
+            FieldInfo::new("rod", Rod, "", "the rod it acts on"),
+            FieldInfo::new("u", Abscissa, "u", "abscissa (spline parameter)"),
+            FieldInfo::new("force", Vec3, "force", "the force"),
+        ],
+    };
     fn rod(&self) -> RodHandle {
         self.rod
     }

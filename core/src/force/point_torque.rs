@@ -1,4 +1,5 @@
 //! A torque about the tangent at u, on the roll coordinate: T b_k(u).
+use crate::constraint::catalogue::{FieldInfo, FieldType::*};
 use super::{ForceField, LoadInfo, LoadLaw};
 use crate::error::{Error, Result};
 use crate::handles::RodHandle;
@@ -31,6 +32,11 @@ impl LoadLaw for PointTorque {
         name: "PointTorque",
         helper: "point_torque",
         doc: "Torque (force × length) about the tangent at u, on the roll coordinate (rods with roll).",
+        fields: &[
+            FieldInfo::new("rod", Rod, "", "the rod it acts on"),
+            FieldInfo::new("u", Abscissa, "u", "abscissa (spline parameter)"),
+            FieldInfo::new("torque", Scalar, "force × length", "torque about the tangent"),
+        ],
     };
     fn rod(&self) -> RodHandle {
         self.rod

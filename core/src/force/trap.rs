@@ -3,6 +3,7 @@
 //! velocity, p(t) = anchor + velocity (t − t0). Its stiffness −∂F/∂q is
 //! k b_i(u) b_j(u) on each position axis, so the implicit step treats the
 //! trap implicitly and stays stable at any k.
+use crate::constraint::catalogue::{FieldInfo, FieldType::*};
 use super::{finite_all, spread, ForceField, LoadInfo, LoadLaw, StiffnessSink};
 use crate::error::Result;
 use crate::handles::RodHandle;
@@ -65,6 +66,14 @@ impl LoadLaw for Trap {
         helper: "trap",
         doc: "Harmonic trap of `stiffness` (force/length) pulling r(u) towards anchor + velocity·(t − t0) \
               (length, length/time, time): an optical trap moving at constant speed, a spring to a moving support.",
+        fields: &[
+            FieldInfo::new("rod", Rod, "", "the rod it acts on"),
+            FieldInfo::new("u", Abscissa, "u", "abscissa of the trapped point"),
+            FieldInfo::new("anchor", Vec3, "length", "trap centre at t0"),
+            FieldInfo::new("stiffness", Scalar, "force/length", "trap stiffness k (> 0)"),
+            FieldInfo::new("velocity", Vec3, "length/time", "velocity of the trap centre").default("[0, 0, 0]"),
+            FieldInfo::new("t0", Scalar, "time", "time at which the centre is at anchor").default("0.0"),
+        ],
     };
     fn rod(&self) -> RodHandle {
         self.rod

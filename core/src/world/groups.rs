@@ -122,3 +122,106 @@ mod tests {
         assert_eq!(base_of("hbond[3]"), "hbond");
     }
 }
+
+/// The state of one labelled constraint, as group queries report it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ConstraintState {
+    pub constraint: ConstraintHandle,
+    pub label: String,
+    /// Still in the world.
+    pub alive: bool,
+    /// When and at which measure it broke (None: not broken).
+    pub broken: Option<Broken>,
+    /// Reaction of the last solve on its first rod (force unit, force ×
+    /// length unit); zero once gone.
+    pub force: [f64; 3],
+    pub torque: [f64; 3],
+    /// Tension along its line of action (force unit; None for kinds without
+    /// one, or once gone).
+    pub tension: Option<f64>,
+    /// The point of its first abscissa (length unit; None once gone).
+    pub position: Option<[f64; 3]>,
+    /// Multipliers of the last solve (empty once gone).
+    pub multipliers: Vec<f64>,
+}
+
+/// The state of one labelled rod or bead (position: bead centre, or the
+/// rod's start; None once gone).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ObjectState {
+    pub item: Item,
+    pub label: String,
+    pub alive: bool,
+    pub position: Option<[f64; 3]>,
+}
+
+impl super::World {
+    /// Members of a group (see [`Groups::members`]).
+    pub fn group(&self, name: &str) -> Result<Vec<Member>> {
+        self.groups.members(name)
+    }
+
+    /// The constraints of a group with their forces, tensions, positions
+    /// and broken flags, in label order of insertion.
+    pub fn group_constraints(&self, name: &str) -> Result<Vec<ConstraintState>> {
+        let mut out = Vec::new();
+        for m in self.groups.members(name)? {
+            let Item::Constraint(h) = m.item else { continue };
+            let mut s = ConstraintState {
+                constraint: h,
+                label: m.label,
+                alive: false,
+                broken: self.groups.broken(h),
+                force: [0.0; 3],
+                torque: [0.0; 3],
+                tension: None,
+                position: None,
+                multipliers: Vec::new(),
+            };
+            if let Ok(c) = self.constraint(h) {
+                let rods = self.rods_of(c)?;
+                let r = c.kind.reaction(&rods, &c.multipliers)?;
+                s.alive = true;
+                s.force = r.force;
+                s.torque = r.torque;
+                s.tension = c.kind.tension(&rods, &c.multipliers)?;
+                let mut first = None;
+                c.kind.visit_abscissae(&mut |side, u| {
+                    first.get_or_insert((side, u));
+                });
+                if let Some((side, u)) = first {
+                    let rod = if c.other.is_some() && side == 1 { rods[1] } else { rods[0] };
+                    s.position = Some(rod.position(u)?.into());
+                }
+                s.multipliers = c.multipliers.clone();
+            }
+            out.push(s);
+        }
+        Ok(out)
+    }
+
+    /// The rods, beads, loads and clips of a group, alive or gone.
+    pub fn group_objects(&self, name: &str) -> Result<Vec<ObjectState>> {
+        let mut out = Vec::new();
+        for m in self.groups.members(name)? {
+            let (alive, position) = match m.item {
+                Item::Constraint(_) => continue,
+                Item::Rod(h) => match self.rod(h) {
+                    Ok(r) => (true, Some(r.position(r.domain().0)?.into())),
+                    Err(_) => (false, None),
+                },
+                Item::Bead(h) => match self.bead_position(h) {
+                    Ok(p) => (true, Some(p.into())),
+                    Err(_) => (false, None),
+                },
+                Item::Load(h) => (self.get_load(h).is_ok(), None),
+                Item::Clip(h) => match self.clip(h) {
+                    Ok(c) => (true, Some(c.center)),
+                    Err(_) => (false, None),
+                },
+            };
+            out.push(ObjectState { item: m.item, label: m.label, alive, position });
+        }
+        Ok(out)
+    }
+}

@@ -12,7 +12,7 @@ pub mod params;
 
 pub use constraints::Constraint;
 pub use events::Event;
-pub use groups::{Broken, Groups, Item, Member};
+pub use groups::{Broken, ConstraintState, Groups, Item, Member, ObjectState};
 pub use params::IntegrationParameters;
 
 use crate::bead::Bead;
