@@ -42,6 +42,21 @@ impl Constraint {
             return Err(Error::invalid(format!("{} constraint", self.kind.name()), format!("{arity} rod(s)"), use_));
         }
         self.kind.validate(rods)?;
+        if self.other == Some(self.rod) {
+            let mut first: Option<f64> = None;
+            let mut all_same = true;
+            self.kind.visit_abscissae(&mut |_, u| match first {
+                None => first = Some(u),
+                Some(f) => all_same &= (u - f).abs() <= 1e-12 * (1.0 + f.abs()),
+            });
+            if all_same {
+                return Err(Error::invalid(
+                    format!("{} link", self.kind.name()),
+                    format!("one point of rod {} linked to itself", self.rod.index),
+                    "two distinct points (or two rods)",
+                ));
+            }
+        }
         crate::error::non_negative("compliance", self.compliance)?;
         if self.multipliers.len() != self.kind.n_rows() {
             return Err(Error::invalid("constraint multipliers", self.multipliers.len(), format!("{} values (one per row)", self.kind.n_rows())));
