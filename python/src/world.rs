@@ -78,7 +78,7 @@ impl PyWorld {
     fn breaking(force: Option<f64>, tension_only: bool) -> Option<Breaking> {
         force.map(|force| Breaking {
             force,
-            tension_only,
+            policy: if tension_only { strandkit_core::BreakPolicy::Tension } else { strandkit_core::BreakPolicy::Magnitude },
         })
     }
 
@@ -735,7 +735,7 @@ impl PyConstraintHandle {
                     s += &format!(
                         ", breaks above {}{}",
                         b.force,
-                        if b.tension_only { " (tension)" } else { "" }
+                        if b.policy == strandkit_core::BreakPolicy::Tension { " (tension)" } else { "" }
                     );
                 }
                 s + ")"
@@ -929,20 +929,13 @@ crate::report::report_class!(
     /// What a step did, as attributes: `time` (after the step), `n_unknowns`,
     /// `n_multipliers`, `bandwidth` (half), `residual` (relative, of the
     /// linear solve), `elastic_energy` (before the step, energy unit),
-    /// `plastic_samples`, `factorisation` ("ldlt" | "lu" | "sparse"),
+    /// `plastic_samples`, `factorisation` ("band_ldlt" | "band_lu" | "sparse"),
     /// `factor_entries` (stored, fill included), `events`; `dir()` lists them.
     PyStepReport,
     "StepReport",
     strandkit_core::StepReport,
     ["time", "n_unknowns", "n_multipliers", "bandwidth", "residual", "elastic_energy"],
-    |r| {
-        let f = match (r.sparse, r.ldlt) {
-            (true, _) => "sparse",
-            (false, true) => "ldlt",
-            (false, false) => "lu",
-        };
-        vec![("factorisation", f.into())]
-    }
+    |_| Vec::new()
 );
 
 crate::report::report_class!(
