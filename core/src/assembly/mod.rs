@@ -209,26 +209,30 @@ impl World {
                 crate::world::groups::check_label(x)?;
             }
         }
-        // 2. Rods go in; from here every failure removes them again.
-        let rods: Vec<RodHandle> = asm.rods.iter().map(|r| self.add_rod(r.rod.clone())).collect();
-        let batch: Vec<Constraint> = asm
+        // 2. Duplicates and linear dependence, once for the batch, against
+        // the assembly's own rods (local handles: index = position, generation 0).
+        let local = |i: usize| RodHandle { index: i as u32, generation: 0 };
+        let local_batch: Vec<Constraint> = asm
             .constraints
             .iter()
-            .map(|c| Constraint {
-                breaking: c.breaking,
-                label: c.label.clone(),
-                ..Constraint::new(rods[c.rod], c.other.map(|o| rods[o]), c.kind.clone(), c.compliance)
+            .map(|c| Constraint { breaking: c.breaking, label: c.label.clone(), ..Constraint::new(local(c.rod), c.other.map(local), c.kind.clone(), c.compliance) })
+            .collect();
+        let rod_of = |h: RodHandle| -> Result<&Rod> {
+            asm.rods.get(h.index as usize).map(|r| &r.rod).ok_or_else(|| Error::handle(format!("assembly rod {}", h.index)))
+        };
+        World::default().check_duplicates(&local_batch)?;
+        crate::world::independence::check_with(&rod_of, std::iter::empty(), &local_batch)?;
+        // Nothing can fail from here on: the world changes only now.
+        let rods: Vec<RodHandle> = asm.rods.iter().map(|r| self.add_rod(r.rod.clone())).collect();
+        let batch: Vec<Constraint> = local_batch
+            .into_iter()
+            .map(|mut c| {
+                c.rod = rods[c.rod.index as usize];
+                c.other = c.other.map(|o| rods[o.index as usize]);
+                c
             })
             .collect();
-        let constraints = match self.insert_constraints(batch) {
-            Ok(h) => h,
-            Err(e) => {
-                for r in &rods {
-                    let _ = self.remove_rod(*r);
-                }
-                return Err(e);
-            }
-        };
+        let constraints = self.add_checked_constraints(batch)?;
         // 3. Loads, beads, labels: already checked, cannot fail.
         let mut loads = Vec::with_capacity(asm.loads.len());
         for l in &asm.loads {
@@ -238,6 +242,7 @@ impl World {
         }
         let mut beads = Vec::with_capacity(asm.beads.len());
         for b in &asm.beads {
+            // Checked in step 1, so `new` succeeds; the error path is unreachable.
             let bead = Bead::new(rods[b.rod], b.u, b.mass, b.friction, b.radius)?;
             beads.push(BeadHandle::from(self.beads.insert(bead)));
         }

@@ -10,7 +10,7 @@ use crate::handles::{Arena, RodHandle};
 use crate::rod::Rod;
 use crate::system::kkt::{BeadRef, Coefficients, ConstraintRef};
 use crate::system::layout::ConstraintSlot;
-use crate::system::ordering::{control_point_order, Link, RodGraph};
+use crate::system::ordering::{control_point_order_with, Link, RodGraph, Strategy};
 use crate::system::workspace::recycle;
 use crate::system::{Layout, Workspace};
 use crate::world::{position_of, Constraint, IntegrationParameters, World};
@@ -101,18 +101,40 @@ fn place(
             .slots
             .iter()
             .filter(|s| s.rods[0] != s.rods[1])
-            .filter_map(|s| {
+            .flat_map(|s| {
+                // The middle control points of each side, linked crosswise, so
+                // that rods running either way are ordered alike.
                 let t = &s.touched[..s.len];
-                let a = t.iter().find(|e| e.0 == 0)?;
-                let b = t.iter().find(|e| e.0 == 1)?;
-                Some((s.rods[0], a.1, s.rods[1], b.1))
+                let mid = |side: u8| -> [Option<usize>; 2] {
+                    let mut c = t.iter().filter(|e| e.0 == side).map(|e| e.1);
+                    let (first, second, third) = (c.next(), c.next(), c.next());
+                    [second.or(first), third.or(second).or(first)]
+                };
+                let (a, b) = (mid(0), mid(1));
+                let mut out = Vec::with_capacity(4);
+                for x in a.into_iter().flatten() {
+                    for y in b.into_iter().flatten() {
+                        out.push((s.rods[0], x, s.rods[1], y));
+                    }
+                }
+                out
             })
             .collect();
         let groups: Vec<Vec<usize>> =
             interleave.iter().map(|g| g.iter().map(|h| position_of(pos, *h)).collect::<Result<Vec<_>>>()).collect::<Result<_>>()?;
-        let order = control_point_order(&graphs, &links, &groups);
+        // Two bandwidth-reducing orderings of linked rods; the narrower band wins.
         let segs: Vec<_> = rods.iter().map(|r| (r.n_ctrl(), r.dofs(), r.cache().seg_ctrl.as_slice())).collect();
-        ws.layout = Layout::build(&segs, &order, &ws.slots);
+        let rcm = Layout::build(&segs, &control_point_order_with(&graphs, &links, &groups, Strategy::Rcm), &ws.slots);
+        ws.layout = if links.is_empty() {
+            rcm
+        } else {
+            let merged = Layout::build(&segs, &control_point_order_with(&graphs, &links, &groups, Strategy::Parameter), &ws.slots);
+            if merged.bandwidth < rcm.bandwidth {
+                merged
+            } else {
+                rcm
+            }
+        };
         ws.layout_rods = rods.iter().zip(&ws.rod_ids).map(|(r, i)| (*i, r.n_ctrl(), r.dofs(), segment_fingerprint(r))).collect();
         ws.layout_slots.clone_from(&ws.slots);
         ws.layout_groups = interleave.to_vec();

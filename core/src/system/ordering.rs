@@ -18,8 +18,25 @@ pub struct RodGraph<'a> {
 /// A link between control point `ca` of rod `a` and `cb` of rod `b`.
 pub type Link = (usize, usize, usize, usize);
 
-/// Every (rod, control point) once, in the global order.
+/// How linked rods are ordered.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Strategy {
+    /// Reverse Cuthill–McKee on the control-point graph.
+    Rcm,
+    /// Merge by relative position along each rod, each rod oriented by its
+    /// links to the component's first rod (antiparallel rods reversed).
+    Parameter,
+}
+
+/// Every (rod, control point) once, in the global order (reverse
+/// Cuthill–McKee for linked rods).
 pub fn control_point_order(rods: &[RodGraph<'_>], links: &[Link], groups: &[Vec<usize>]) -> Vec<(usize, usize)> {
+    control_point_order_with(rods, links, groups, Strategy::Rcm)
+}
+
+/// The same with a chosen strategy for linked rods; the layout tries both
+/// and keeps the narrower band.
+pub fn control_point_order_with(rods: &[RodGraph<'_>], links: &[Link], groups: &[Vec<usize>], strategy: Strategy) -> Vec<(usize, usize)> {
     let nr = rods.len();
     // Components of rods linked by constraints or grouped by the user.
     let mut parent: Vec<usize> = (0..nr).collect();
@@ -85,11 +102,62 @@ pub fn control_point_order(rods: &[RodGraph<'_>], links: &[Link], groups: &[Vec<
             }
         } else if comp.len() == 1 && !wraps(&rods[r]) {
             order.extend((0..rods[r].n_ctrl).map(|i| (r, i)));
+        } else if strategy == Strategy::Parameter && comp.len() > 1 {
+            merge_oriented(rods, &comp, links, &mut order);
         } else {
             reverse_cuthill_mckee(rods, &comp, links, &mut order);
         }
     }
     order
+}
+
+/// Merge by relative position, each rod of `comp` reversed when its links
+/// to already oriented rods run the other way (a negative correlation of
+/// the linked control-point positions).
+fn merge_oriented(rods: &[RodGraph<'_>], comp: &[usize], links: &[Link], order: &mut Vec<(usize, usize)>) {
+    let frac = |q: usize, i: usize| i as f64 / (rods[q].n_ctrl.max(2) - 1) as f64;
+    let mut reversed: Vec<Option<bool>> = vec![None; rods.len()];
+    reversed[comp[0]] = Some(false);
+    // Orient rods one by one from the first, through their links.
+    for _ in 0..comp.len() {
+        for &q in comp {
+            if reversed[q].is_some() {
+                continue;
+            }
+            let (mut sxy, mut sx, mut sy, mut sxx, mut syy, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+            for &(a, ca, b, cb) in links {
+                let (me, mine, other, theirs) = if a == q { (a, ca, b, cb) } else if b == q { (b, cb, a, ca) } else { continue };
+                let Some(rev) = reversed.get(other).copied().flatten() else { continue };
+                if me == other {
+                    continue;
+                }
+                let x = frac(me, mine);
+                let y = if rev { frac(other, rods[other].n_ctrl - 1 - theirs) } else { frac(other, theirs) };
+                sxy += x * y;
+                sx += x;
+                sy += y;
+                sxx += x * x;
+                syy += y * y;
+                n += 1.0;
+            }
+            if n > 0.0 {
+                let cov = sxy / n - sx * sy / (n * n);
+                let var = (sxx / n - sx * sx / (n * n)) * (syy / n - sy * sy / (n * n));
+                reversed[q] = Some(var > 0.0 && cov < 0.0);
+            }
+        }
+    }
+    let mut merged: Vec<(f64, usize, usize)> = comp
+        .iter()
+        .flat_map(|&q| {
+            let rev = reversed[q].unwrap_or(false);
+            let n = rods[q].n_ctrl;
+            // Mirror the index, not the fraction, so equal positions tie exactly.
+            (0..n).map(move |i| (if rev { frac(q, n - 1 - i) } else { frac(q, i) }, q, i))
+        })
+        .collect();
+    merged.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2)));
+    order.extend(merged.into_iter().map(|(_, q, i)| (q, i)));
 }
 
 /// A closed rod: some segment uses control points that are not consecutive.
@@ -298,5 +366,13 @@ mod tests {
         let (oa, op) = (control_point_order(&rods, &anti, &[]), control_point_order(&rods, &par, &[]));
         let (sa, sp) = (spread(&oa, &rods, &anti), spread(&op, &rods, &par));
         assert!(sa <= 8 && sp <= 8, "antiparallel {sa}, parallel {sp}");
+        // Merged by parameter, the antiparallel rod is reversed: same spread.
+        let (ma, mp) = (
+            control_point_order_with(&rods, &anti, &[], Strategy::Parameter),
+            control_point_order_with(&rods, &par, &[], Strategy::Parameter),
+        );
+        let (sa, sp) = (spread(&ma, &rods, &anti), spread(&mp, &rods, &par));
+        assert_eq!(sa, sp, "merged: antiparallel {sa}, parallel {sp}");
+        assert!(sp <= 6, "merged spread {sp}");
     }
 }

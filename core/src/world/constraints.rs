@@ -120,6 +120,11 @@ impl World {
         }
         self.check_duplicates(&batch)?;
         super::independence::check(self, &batch)?;
+        self.add_checked_constraints(batch)
+    }
+
+    /// Adds constraints that passed every check (labels were checked too).
+    pub(crate) fn add_checked_constraints(&mut self, batch: Vec<Constraint>) -> Result<Vec<ConstraintHandle>> {
         let mut out = Vec::with_capacity(batch.len());
         for c in batch {
             let label = c.label.clone();
@@ -134,7 +139,7 @@ impl World {
 
     /// Rejects a constraint that repeats one already on the same rods (or
     /// earlier in the batch) at the same place.
-    fn check_duplicates(&self, batch: &[Constraint]) -> Result<()> {
+    pub(crate) fn check_duplicates(&self, batch: &[Constraint]) -> Result<()> {
         use std::collections::HashMap;
         // Existing constraints by rod pair, only for the pairs the batch uses.
         let pairs: std::collections::HashSet<(RodHandle, Option<RodHandle>)> = batch.iter().map(|c| (c.rod, c.other)).collect();

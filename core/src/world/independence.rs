@@ -15,6 +15,7 @@ use crate::error::{Error, Result};
 use crate::handles::RodHandle;
 use crate::system::ordering::{control_point_order, Link, RodGraph};
 use crate::world::{Constraint, World};
+
 use std::collections::HashMap;
 
 /// Relative size under which a reduced row counts as dependent (as the
@@ -94,6 +95,17 @@ impl Reducer {
 /// Checks that `batch` adds no row dependent on the constraints already on
 /// the rods it touches (nor on each other).
 pub(crate) fn check(world: &World, batch: &[Constraint]) -> Result<()> {
+    check_with(&|h| world.rod(h), world.constraints.iter().map(|(i, c)| (i.0 as usize, c)), batch)
+}
+
+/// The same with the rods given by a lookup and the existing constraints by
+/// an iterator (index, constraint): an assembly checks its batch against
+/// its own rods before anything is added to the world.
+pub(crate) fn check_with<'a>(
+    rod_of: &dyn Fn(RodHandle) -> Result<&'a crate::rod::Rod>,
+    existing: impl Iterator<Item = (usize, &'a Constraint)>,
+    batch: &[Constraint],
+) -> Result<()> {
     if batch.is_empty() {
         return Ok(());
     }
@@ -111,17 +123,13 @@ pub(crate) fn check(world: &World, batch: &[Constraint]) -> Result<()> {
         add_rod(c.other.unwrap_or(c.rod), &mut rods);
     }
     let mine: std::collections::HashSet<RodHandle> = rods.iter().copied().collect();
-    let related: Vec<(usize, &Constraint)> = world
-        .constraints
-        .iter()
-        .filter(|(_, c)| mine.contains(&c.rod) || c.other.is_some_and(|o| mine.contains(&o)))
-        .map(|(i, c)| (i.0 as usize, c))
-        .collect();
+    let related: Vec<(usize, &Constraint)> =
+        existing.filter(|(_, c)| mine.contains(&c.rod) || c.other.is_some_and(|o| mine.contains(&o))).collect();
     for (_, c) in &related {
         add_rod(c.rod, &mut rods);
         add_rod(c.other.unwrap_or(c.rod), &mut rods);
     }
-    let rod_refs: Vec<&crate::rod::Rod> = rods.iter().map(|h| world.rod(*h)).collect::<Result<_>>()?;
+    let rod_refs: Vec<&crate::rod::Rod> = rods.iter().map(|h| rod_of(*h)).collect::<Result<_>>()?;
     // Column order: the layout's control-point order over these rods.
     let mut links: Vec<Link> = Vec::new();
     for c in related.iter().map(|(_, c)| *c).chain(batch) {

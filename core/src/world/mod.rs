@@ -5,7 +5,7 @@
 //! are one-line conveniences defined there). Snapshots (serde, versioned)
 //! reload bit-for-bit.
 mod constraints;
-mod independence;
+pub(crate) mod independence;
 pub mod events;
 pub mod groups;
 pub mod params;
