@@ -9,8 +9,12 @@ use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use strandkit_core::Error;
 
-mod clips;
+mod assembly;
+mod catalogue;
 mod convert;
+mod events;
+mod groups;
+mod handles;
 mod io;
 mod props;
 mod quasi;
@@ -100,8 +104,13 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     props::register(m)?;
     rod::register(m)?;
     world::register(m)?;
+    handles::register(m)?;
+    events::register(m)?;
+    report::register(m)?;
+    groups::register(m)?;
+    assembly::register(m)?;
+    catalogue::register(m)?;
     quasi::register(m)?;
-    clips::register(m)?;
     io::register(m)?;
     Ok(())
 }

@@ -1,9 +1,13 @@
 //! Quasi-dynamic driver (thesis algorithm 11) for Python: one frame per
 //! `step()`, dynamic or quasi-static by the previous frame's compute time.
+use crate::convert::{self, from_json};
+use crate::events::events_of;
 use crate::guard;
-use crate::world::{events_of, PyWorld};
+use crate::report::PyFrameReport;
+use crate::world::PyWorld;
 use pyo3::prelude::*;
-use strandkit_core::{Clock, FrameReport, Mode, QuasiDynamic, QuasiDynamicParameters, WallClock};
+use pyo3::types::PyDict;
+use strandkit_core::{Clock, QuasiDynamic, QuasiDynamicParameters, WallClock};
 
 /// Drives a World frame by frame (thesis IV.B.2): dynamic while a frame's
 /// compute time stays under `to_dynamic` × budget, quasi-static (one
@@ -11,11 +15,12 @@ use strandkit_core::{Clock, FrameReport, Mode, QuasiDynamic, QuasiDynamicParamet
 /// never quasi-static for a rod held at fewer than two points (or one
 /// point without an orientation).
 ///
-/// Keyword arguments: `dt0` (time step of the free configuration, time
-/// unit), `time_budget` (wall-clock seconds per frame; None = real time,
-/// the frame's dt), `to_static` (0.95), `to_dynamic` (0.90),
+/// Keyword arguments (every field of the core's QuasiDynamicParameters;
+/// None = its default): `dt0` (time step of the free configuration, time
+/// unit, 1e-3), `time_budget` (wall-clock seconds per frame; None = real
+/// time, the frame's dt), `to_static` (0.95), `to_dynamic` (0.90),
 /// `newton_fraction` (1/3), `scale_with_free_length` (True: dt = dt0 ×
-/// free length / initial length, IV.15).
+/// free length / initial length, IV.15). `params` shows them all.
 #[pyclass(name = "QuasiDynamic", module = "strandkit._native")]
 pub struct PyQuasiDynamic {
     inner: QuasiDynamic,
@@ -45,20 +50,14 @@ impl Clock for PyClock<'_> {
 #[pymethods]
 impl PyQuasiDynamic {
     #[new]
-    #[pyo3(signature = (world, *, dt0 = 1e-3, time_budget = None, to_static = 0.95, to_dynamic = 0.90,
-        newton_fraction = 1.0 / 3.0, scale_with_free_length = true))]
-    #[allow(clippy::too_many_arguments)]
-    fn new(
-        world: Bound<'_, PyWorld>,
-        dt0: f64,
-        time_budget: Option<f64>,
-        to_static: f64,
-        to_dynamic: f64,
-        newton_fraction: f64,
-        scale_with_free_length: bool,
-    ) -> PyResult<Self> {
-        let p = QuasiDynamicParameters { dt0, time_budget, to_static, to_dynamic, newton_fraction, scale_with_free_length };
-        let inner = guard(|| QuasiDynamic::new(&world.borrow().inner, p))?;
+    #[pyo3(signature = (world, **params))]
+    fn new(world: Bound<'_, PyWorld>, params: Option<&Bound<'_, PyDict>>) -> PyResult<Self> {
+        let p: QuasiDynamicParameters =
+            convert::kwargs_into(&QuasiDynamicParameters::default(), convert::kwargs(params)?, "quasi-dynamic parameter")?;
+        let inner = {
+            let w = world.try_borrow()?;
+            guard(|| QuasiDynamic::new(&w.inner, p))?
+        };
         Ok(PyQuasiDynamic { inner, world: world.unbind() })
     }
 
@@ -87,8 +86,13 @@ impl PyQuasiDynamic {
 
     /// "dynamic" or "quasi_static".
     #[getter]
-    fn mode(&self) -> &'static str {
-        mode_name(self.inner.mode())
+    fn mode(&self) -> String {
+        serde_json::to_value(self.inner.mode()).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default()
+    }
+    /// The parameters as a dict.
+    #[getter]
+    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        from_json(py, &serde_json::to_value(self.inner.params).unwrap_or_default())
     }
     fn __repr__(&self) -> String {
         let p = &self.inner.params;
@@ -103,28 +107,6 @@ impl PyQuasiDynamic {
     }
 }
 
-fn mode_name(m: Mode) -> &'static str {
-    match m {
-        Mode::Dynamic => "dynamic",
-        Mode::QuasiStatic => "quasi_static",
-    }
-}
-
-crate::report::report_class!(
-    /// What a frame did, as attributes: `mode` ("dynamic" | "quasi_static"),
-    /// `switched`, `static_refused` and `refusal` (why), `dt` (time unit),
-    /// `free_length` (length unit), `compute_time` and `slack` (seconds of
-    /// the clock; a real-time caller sleeps `slack` when positive), `motion`
-    /// (largest control-point displacement, length unit), `events`.
-    PyFrameReport,
-    "FrameReport",
-    FrameReport,
-    ["mode", "switched", "dt", "compute_time", "motion"],
-    |_| Vec::new()
-);
-
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_class::<PyQuasiDynamic>()?;
-    m.add_class::<PyFrameReport>()?;
-    Ok(())
+    m.add_class::<PyQuasiDynamic>()
 }

@@ -90,4 +90,50 @@ macro_rules! report_class {
         }
     };
 }
-pub(crate) use report_class;
+
+report_class!(
+    /// What a step did, as attributes: `time` (after the step), `n_unknowns`,
+    /// `n_multipliers`, `bandwidth` (half), `residual` (relative, of the
+    /// linear solve), `factorisation` ("band_ldlt" | "band_lu" | "sparse"),
+    /// `fallbacks` (factorisations that failed before it), `factor_entries`
+    /// (stored, fill included), `elastic_energy` (before the step, energy
+    /// unit), `plastic_samples`, `active_contacts`, `events`; `dir()` lists them.
+    PyStepReport,
+    "StepReport",
+    strandkit_core::StepReport,
+    ["time", "n_unknowns", "n_multipliers", "bandwidth", "residual", "factorisation", "elastic_energy"],
+    |_| Vec::new()
+);
+
+report_class!(
+    /// What relax did, as attributes: `iterations` (accepted + rejected),
+    /// `rejected`, final `increment` (length unit) and `violation`,
+    /// `potential` (U − F·q, energy unit), `plastic_samples`,
+    /// `plastic_increment`, `bandwidth`, `n_unknowns`, `factorisation`, `events`.
+    PyRelaxReport,
+    "RelaxReport",
+    strandkit_core::RelaxReport,
+    ["iterations", "rejected", "increment", "violation", "potential"],
+    |_| Vec::new()
+);
+
+report_class!(
+    /// What a quasi-dynamic frame did, as attributes: `mode` ("dynamic" |
+    /// "quasi_static"), `switched`, `static_refused` and `refusal` (why),
+    /// `dt` (time unit), `free_length` (length unit), `compute_time` and
+    /// `slack` (seconds of the clock; a real-time caller sleeps `slack`
+    /// when positive), `motion` (largest control-point displacement,
+    /// length unit), `events`.
+    PyFrameReport,
+    "FrameReport",
+    strandkit_core::FrameReport,
+    ["mode", "switched", "dt", "compute_time", "motion"],
+    |_| Vec::new()
+);
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyStepReport>()?;
+    m.add_class::<PyRelaxReport>()?;
+    m.add_class::<PyFrameReport>()?;
+    Ok(())
+}

@@ -10,10 +10,12 @@ use crate::props::{PyMaterial, PySection};
 use crate::world::PyWorld;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use crate::bad;
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
+use pyo3::types::PyDict;
 use std::sync::{Arc, Mutex};
-use strandkit_core::energy::{EnergyTerms, Strains};
+use strandkit_core::energy::Strains;
 use strandkit_core::io::mesh::{self, TubeOptions};
 use strandkit_core::spline::KnotKind;
 use strandkit_core::{frames, Error, Material, Rod, RodBuilder, RodHandle, RodOptions, Section};
@@ -378,6 +380,36 @@ impl PyRod {
     fn handle(&self) -> Option<(u32, u32)> {
         self.handle_parts()
     }
+    /// ("rod", index, generation) in its world, or None if free: how other
+    /// calls recognise a rod of a world.
+    #[getter]
+    fn _handle(&self) -> Option<(&'static str, u32, u32)> {
+        self.handle_parts().map(|(i, g)| ("rod", i, g))
+    }
+    /// Its label in the world's groups (e.g. "strand[0]"), or None.
+    #[getter]
+    fn label(&self, py: Python<'_>) -> PyResult<Option<String>> {
+        match &self.state {
+            RodState::InWorld { world, handle } => {
+                let w = world.bind(py).try_borrow()?;
+                Ok(crate::handles::label_of(&w.inner, strandkit_core::Item::Rod(*handle)))
+            }
+            RodState::Free(_) => Ok(None),
+        }
+    }
+    /// The rod options (the core's RodOptions) as a dict: samples_per_segment,
+    /// terms, model, curvature_threshold, drag, poisson_update.
+    #[getter]
+    fn options<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        let o = self.with(py, |r| Ok(*r.options()))?;
+        convert::from_json(py, &serde_json::to_value(o).unwrap_or_default())
+    }
+    /// Frame model ("frenet").
+    #[getter]
+    fn model(&self, py: Python<'_>) -> PyResult<String> {
+        let m = self.with(py, |r| Ok(r.frame_model()))?;
+        Ok(serde_json::to_value(m).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default())
+    }
     /// The world holding this rod, or None.
     #[getter]
     fn world(&self, py: Python<'_>) -> Option<Py<PyWorld>> {
@@ -423,7 +455,17 @@ impl PyRod {
     fn __repr__(&self, py: Python<'_>) -> String {
         let place = match &self.state {
             RodState::Free(_) => "free".to_string(),
-            RodState::InWorld { handle, .. } => format!("rod {} in a world", handle.index),
+            RodState::InWorld { handle, world } => {
+                let label = world
+                    .bind(py)
+                    .try_borrow()
+                    .ok()
+                    .and_then(|w| crate::handles::label_of(&w.inner, strandkit_core::Item::Rod(*handle)));
+                match label {
+                    Some(l) => format!("rod {} {l:?} in a world", handle.index),
+                    None => format!("rod {} in a world", handle.index),
+                }
+            }
         };
         self.with(py, |r| {
             Ok(format!(
@@ -495,78 +537,64 @@ fn knot_kind(s: &str) -> PyResult<KnotKind> {
         "clamped" => Ok(KnotKind::Clamped),
         "uniform" => Ok(KnotKind::Uniform),
         "periodic" | "closed" => Ok(KnotKind::Periodic),
-        _ => Err(PyValueError::new_err(format!(
-            "knots must be 'clamped', 'uniform' or 'periodic', got {s:?}"
-        ))),
+        _ => Err(crate::err(Error::invalid("knots", format!("{s:?}"), "'clamped', 'uniform' or 'periodic'"))),
     }
 }
 
-/// Keyword options shared by every builder.
+/// Keyword options shared by every builder. The rod options (RodOptions
+/// fields, with `stretch`, `bend`, `twist` standing for `terms`) go through
+/// the one keyword converter, so a field added to the core's RodOptions is
+/// accepted here as a keyword without a binding change.
 struct Common<'a, 'py> {
+    py: Python<'py>,
     section: Option<&'a Bound<'py, PyAny>>,
     sections: Option<&'a Bound<'py, PyAny>>,
     material: Option<&'a Bound<'py, PyAny>>,
     n_control_points: usize,
     knots: &'a str,
     with_roll: bool,
-    samples_per_segment: usize,
-    drag: f64,
-    curvature_threshold: f64,
-    terms: (bool, bool, bool),
     roll: Option<&'a Bound<'py, PyAny>>,
-    poisson_update: bool,
+    /// (name, value) of the rod options given (None left out).
+    options: Vec<(String, Bound<'py, PyAny>)>,
+}
+
+/// Rod options from builder keywords: `stretch`, `bend`, `twist` go into
+/// `terms`; every other key must be a RodOptions field.
+fn rod_options<'py>(py: Python<'py>, given: Vec<(String, Bound<'py, PyAny>)>) -> PyResult<RodOptions> {
+    let terms = PyDict::new(py);
+    let mut pairs = Vec::new();
+    for (k, v) in given {
+        match k.as_str() {
+            "stretch" | "bend" | "twist" => terms.set_item(k, v)?,
+            _ => pairs.push((k, v)),
+        }
+    }
+    if !terms.is_empty() {
+        pairs.push(("terms".to_string(), terms.into_any()));
+    }
+    convert::kwargs_into(&RodOptions::default(), pairs, "rod option")
 }
 
 impl Common<'_, '_> {
-    fn apply(&self, b: RodBuilder) -> PyResult<RodBuilder> {
-        let mut b = b
-            .control_points(self.n_control_points)
-            .knots(knot_kind(self.knots)?)
-            .with_roll(self.with_roll)
-            .options(RodOptions {
-                samples_per_segment: self.samples_per_segment,
-                terms: EnergyTerms {
-                    stretch: self.terms.0,
-                    bend: self.terms.1,
-                    twist: self.terms.2,
-                },
-                curvature_threshold: self.curvature_threshold,
-                drag: self.drag,
-                poisson_update: self.poisson_update,
-                ..Default::default()
-            });
+    fn apply(self, b: RodBuilder) -> PyResult<RodBuilder> {
+        let opts = rod_options(self.py, self.options)?;
+        if !(1..=8).contains(&opts.samples_per_segment) {
+            return Err(crate::err(Error::invalid("samples_per_segment", opts.samples_per_segment, "in 1..=8")));
+        }
+        let mut b = b.control_points(self.n_control_points).knots(knot_kind(self.knots)?).with_roll(self.with_roll).options(opts);
         match (self.section, self.sections) {
             (Some(s), None) => b = b.section(section_arg(s)?),
             (None, Some(list)) => {
-                let v = list
-                    .try_iter()?
-                    .map(|s| section_arg(&s?))
-                    .collect::<PyResult<Vec<_>>>()?;
+                let v = list.try_iter()?.map(|s| section_arg(&s?)).collect::<PyResult<Vec<_>>>()?;
                 b = b.sections(v);
             }
-            (None, None) => {
-                return Err(PyValueError::new_err(
-                    "a rod needs section= (or sections=, one per control point)",
-                ))
-            }
-            (Some(_), Some(_)) => {
-                return Err(PyValueError::new_err(
-                    "give section= or sections=, not both",
-                ))
-            }
+            (None, None) => return Err(bad("a rod needs section= (or sections=, one per control point)")),
+            (Some(_), Some(_)) => return Err(bad("give section= or sections=, not both")),
         }
-        let m = self.material.ok_or_else(|| {
-            PyValueError::new_err("a rod needs material= (a Material or a preset name)")
-        })?;
+        let m = self.material.ok_or_else(|| bad("a rod needs material= (a Material or a preset name)"))?;
         b = b.material(material_arg(m)?);
         if let Some(r) = self.roll {
             b = b.roll(convert::vector(r, "roll")?);
-        }
-        if !(1..=8).contains(&self.samples_per_segment) {
-            return Err(PyValueError::new_err(format!(
-                "invalid input: samples_per_segment must be in 1..=8, got {}",
-                self.samples_per_segment
-            )));
         }
         Ok(b)
     }
@@ -577,30 +605,45 @@ macro_rules! builder_fn {
         $(#[$doc])*
         #[pyfunction]
         #[pyo3(signature = ($($arg),*, *, section = None, material = None, n_control_points = 20, knots = "clamped",
-            with_roll = true, samples_per_segment = 5, drag = 0.0, curvature_threshold = 0.0,
-            stretch = true, bend = true, twist = true, roll = None, sections = None, poisson_update = false))]
+            with_roll = true, roll = None, sections = None, samples_per_segment = None, drag = None,
+            curvature_threshold = None, stretch = None, bend = None, twist = None, poisson_update = None,
+            model = None, **options))]
         #[allow(clippy::too_many_arguments)]
         fn $name<'py>(
+            py: Python<'py>,
             $($arg: $ty,)*
             section: Option<&Bound<'py, PyAny>>,
             material: Option<&Bound<'py, PyAny>>,
             n_control_points: usize,
             knots: &str,
             with_roll: bool,
-            samples_per_segment: usize,
-            drag: f64,
-            curvature_threshold: f64,
-            stretch: bool,
-            bend: bool,
-            twist: bool,
             roll: Option<&Bound<'py, PyAny>>,
             sections: Option<&Bound<'py, PyAny>>,
-            poisson_update: bool,
+            samples_per_segment: Option<Bound<'py, PyAny>>,
+            drag: Option<Bound<'py, PyAny>>,
+            curvature_threshold: Option<Bound<'py, PyAny>>,
+            stretch: Option<Bound<'py, PyAny>>,
+            bend: Option<Bound<'py, PyAny>>,
+            twist: Option<Bound<'py, PyAny>>,
+            poisson_update: Option<Bound<'py, PyAny>>,
+            model: Option<Bound<'py, PyAny>>,
+            options: Option<&Bound<'py, PyDict>>,
         ) -> PyResult<PyRod> {
-            let $c = Common {
-                section, sections, material, n_control_points, knots, with_roll, samples_per_segment, drag,
-                curvature_threshold, terms: (stretch, bend, twist), roll, poisson_update,
-            };
+            let mut given: Vec<(String, Bound<'py, PyAny>)> = [
+                ("samples_per_segment", samples_per_segment),
+                ("drag", drag),
+                ("curvature_threshold", curvature_threshold),
+                ("stretch", stretch),
+                ("bend", bend),
+                ("twist", twist),
+                ("poisson_update", poisson_update),
+                ("model", model),
+            ]
+            .into_iter()
+            .filter_map(|(k, v)| v.map(|v| (k.to_string(), v)))
+            .collect();
+            given.extend(convert::kwargs(options)?);
+            let $c = Common { py, section, sections, material, n_control_points, knots, with_roll, roll, options: given };
             $body
         }
     };
@@ -617,11 +660,14 @@ builder_fn!(
     /// circle radius) or `sections` (one per control point), `material`
     /// (Material or preset name), `n_control_points` (≥ 4, default 20),
     /// `knots` ('clamped' | 'uniform' | 'periodic'), `with_roll` (False: 3
-    /// coordinates per control point, no twist), `samples_per_segment`
-    /// (Gauss points, 1..8), `drag` (force/(velocity·length)),
-    /// `curvature_threshold` (1/length, 0 = 1/rest length), `stretch`,
-    /// `bend`, `twist` (energy terms on/off), `roll` (θ per control point, rad),
-    /// `poisson_update` (sections contract with stretch, II.59).
+    /// coordinates per control point, no twist), `roll` (θ per control
+    /// point, rad). Rod options (the core's RodOptions; None = its
+    /// default): `samples_per_segment` (Gauss points, 1..8, default 5),
+    /// `drag` (force/(velocity·length), default 0), `curvature_threshold`
+    /// (1/length, 0 = 1/rest length), `stretch`, `bend`, `twist` (energy
+    /// terms on/off, default True), `poisson_update` (sections contract
+    /// with stretch, II.59, default False), `model` (frame model:
+    /// "frenet"); any other RodOptions field by name.
     straight(start: [f64; 3], end: [f64; 3]) => |c| {
         build(c.apply(RodBuilder::straight(Vector3::from(start), Vector3::from(end)))?)
     }
@@ -679,11 +725,11 @@ builder_fn!(
     from_control_points(points: Bound<'py, PyAny>) => |c| {
         let (flat, n, d) = convert::matrix(&points, &[3, 4], "points")?;
         let pts = (0..n).map(|i| Vector3::new(flat[d * i], flat[d * i + 1], flat[d * i + 2])).collect();
+        if d == 4 && c.roll.is_some() {
+            return Err(bad("roll given twice: in the 4th column of points and as roll="));
+        }
         let mut b = c.apply(RodBuilder::new(strandkit_core::rod::RodShape::ControlPoints(pts)))?;
         if d == 4 {
-            if c.roll.is_some() {
-                return Err(PyValueError::new_err("roll given twice: in the 4th column of points and as roll="));
-            }
             b = b.roll((0..n).map(|i| flat[4 * i + 3]).collect());
         }
         build(b)

@@ -1,0 +1,328 @@
+//! Assemblies from Python: a structure described before it exists (rods,
+//! constraints with compliance, break thresholds and labels, loads,
+//! beads), referring to its own rods by index, inserted into a world in
+//! one checked batch by `World.insert`.
+use crate::convert::{self, from_json};
+use crate::guard;
+use crate::rod::PyRod;
+use pyo3::prelude::*;
+use serde_json::Value;
+use strandkit_core::assembly::AssemblyConstraint;
+use strandkit_core::world::groups::{base_of, check_label};
+use strandkit_core::{Assembly, Breaking, ConstraintKind, Load};
+
+/// A structure to insert into a world (`World.insert(assembly)`): rods,
+/// constraints, loads and beads, referring to the assembly's rods by the
+/// index `add_rod` returned. Labels such as "rung[3]" make groups
+/// ("rung") that the world answers for after insertion (`World.group`).
+/// Nothing is checked against a world until insertion, which is atomic:
+/// on any error the world is unchanged. `to_json()` / `Assembly.from_json`
+/// round-trip exactly.
+#[pyclass(name = "Assembly", module = "strandkit._native")]
+#[derive(Clone, Default)]
+pub struct PyAssembly {
+    pub(crate) inner: Assembly,
+}
+
+/// A label checked now (the core checks it again at insertion).
+fn label_arg(label: Option<String>) -> PyResult<Option<String>> {
+    if let Some(l) = &label {
+        guard(|| check_label(l))?;
+    }
+    Ok(label)
+}
+
+/// A break threshold from the Python keywords.
+pub(crate) fn breaking(break_force: Option<f64>, policy: &str, tension_only: bool) -> PyResult<Option<Breaking>> {
+    let p: strandkit_core::BreakPolicy = serde_json::from_value(Value::String(policy.to_string())).map_err(|_| {
+        crate::err(strandkit_core::Error::invalid("policy", format!("{policy:?}"), "\"magnitude\", \"tension\" or \"compression\""))
+    })?;
+    let p = match (tension_only, p) {
+        (false, p) => p,
+        (true, strandkit_core::BreakPolicy::Compression) => {
+            return Err(crate::bad("tension_only=True contradicts policy=\"compression\""))
+        }
+        (true, _) => strandkit_core::BreakPolicy::Tension,
+    };
+    match break_force {
+        Some(force) => Ok(Some(Breaking { force, policy: p })),
+        None if p != strandkit_core::BreakPolicy::Magnitude => {
+            Err(crate::bad(format!("policy={:?} needs break_force (the force above which the constraint breaks)", policy)))
+        }
+        None => Ok(None),
+    }
+}
+
+/// A constraint kind given as a dict (or JSON text).
+pub(crate) fn constraint_kind(kind: &Bound<'_, PyAny>, owner: Option<&Bound<'_, PyAny>>) -> PyResult<ConstraintKind> {
+    let v = json_arg(kind, "constraint", owner)?;
+    serde_json::from_value(v).map_err(|e| crate::bad(format!("constraint kind: {e}")))
+}
+
+/// A load given as a dict (or JSON text), its rod fields as JSON.
+pub(crate) fn load_value(load: &Bound<'_, PyAny>, owner: Option<&Bound<'_, PyAny>>) -> PyResult<Value> {
+    json_arg(load, "load", owner)
+}
+
+/// Names of the fields of type rod of a load kind (from the catalogue).
+pub(crate) fn rod_fields(kind: &str) -> Vec<&'static str> {
+    Load::CATALOGUE
+        .iter()
+        .filter(|l| l.name == kind)
+        .flat_map(|l| l.fields.iter())
+        .filter(|f| f.ty == strandkit_core::constraint::FieldType::Rod)
+        .map(|f| f.name)
+        .collect()
+}
+
+/// A kind given as a dict (or JSON text) → JSON value.
+fn json_arg(obj: &Bound<'_, PyAny>, what: &str, owner: Option<&Bound<'_, PyAny>>) -> PyResult<Value> {
+    if let Ok(s) = obj.extract::<String>() {
+        if s.trim_start().starts_with('{') {
+            return serde_json::from_str(&s).map_err(|e| crate::bad(format!("{what}: {e}")));
+        }
+    }
+    convert::to_json_in(obj, what, owner)
+}
+
+impl PyAssembly {
+    fn rod_index(&self, what: &str, i: usize) -> PyResult<usize> {
+        if i < self.inner.rods.len() {
+            Ok(i)
+        } else {
+            Err(crate::err(strandkit_core::Error::invalid(
+                what,
+                i,
+                format!("an index of the assembly's rods (0..{})", self.inner.rods.len()),
+            )))
+        }
+    }
+    #[allow(clippy::too_many_arguments)]
+    fn push_constraint(
+        &mut self,
+        rod: usize,
+        other: Option<usize>,
+        kind: &Bound<'_, PyAny>,
+        compliance: f64,
+        break_force: Option<f64>,
+        policy: &str,
+        tension_only: bool,
+        label: Option<String>,
+    ) -> PyResult<usize> {
+        self.rod_index("constraint rod", rod)?;
+        if let Some(o) = other {
+            self.rod_index("constraint other rod", o)?;
+        }
+        let kind = constraint_kind(kind, None)?;
+        let breaking = breaking(break_force, policy, tension_only)?;
+        let label = label_arg(label)?;
+        self.inner.constraints.push(AssemblyConstraint { rod, other, kind, compliance, breaking, label });
+        Ok(self.inner.constraints.len() - 1)
+    }
+    fn labels(&self) -> Vec<String> {
+        self.inner.labels().map(String::from).collect()
+    }
+}
+
+#[pymethods]
+impl PyAssembly {
+    #[new]
+    fn new() -> Self {
+        PyAssembly::default()
+    }
+    /// Adds a copy of `rod` (its current state; a free rod or one in a
+    /// world) with an optional `label`; returns its index in the assembly.
+    #[pyo3(signature = (rod, label = None))]
+    fn add_rod(&mut self, py: Python<'_>, rod: &Bound<'_, PyRod>, label: Option<String>) -> PyResult<usize> {
+        let r = rod.try_borrow()?.with(py, |r| Ok(r.clone()))?;
+        let label = label_arg(label)?;
+        Ok(self.inner.add_rod(r, label.as_deref()))
+    }
+    /// A one-rod constraint (`kind` from strandkit.position, tangent, …) on
+    /// the assembly's rod `rod`: `compliance` (length/force; 0 = hard),
+    /// `break_force` (force unit; None = unbreakable) measured by `policy`
+    /// ("magnitude" | "tension" | "compression"; `tension_only=True` is
+    /// policy="tension"), `label` (e.g. "pin[2]"). Returns its index.
+    #[pyo3(signature = (rod, kind, *, compliance = 0.0, break_force = None, policy = "magnitude", tension_only = false, label = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn constrain(
+        &mut self,
+        rod: usize,
+        kind: &Bound<'_, PyAny>,
+        compliance: f64,
+        break_force: Option<f64>,
+        policy: &str,
+        tension_only: bool,
+        label: Option<String>,
+    ) -> PyResult<usize> {
+        self.push_constraint(rod, None, kind, compliance, break_force, policy, tension_only, label)
+    }
+    /// A relative constraint (relative_position, relative_distance, …)
+    /// between the assembly's rods `a` and `b` (may be equal). Keywords as
+    /// `constrain`. Returns its index.
+    #[pyo3(signature = (a, b, kind, *, compliance = 0.0, break_force = None, policy = "magnitude", tension_only = false, label = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn link(
+        &mut self,
+        a: usize,
+        b: usize,
+        kind: &Bound<'_, PyAny>,
+        compliance: f64,
+        break_force: Option<f64>,
+        policy: &str,
+        tension_only: bool,
+        label: Option<String>,
+    ) -> PyResult<usize> {
+        self.push_constraint(a, Some(b), kind, compliance, break_force, policy, tension_only, label)
+    }
+    /// A load (strandkit.point_force, distributed, trap, …) on the
+    /// assembly's rod `rod`; the load's own `rod` field is ignored (give
+    /// None). Returns its index.
+    #[pyo3(signature = (rod, load, label = None))]
+    fn add_load(&mut self, rod: usize, load: &Bound<'_, PyAny>, label: Option<String>) -> PyResult<usize> {
+        self.rod_index("load rod", rod)?;
+        let mut v = load_value(load, None)?;
+        if let Value::Object(m) = &mut v {
+            for (name, fields) in m.iter_mut() {
+                if let Value::Object(f) = fields {
+                    for r in rod_fields(name) {
+                        f.insert(r.to_string(), serde_json::json!({"index": 0, "generation": 0}));
+                    }
+                }
+            }
+        }
+        let l: Load = serde_json::from_value(v).map_err(|e| crate::bad(format!("load: {e}")))?;
+        let label = label_arg(label)?;
+        Ok(self.inner.add_load(rod, l, label.as_deref()))
+    }
+    /// A bead on the assembly's rod `rod` at abscissa `u`: `mass` (mass
+    /// unit, > 0), viscous `friction` (force per speed), `radius` (length).
+    /// Returns its index.
+    #[pyo3(signature = (rod, u, *, mass, friction = 0.0, radius = 0.0, label = None))]
+    fn add_bead(&mut self, rod: usize, u: f64, mass: f64, friction: f64, radius: f64, label: Option<String>) -> PyResult<usize> {
+        self.rod_index("bead rod", rod)?;
+        let label = label_arg(label)?;
+        Ok(self.inner.add_bead(rod, u, mass, friction, radius, label.as_deref()))
+    }
+    /// A free copy of the assembly's rod `i`.
+    fn rod(&self, i: usize) -> PyResult<PyRod> {
+        self.rod_index("rod", i)?;
+        Ok(PyRod::free(self.inner.rods[i].rod.clone()))
+    }
+    #[getter]
+    fn n_rods(&self) -> usize {
+        self.inner.rods.len()
+    }
+    #[getter]
+    fn n_constraints(&self) -> usize {
+        self.inner.constraints.len()
+    }
+    #[getter]
+    fn n_loads(&self) -> usize {
+        self.inner.loads.len()
+    }
+    #[getter]
+    fn n_beads(&self) -> usize {
+        self.inner.beads.len()
+    }
+    /// Every label, in the order: rods, constraints, loads, beads.
+    #[getter]
+    fn get_labels(&self) -> Vec<String> {
+        self.labels()
+    }
+    /// The group names (base names of the labels), sorted.
+    #[getter]
+    fn groups(&self) -> Vec<String> {
+        let mut g: Vec<String> = self.labels().iter().map(|l| base_of(l).to_string()).collect();
+        g.sort();
+        g.dedup();
+        g
+    }
+    /// The assembly as JSON (floats round-trip exactly).
+    fn to_json(&self) -> PyResult<String> {
+        guard(|| self.inner.to_json())
+    }
+    /// An assembly from `to_json()` text (rods rebuilt and checked).
+    #[staticmethod]
+    fn from_json(text: &str) -> PyResult<Self> {
+        Ok(PyAssembly { inner: guard(|| Assembly::from_json(text))? })
+    }
+    /// The constraint `i` as a dict (rod, other, kind, compliance, breaking, label).
+    fn constraint<'py>(&self, py: Python<'py>, i: usize) -> PyResult<Bound<'py, PyAny>> {
+        let c = self.inner.constraints.get(i).ok_or_else(|| {
+            crate::err(strandkit_core::Error::invalid("constraint index", i, format!("< {}", self.inner.constraints.len())))
+        })?;
+        from_json(py, &serde_json::to_value(c).unwrap_or_default())
+    }
+    fn copy(&self) -> Self {
+        self.clone()
+    }
+    fn __copy__(&self) -> Self {
+        self.clone()
+    }
+    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
+        self.clone()
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "Assembly(rods={}, constraints={}, loads={}, beads={}, groups={:?})",
+            self.inner.rods.len(),
+            self.inner.constraints.len(),
+            self.inner.loads.len(),
+            self.inner.beads.len(),
+            self.groups()
+        )
+    }
+}
+
+/// What `World.insert` added: `rods` (Rod views), `constraints`, `loads`,
+/// `beads` (handles), in the assembly's order, and `bandwidth` (the
+/// half-bandwidth of the world's system afterwards).
+#[pyclass(name = "Inserted", module = "strandkit._native", frozen)]
+pub struct PyInserted {
+    pub(crate) rods: Vec<Py<PyAny>>,
+    pub(crate) constraints: Vec<Py<PyAny>>,
+    pub(crate) loads: Vec<Py<PyAny>>,
+    pub(crate) beads: Vec<Py<PyAny>>,
+    #[pyo3(get)]
+    pub(crate) bandwidth: usize,
+}
+
+#[pymethods]
+impl PyInserted {
+    /// The inserted rods (views of the world's rods), by assembly index.
+    #[getter]
+    fn rods(&self, py: Python<'_>) -> Vec<Py<PyAny>> {
+        self.rods.iter().map(|x| x.clone_ref(py)).collect()
+    }
+    /// ConstraintHandles, by assembly index.
+    #[getter]
+    fn constraints(&self, py: Python<'_>) -> Vec<Py<PyAny>> {
+        self.constraints.iter().map(|x| x.clone_ref(py)).collect()
+    }
+    /// LoadHandles, by assembly index.
+    #[getter]
+    fn loads(&self, py: Python<'_>) -> Vec<Py<PyAny>> {
+        self.loads.iter().map(|x| x.clone_ref(py)).collect()
+    }
+    /// BeadHandles, by assembly index.
+    #[getter]
+    fn beads(&self, py: Python<'_>) -> Vec<Py<PyAny>> {
+        self.beads.iter().map(|x| x.clone_ref(py)).collect()
+    }
+    fn __repr__(&self) -> String {
+        format!(
+            "Inserted(rods={}, constraints={}, loads={}, beads={}, bandwidth={})",
+            self.rods.len(),
+            self.constraints.len(),
+            self.loads.len(),
+            self.beads.len(),
+            self.bandwidth
+        )
+    }
+}
+
+pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyAssembly>()?;
+    m.add_class::<PyInserted>()
+}
