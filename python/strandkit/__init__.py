@@ -8,21 +8,30 @@ unit-agnostic: use any consistent system (SI for the presets).
 >>> import strandkit as sk
 >>> world = sk.World(dt=1e-3, gravity=(0, -9.81, 0))
 >>> rod = world.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon"))
->>> sk.clamp(world, rod)
->>> world.relax().iterations > 0
+>>> handles = sk.clamp(world, rod)            # position, tangent (+ roll) at u = 0
+>>> report = world.relax()
+>>> report.violation < 1e-8
 True
->>> rod.position(rod.u_end)           # tip (length unit)
+>>> tip = rod.position(rod.u_end)            # tip (length unit)
+>>> print(f"tip sags by {-tip[1]:.3f}")
+tip sags by 0.020
+
+Structures are described first and inserted in one batch (:class:`Assembly`),
+with labels that make groups the world answers for (:meth:`World.group`).
 """
 from __future__ import annotations
 
 from . import _native
 from ._native import (
+    Assembly,
     BeadHandle,
     ClipHandle,
     ConstraintHandle,
     DcdWriter,
     Event,
     FrameReport,
+    Group,
+    Inserted,
     LoadHandle,
     Material,
     QuasiDynamic,
@@ -48,7 +57,9 @@ from ._native import (
     write_psf,
     write_vtk,
 )
+from . import constraints, loads
 from ._progress import progress
+from .constraints import *  # noqa: F401,F403  (Kind, kind, clamp and one helper per constraint kind)
 from .errors import (
     ConvergenceError,
     DivergedError,
@@ -61,25 +72,7 @@ from .errors import (
     StrandkitError,
     WorldBusyError,
 )
-from .constraints import (
-    Kind,
-    axis,
-    clamp,
-    contact,
-    curvature,
-    distance,
-    kind,
-    material_roll,
-    plane,
-    position,
-    relative_distance,
-    relative_orientation,
-    relative_position,
-    oriented_sliding_point,
-    sliding_point,
-    tangent,
-)
-from .loads import distributed, point_force, point_torque
+from .loads import *  # noqa: F401,F403  (one helper per load kind)
 from .recorder import Recorder
 from .trajectory import TrajectoryWriter, write_trajectory
 
@@ -87,13 +80,10 @@ __version__ = _native.__version__
 
 __all__ = [
     # world and rods
-    "World", "Rod", "Section", "Material", "QuasiDynamic", "FrameReport", "straight", "helix", "curve", "through_points",
-    "from_control_points", "rod_from_json",
-    # constraints and loads
-    "Kind", "kind", "position", "tangent", "material_roll", "distance", "plane", "axis", "curvature",
-    "relative_position", "relative_orientation", "relative_distance", "sliding_point",
-    "oriented_sliding_point", "contact", "clamp",
-    "point_force", "point_torque", "distributed",
+    "World", "Rod", "Section", "Material", "QuasiDynamic", "FrameReport", "straight", "helix", "curve",
+    "through_points", "from_control_points", "rod_from_json",
+    # structures and groups
+    "Assembly", "Inserted", "Group",
     # reports and handles
     "StepReport", "RelaxReport", "Event", "Reaction", "ConstraintHandle", "LoadHandle", "BeadHandle", "ClipHandle",
     # errors
@@ -104,11 +94,22 @@ __all__ = [
     "bead_positions", "write_pdb", "write_psf", "tube_mesh", "write_obj", "write_vtk", "write_gltf",
     "run", "progress",
 ]
+# constraint and load helpers (generated from the core's catalogues)
+__all__ += constraints.__all__
+__all__ += loads.__all__
 
 
 def run(world, steps: int, *, progress_bar: bool = True, callback=None, desc: str = "steps"):
     """Steps ``world`` ``steps`` times with a progress bar; ``callback(world,
-    report)`` after each step. Returns (last StepReport, list of events)."""
+    report)`` after each step. Returns (last StepReport, list of events).
+
+    >>> import strandkit as sk
+    >>> w = sk.World(gravity=(0, -9.81, 0))
+    >>> rod = w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", n_control_points=6))
+    >>> report, events = sk.run(w, 3, progress_bar=False)
+    >>> round(w.time, 6), events
+    (0.003, [])
+    """
     events, report = [], None
     for _ in progress(range(steps), desc=desc, enable=progress_bar):
         report = world.step()

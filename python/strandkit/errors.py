@@ -73,6 +73,22 @@ class WorldBusyError(StrandkitError, RuntimeError):
     """The world is being used by another thread (e.g. stepped) right now."""
 
 
+def _invalid(what: str, value: str = "", expected: str = "") -> InvalidInputError:
+    """An InvalidInputError raised on the Python side, worded like the
+    core's (``invalid input: <what> must be <expected>, got <value>``)."""
+    if value and expected:
+        text = f"{what} must be {expected}, got {value}"
+    elif expected:
+        text = f"{what}: expected {expected}"
+    elif value:
+        text = f"{what}, got {value}"
+    else:
+        text = what
+    e = InvalidInputError(f"invalid input: {text}")
+    e.kind, e.what, e.value, e.expected = "InvalidInput", what, value, expected
+    return e
+
+
 #: core variant name → class (used by the native module).
 BY_KIND = {
     "InvalidInput": InvalidInputError,

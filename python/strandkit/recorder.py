@@ -1,11 +1,18 @@
 """Per-step logging of a world to numpy arrays and CSV.
 
->>> rec = Recorder(world)
->>> rec.point("tip", rod, rod.u_end)          # r(u) every record, length unit
->>> rec.reaction("clamp", clamp_handle)       # force and torque
->>> rec.run(1000)                             # steps the world, records each step
->>> rec["tip"].shape, rec["time"].shape       # (1001, 3), (1001,)
->>> rec.to_csv("out/run.csv")
+>>> import os, tempfile
+>>> import strandkit as sk
+>>> world = sk.World(dt=1e-3, gravity=(0, -9.81, 0))
+>>> rod = world.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", n_control_points=8))
+>>> clamp, _ = sk.clamp(world, rod)
+>>> rec = Recorder(world).point("tip", rod, rod.u_end)    # r(u) every record, length unit
+>>> rec = rec.reaction("clamp", clamp)                    # force and torque
+>>> report = rec.run(10, progress_bar=False)              # steps the world, records each step
+>>> rec["tip"].shape, rec["clamp"].shape, rec["time"].shape
+((11, 3), (11, 6), (11,))
+>>> path = rec.to_csv(os.path.join(tempfile.mkdtemp(), "run.csv"))
+>>> open(path).readline().split(",")[:4]
+['time', 'step', 'elastic_energy', 'kinetic_energy']
 """
 from __future__ import annotations
 

@@ -22,9 +22,17 @@ __all__ = ["TrajectoryWriter", "write_trajectory"]
 class TrajectoryWriter:
     """Writes topology files once and appends DCD frames.
 
-    >>> with TrajectoryWriter(world, "out/run") as tw:
-    ...     for _ in range(100):
-    ...         world.step(); tw.write()
+    >>> import os, tempfile
+    >>> import strandkit as sk
+    >>> world = sk.World(gravity=(0, -9.81, 0))
+    >>> rod = world.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", n_control_points=6))
+    >>> prefix = os.path.join(tempfile.mkdtemp(), "run")
+    >>> with TrajectoryWriter(world, prefix) as tw:
+    ...     for _ in range(3):
+    ...         report = world.step()
+    ...         tw.write()
+    >>> tw.n_frames, sorted(os.listdir(os.path.dirname(prefix)))
+    (4, ['run.dcd', 'run.pdb', 'run.psf'])
 
     The current state is written as frame 0 on creation (``initial=True``).
     ``every``: steps between frames (stored as NSAVC). ``append=True``
