@@ -18,6 +18,19 @@ use strandkit_core::{Assembly, Breaking, ConstraintKind, Load};
 /// Nothing is checked against a world until insertion, which is atomic:
 /// on any error the world is unchanged. `to_json()` / `Assembly.from_json`
 /// round-trip exactly.
+///
+/// >>> import strandkit as sk
+/// >>> asm = sk.Assembly()
+/// >>> rail = lambda y: sk.straight((0, y, 0), (1, y, 0), section=0.005, material="nylon", n_control_points=6)
+/// >>> a, b = asm.add_rod(rail(0.0), "rail[0]"), asm.add_rod(rail(-0.1), "rail[1]")
+/// >>> for i, u in enumerate([1.0, 2.0, 3.0]):
+/// ...     _ = asm.link(a, b, sk.relative_distance(u, u, 0.1), break_force=5.0, policy="tension", label=f"rung[{i}]")
+/// >>> asm
+/// Assembly(rods=2, constraints=3, loads=0, beads=0, groups=['rail', 'rung'])
+/// >>> world = sk.World()
+/// >>> inserted = world.insert(asm)
+/// >>> len(inserted.rods), world.group("rung").labels
+/// (2, ['rung[0]', 'rung[1]', 'rung[2]'])
 #[pyclass(name = "Assembly", module = "strandkit._native")]
 #[derive(Clone, Default)]
 pub struct PyAssembly {
@@ -265,12 +278,12 @@ impl PyAssembly {
     }
     fn __repr__(&self) -> String {
         format!(
-            "Assembly(rods={}, constraints={}, loads={}, beads={}, groups={:?})",
+            "Assembly(rods={}, constraints={}, loads={}, beads={}, groups={})",
             self.inner.rods.len(),
             self.inner.constraints.len(),
             self.inner.loads.len(),
             self.inner.beads.len(),
-            self.groups()
+            convert::py_strs(self.groups())
         )
     }
 }

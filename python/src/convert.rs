@@ -217,6 +217,12 @@ pub fn describe(v: &Value) -> String {
     }
 }
 
+/// Strings as a Python list literal: `['a', 'b']`.
+pub fn py_strs<S: AsRef<str>>(items: impl IntoIterator<Item = S>) -> String {
+    let quoted: Vec<String> = items.into_iter().map(|s| format!("'{}'", s.as_ref().replace('\\', "\\\\").replace('\'', "\\'"))).collect();
+    format!("[{}]", quoted.join(", "))
+}
+
 /// Short rendering of one value (floats to 6 significant places, handles as #index).
 pub fn short(v: &Value) -> String {
     match v {
@@ -278,6 +284,8 @@ where
         }
         let new = to_json(&x, &key)?;
         merge(slot, new, &format!("{what} {key}"))?;
+        // Checked field by field, so that a bad value is named.
+        serde_json::from_value::<T>(Value::Object(cur.clone())).map_err(|e| bad(format!("{what} {key}: {e}")))?;
     }
     serde_json::from_value(Value::Object(cur)).map_err(|e| bad(format!("{what}: {e}")))
 }

@@ -22,6 +22,18 @@ use strandkit_core::Item;
 /// `multipliers` (list of arrays). Other members: `rods`, `beads`,
 /// `loads`, `clips` (live objects), `members` ((label, object) pairs of
 /// every member).
+///
+/// >>> import strandkit as sk
+/// >>> world = sk.World(gravity=(0, -9.81, 0))
+/// >>> rod = world.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", with_roll=False))
+/// >>> a = world.add_constraint(rod, sk.position(rod.u_start), label="pin[0]")
+/// >>> b = world.add_constraint(rod, sk.position(rod.u_end, (1, 0, 0)), label="pin[1]")
+/// >>> report = world.relax()
+/// >>> pins = world.group("pin")
+/// >>> pins.labels, pins.broken.tolist()
+/// (['pin[0]', 'pin[1]'], [False, False])
+/// >>> round(float(pins.forces[:, 1].sum() / (rod.mass * 9.81)), 9)   # the pins carry the weight
+/// 1.0
 #[pyclass(name = "Group", module = "strandkit._native", frozen)]
 pub struct PyGroup {
     world: Py<PyWorld>,

@@ -139,12 +139,13 @@ macro_rules! handle_class {
             }
             /// The object's fields, read from the world through serde.
             fn __getattr__<'py>(&self, py: Python<'py>, name: &str) -> PyResult<Bound<'py, PyAny>> {
+                let missing = || PyAttributeError::new_err(format!("'{}' object has no attribute '{name}'", $name));
                 if name.starts_with('_') {
-                    return Err(PyAttributeError::new_err(format!("{} has no attribute {name:?}", $name)));
+                    return Err(missing());
                 }
                 match self.fields(py)?.get(name) {
                     Some(v) => crate::handles::to_py(self.world.bind(py), v),
-                    None => Err(PyAttributeError::new_err(format!("{} has no attribute {name:?}", $name))),
+                    None => Err(missing()),
                 }
             }
             fn __dir__(slf: &Bound<'_, Self>) -> PyResult<Vec<String>> {

@@ -24,7 +24,7 @@ pub(crate) fn fields<T: serde::Serialize>(inner: &T, extra: &[(&str, Value)]) ->
 pub(crate) fn field<'py>(py: Python<'py>, m: &Map<String, Value>, kind: &str, name: &str) -> PyResult<Bound<'py, PyAny>> {
     match m.get(name) {
         Some(v) => from_json(py, v),
-        None => Err(PyAttributeError::new_err(format!("{kind} has no field {name:?}"))),
+        None => Err(PyAttributeError::new_err(format!("'{kind}' object has no attribute '{name}'"))),
     }
 }
 

@@ -37,6 +37,18 @@ use strandkit_core::{Constraint, ConstraintHandle, Error, IntegrationParameters,
 /// Rods whose material has yield or rupture limits flow plastically and
 /// break after every step (and at every relax equilibrium); a rupture is a
 /// `RodRuptured` event whose `rod` and `new_rod` are the two pieces.
+///
+/// >>> import strandkit as sk
+/// >>> world = sk.World(dt=1e-3, gravity=(0, -9.81, 0))
+/// >>> world.params["relax_max_iterations"]
+/// 500
+/// >>> rod = world.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", n_control_points=8))
+/// >>> pin = world.add_constraint(rod, sk.position(rod.u_start), label="pin")
+/// >>> report = world.step()
+/// >>> report.factorisation, world.n_steps
+/// ('band_ldlt', 1)
+/// >>> world
+/// World(time=0.001, steps=1, rods=1, constraints=1, dt=0.001, gravity=[0.0, -9.81, 0.0], groups=['pin'])
 #[pyclass(name = "World", module = "strandkit._native")]
 pub struct PyWorld {
     pub inner: World,
@@ -568,7 +580,7 @@ impl PyWorld {
             p.gravity
         );
         if !groups.is_empty() {
-            s += &format!(", groups={groups:?}");
+            s += &format!(", groups={}", convert::py_strs(groups));
         }
         s + ")"
     }

@@ -33,6 +33,10 @@ class InvalidInputError(StrandkitError, ValueError):
     input. Attributes: ``what`` (the argument), ``value`` (what was given),
     ``expected`` (what is accepted)."""
 
+    what: str
+    value: str
+    expected: str
+
 
 class InvalidHandleError(StrandkitError, ValueError):
     """A handle that names nothing in this world (removed, broken, or from
