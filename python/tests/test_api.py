@@ -154,3 +154,123 @@ def test_slider_leaving_the_rod_is_an_event_with_a_live_handle():
     assert events[0].constraint == s and not s.alive
     assert "SliderLeft" in repr(events[0])
     assert rope.velocities[:, 1].mean() < 0
+
+
+def test_world_takes_every_integration_parameter_by_keyword():
+    defaults = sk.World().params
+    assert set(defaults) >= {"dt", "gravity", "parallel", "relax_tolerance", "relax_max_iterations",
+                             "plastic_tolerance", "linear_solver"}
+    w = sk.World(**dict(defaults, plastic_tolerance=1e-5, linear_solver="BandLu", parallel=False))
+    assert w.params == dict(defaults, plastic_tolerance=1e-5, linear_solver="BandLu", parallel=False)
+    with pytest.raises(sk.InvalidInputError, match="unknown integration parameter") as e:
+        sk.World(dtt=1.0)
+    assert all(k in e.value.expected for k in defaults)
+    with pytest.raises(sk.InvalidInputError, match="linear_solver"):
+        sk.World(linear_solver="Cholesky")
+    w.set_params(dt=5e-3)
+    w.set_params(dt=None)  # None: back to the default
+    assert w.dt == defaults["dt"] and w.params["parallel"] is False
+    with pytest.raises(sk.InvalidInputError, match="dt must be finite and > 0"):
+        w.set_params(dt=0.0)
+    assert w.dt == defaults["dt"]  # unchanged by the rejected call
+
+
+def test_quasi_dynamic_and_rod_options_by_keyword():
+    w = sk.World()
+    w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon"))
+    qd = sk.QuasiDynamic(w, dt0=2e-3, newton_fraction=0.5)
+    assert qd.params["dt0"] == 2e-3 and qd.params["newton_fraction"] == 0.5 and qd.params["time_budget"] is None
+    with pytest.raises(sk.InvalidInputError, match="unknown quasi-dynamic parameter") as e:
+        sk.QuasiDynamic(w, budget=1.0)
+    assert "time_budget" in e.value.expected
+    rod = sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", model="frenet", drag=0.5, twist=False,
+                      samples_per_segment=3)
+    o = rod.options
+    assert rod.model == "frenet" and o["drag"] == 0.5 and o["samples_per_segment"] == 3
+    assert o["terms"] == {"stretch": True, "bend": True, "twist": False}
+    # Any RodOptions field also by name, including a partial dict for a struct field.
+    assert sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon",
+                       terms={"bend": False}).options["terms"] == {"stretch": True, "bend": False, "twist": True}
+    with pytest.raises(sk.InvalidInputError, match="rod option"):
+        sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", model="cosserat")
+    with pytest.raises(sk.InvalidInputError, match='unknown rod option "bogus"'):
+        sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", bogus=1)
+    with pytest.raises(sk.InvalidInputError, match="samples_per_segment"):
+        sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", samples_per_segment=9)
+
+
+def test_handles_read_fields_through_serde_and_check_ownership():
+    w = sk.World(gravity=(0, -9.81, 0))
+    rod = w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", n_control_points=8,
+                                with_roll=False))
+    c = w.add_constraint(rod, sk.distance(rod.u_start, (0, 0.1, 0), 0.1), compliance=1e-3, break_force=9.0,
+                         tension_only=True, label="hanger[0]")
+    assert c.compliance == 1e-3 and c.breaking == {"force": 9.0, "policy": "tension"}
+    assert c.rod == rod and c.other is None and c.label == "hanger[0]"
+    assert c._handle == ("constraint", c.index, c.generation) and c.world is w
+    assert {"compliance", "breaking", "kind", "rod"} <= set(dir(c))
+    d = c.to_dict()
+    assert d["rod"] == rod and d["kind"]["Distance"]["distance"] == 0.1
+    assert 'ConstraintHandle(0 "hanger[0]": Distance(' in repr(c) and "breaks above 9 (tension)" in repr(c)
+    load = w.add_load(sk.point_force(rod, rod.u_end, (0, -1, 0)))
+    assert load.u == rod.u_end and load.force == [0.0, -1.0, 0.0] and list(load.kind) == ["PointForce"]
+    w.step()
+    assert c.tension == w.tension(c) and c.tension > 0  # the hanger pulls
+    # Equal and hashable by (world, handle); a copy of the world is another world.
+    same = w.constraints()[0]
+    assert same == c and hash(same) == hash(c) and len({c, same, load}) == 2
+    w2 = w.copy()
+    c2 = w2.constraints()[0]
+    assert c2 != c and c2.index == c.index
+    with pytest.raises(sk.InvalidInputError, match="belongs to another world"):
+        w2.remove_constraint(c)
+    with pytest.raises(sk.InvalidInputError, match="belongs to another world"):
+        w2.set_load(load, sk.point_force(w2.rods()[0], 0.0, (0, 1, 0)))
+    with pytest.raises(AttributeError, match="no attribute 'nothing'"):
+        c.nothing
+    w.remove_constraint(c)
+    assert not c.alive and "removed" in repr(c) and c.label == "hanger[0]"
+    with pytest.raises(sk.InvalidHandleError):
+        c.compliance
+    with pytest.raises(sk.InvalidInputError, match="needs break_force"):
+        w.add_link(rod, rod, sk.relative_distance(rod.u_start, rod.u_end, 1.0), policy="tension")
+
+
+def test_break_policies_on_world_constraints():
+    w = sk.World()
+    rod = w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", n_control_points=8,
+                                with_roll=False))
+    pos = w.add_constraint(rod, sk.position(rod.u_start))
+    dist = w.add_constraint(rod, sk.distance(rod.u_end, (1, 0.1, 0), 0.1))
+    w.set_breaking(dist, 2.0, policy="compression")
+    assert dist.breaking == {"force": 2.0, "policy": "compression"}
+    w.set_breaking(dist, 3.0, tension_only=True)
+    assert dist.breaking["policy"] == "tension"
+    w.set_breaking(dist)
+    assert dist.breaking is None
+    with pytest.raises(sk.InvalidInputError, match="no line of action"):
+        w.set_breaking(pos, 1.0, policy="tension")
+    with pytest.raises(sk.InvalidInputError, match="contradicts"):
+        w.set_breaking(dist, 1.0, policy="compression", tension_only=True)
+    with pytest.raises(sk.InvalidInputError, match="policy"):
+        w.set_breaking(dist, 1.0, policy="shear")
+    assert pos.breaking is None and w.tension(pos) is None
+
+
+def test_clamp_follows_the_frame_model():
+    w = sk.World()
+    straight = w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon"))
+    helix = w.add_rod(sk.helix(0.2, 0.1, 1.0, section=0.01, material="nylon"))
+    no_roll = w.add_rod(sk.straight((0, 1, 0), (1, 1, 0), section=0.01, material="nylon", with_roll=False))
+    kinds = lambda hs: [next(iter(h.kind)) for h in hs]  # noqa: E731
+    s = sk.clamp(w, straight)
+    assert kinds(s) == ["Position", "Tangent"] and s[0].kind["Position"]["axes"] == [True] * 4
+    h = sk.clamp(w, helix)
+    assert kinds(h) == ["Position", "Tangent", "MaterialRoll"] and h[0].kind["Position"]["axes"][3] is False
+    n = w.clamp(no_roll, no_roll.u_end, compliance=1e-6)
+    assert kinds(n) == ["Position", "Tangent"] and n[0].compliance == 1e-6
+    np.testing.assert_allclose(n[0].kind["Position"]["target"][:3], no_roll.position(no_roll.u_end))
+    # Explicit target / direction: position + tangent where asked.
+    e = sk.clamp(w, straight, straight.u_end, target=(1, 0, 0), direction=(1, 0, 0))
+    assert kinds(e) == ["Position", "Tangent"] and e[1].kind["Tangent"]["direction"] == [1.0, 0.0, 0.0]
+    assert w.relax().violation < 1e-8

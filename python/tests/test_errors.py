@@ -1,4 +1,6 @@
 """Bad input raises Python exceptions with the core's clear messages; no panic crosses."""
+import json
+
 import numpy as np
 import pytest
 
@@ -96,3 +98,33 @@ def test_misuse_is_an_exception_not_a_crash(world_rod, tmp_path):
     dcd.close()
     with pytest.raises(ValueError, match="closed"):
         dcd.write_frame(np.zeros((3, 3)))
+
+
+def test_exception_classes_and_attributes(tmp_path):
+    assert issubclass(sk.InvalidInputError, ValueError) and issubclass(sk.InvalidInputError, sk.StrandkitError)
+    assert issubclass(sk.InvalidHandleError, ValueError)
+    assert issubclass(sk.SingularError, sk.SolverError) and issubclass(sk.SingularError, RuntimeError)
+    assert issubclass(sk.FileError, OSError) and issubclass(sk.FileError, sk.StrandkitError)
+    with pytest.raises(sk.InvalidInputError) as e:
+        sk.Section.circle(-0.1)
+    assert (e.value.kind, e.value.what, e.value.value, e.value.expected) == (
+        "InvalidInput", "section radius", "-0.1", "finite and > 0")
+    w = sk.World()
+    w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", n_control_points=6))
+    with pytest.raises(sk.SingularError) as e:
+        w.relax()
+    assert e.value.kind == "Singular" and isinstance(e.value.constraints, list) and "statically" in e.value.detail
+    # Snapshots of another format, another version or no envelope are FileErrors.
+    good = w.to_json()
+    other = tmp_path / "other.json"
+    other.write_text(json.dumps({"format": "other-tool", "version": 2, "world": {}}))
+    with pytest.raises(sk.FileError, match="not a strandkit world snapshot") as e:
+        sk.World.load(str(other))
+    assert e.value.path == str(other) and isinstance(e.value, OSError)
+    newer = json.loads(good)
+    newer["version"] = 99
+    with pytest.raises(sk.FileError, match="version Some\\(99\\) is not supported|version 99"):
+        sk.World.from_json(json.dumps(newer))
+    with pytest.raises(sk.FileError, match="not a strandkit world snapshot"):
+        sk.World.from_json(json.dumps(json.loads(good)["world"]))
+    assert sk.World.from_json(good).n_rods == 1
