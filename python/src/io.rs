@@ -5,7 +5,7 @@ use crate::guard;
 use crate::rod::PyRod;
 use crate::world::PyWorld;
 use numpy::{PyArray1, PyArray3, PyArrayMethods};
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -113,11 +113,11 @@ fn bead_positions<'py>(world: &Bound<'py, PyWorld>) -> PyResult<Bound<'py, numpy
 fn frames_arg(obj: &Bound<'_, PyAny>) -> PyResult<Vec<Vec<[f64; 3]>>> {
     let msg = "positions: expected an array of shape (n_beads, 3) or (n_frames, n_beads, 3)";
     let arr: numpy::PyArrayLikeDyn<f64, numpy::AllowTypeChange> =
-        obj.extract().map_err(|_| PyValueError::new_err(msg))?;
+        obj.extract().map_err(|_| crate::bad(msg))?;
     let a = arr.as_array();
     let shape = a.shape().to_vec();
     if !(2..=3).contains(&shape.len()) || shape[shape.len() - 1] != 3 {
-        return Err(PyValueError::new_err(format!("{msg}, got shape {shape:?}")));
+        return Err(crate::bad(format!("{msg}, got shape {shape:?}")));
     }
     let flat: Vec<f64> = a.iter().copied().collect();
     let per = shape[shape.len() - 2] * 3;
@@ -230,7 +230,7 @@ impl PyDcdWriter {
     fn w(&mut self) -> PyResult<&mut DcdWriter> {
         self.inner
             .as_mut()
-            .ok_or_else(|| PyValueError::new_err("DCD writer is closed"))
+            .ok_or_else(|| crate::bad("DCD writer is closed"))
     }
 }
 

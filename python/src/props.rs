@@ -137,12 +137,12 @@ fn limits(stretch: f64, bend: f64, twist: f64) -> strandkit_core::Result<StrainL
 pub fn limits_arg(obj: &Bound<'_, PyAny>) -> PyResult<StrainLimits> {
     let d = obj
         .cast::<pyo3::types::PyDict>()
-        .map_err(|_| pyo3::exceptions::PyValueError::new_err("strain limits: expected a dict with keys 'stretch', 'bend', 'twist'"))?;
+        .map_err(|_| crate::bad("strain limits: expected a dict with keys 'stretch', 'bend', 'twist'"))?;
     let mut v = [f64::INFINITY; 3];
     for (k, x) in d.iter() {
         let key: String = k.extract()?;
         let i = ["stretch", "bend", "twist"].iter().position(|n| *n == key).ok_or_else(|| {
-            pyo3::exceptions::PyValueError::new_err(format!("strain limits: unknown mode {key:?} (use 'stretch', 'bend', 'twist')"))
+            crate::bad(format!("strain limits: unknown mode {key:?} (use 'stretch', 'bend', 'twist')"))
         })?;
         v[i] = x.extract()?;
     }

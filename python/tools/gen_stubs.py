@@ -72,9 +72,40 @@ def _params(text_signature: str, *, method: bool) -> str:
     return sig
 
 
+def _keyword_defaults(native) -> Dict[str, dict]:
+    """Classes built from keyword arguments that the core's serde structs
+    define (``**params``): their fields and defaults, read from instances,
+    so the stub names every keyword."""
+    world = native.World()
+    world.add_rod(native.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon"))
+    return {"World": native.World().params, "QuasiDynamic": native.QuasiDynamic(world).params}
+
+
+def _keyword(name: str, default) -> str:
+    """`name: type = default` for a keyword read from a serde default."""
+    if isinstance(default, bool):
+        return f"{name}: bool = {default!r}"
+    if isinstance(default, int):
+        return f"{name}: int = {default!r}"
+    if isinstance(default, float):
+        return f"{name}: float = {default!r}"
+    if isinstance(default, str):
+        return f"{name}: str = {default!r}"
+    if isinstance(default, list):
+        return f"{name}: Sequence[float] = ..."
+    return f"{name}: Any = {default!r}" if default is None else f"{name}: Any = ..."
+
+
+def _with_keywords(params: str, defaults: dict) -> str:
+    """A `(…, **params)` signature with the named keywords spelled out."""
+    keys = ", ".join(_keyword(k, v) for k, v in sorted(defaults.items()))
+    return params.replace("**params)", f"*, {keys}, **params: Any)")
+
+
 def native_stub(native) -> str:
     """The stub of the extension module."""
-    out = [HEADER, "from typing import Any, final", "", "__version__: str",
+    keywords = _keyword_defaults(native)
+    out = [HEADER, "from typing import Any, Sequence, final", "", "__version__: str",
            f"__all__ = {sorted(getattr(native, '__all__', []))!r}", ""]
     names = sorted(n for n in vars(native) if not n.startswith("__"))
     for name in names:
@@ -98,6 +129,8 @@ def native_stub(native) -> str:
         if init is not None:
             # pyo3 classes are built by __new__ (their __init__ takes nothing).
             params = _params(init, method=True).replace("(self", "(cls", 1)
+            if name in keywords and params.endswith("**params)"):
+                params = _with_keywords(params, keywords[name])
             body.append(f"    def __new__{params} -> {name}: ...")
         if "__getattribute__" in vars(cls):
             # Fields served by name (reports, handles, events): any attribute.
