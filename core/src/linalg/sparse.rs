@@ -406,10 +406,12 @@ impl SparseLu {
             self.ldlt_val.resize(sym.len_val(), 0.0);
             self.sym_ldlt = Some(sym);
         }
-        let sym = self.sym_ldlt.as_ref().unwrap();
+        let Some(sym) = self.sym_ldlt.as_ref() else { return Err(Error::singular("sparse LDLᵀ: no symbolic factor")) };
         let req = sym.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default());
         self.ensure_scratch(req);
-        let sym = self.sym_ldlt.as_ref().unwrap();
+        let (Some(sym), Some(scratch)) = (self.sym_ldlt.as_ref(), self.scratch.as_mut()) else {
+            return Err(Error::singular("sparse LDLᵀ: no symbolic factor or scratch"));
+        };
         let a = SparseColMatRef::new(
             SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx),
             &self.sval,
@@ -419,7 +421,7 @@ impl SparseLu {
             dynamic_regularization_delta: DELTA_REL * amax,
             dynamic_regularization_epsilon: EPS_REL * amax,
         };
-        let stack = MemStack::new(self.scratch.as_mut().unwrap());
+        let stack = MemStack::new(scratch);
         sym.factorize_numeric_ldlt(
             &mut self.ldlt_val,
             a,
@@ -442,15 +444,17 @@ impl SparseLu {
             self.symbolic_count += 1;
             self.sym_lu = Some(sym);
         }
-        let sym = self.sym_lu.as_ref().unwrap();
+        let Some(sym) = self.sym_lu.as_ref() else { return Err(Error::singular("sparse LU: no symbolic factor")) };
         let req = sym.factorize_numeric_lu_scratch::<f64>(Par::Seq, Default::default());
         self.ensure_scratch(req);
-        let sym = self.sym_lu.as_ref().unwrap();
+        let (Some(sym), Some(scratch)) = (self.sym_lu.as_ref(), self.scratch.as_mut()) else {
+            return Err(Error::singular("sparse LU: no symbolic factor or scratch"));
+        };
         let a = SparseColMatRef::new(
             SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx),
             &self.val,
         );
-        let stack = MemStack::new(self.scratch.as_mut().unwrap());
+        let stack = MemStack::new(scratch);
         match sym.factorize_numeric_lu(&mut self.num_lu, a, Par::Seq, stack, Default::default()) {
             Ok(_) => {
                 self.active = Some(SparseFactor::Lu);
@@ -468,16 +472,17 @@ impl SparseLu {
         }
     }
 
-    /// One solve with the held factors, no refinement.
-    fn raw_solve(&self, x: &mut [f64]) {
+    /// One solve with the held factors, no refinement; false (x unchanged)
+    /// when there are none.
+    fn raw_solve(&self, x: &mut [f64]) -> bool {
         let n = self.n;
         match self.active {
             Some(SparseFactor::Ldlt) => {
+                let Some(sym) = self.sym_ldlt.as_ref() else { return false };
                 // A⁻¹ = D (D A D)⁻¹ D
                 for (xi, d) in x.iter_mut().zip(&self.dscale) {
                     *xi *= d;
                 }
-                let sym = self.sym_ldlt.as_ref().unwrap();
                 let mut buf = MemBuffer::new(sym.solve_in_place_scratch::<f64>(1, Par::Seq));
                 let stack = MemStack::new(&mut buf);
                 LdltRef::new(sym, &self.ldlt_val).solve_in_place_with_conj(
@@ -491,7 +496,7 @@ impl SparseLu {
                 }
             }
             Some(SparseFactor::Lu) => {
-                let sym = self.sym_lu.as_ref().unwrap();
+                let Some(sym) = self.sym_lu.as_ref() else { return false };
                 let mut buf = MemBuffer::new(sym.solve_in_place_scratch::<f64>(1, Par::Seq));
                 let stack = MemStack::new(&mut buf);
                 LuRef::new_unchecked(sym, &self.num_lu).solve_in_place_with_conj(
@@ -501,8 +506,9 @@ impl SparseLu {
                     stack,
                 );
             }
-            None => unreachable!("raw_solve without factors"),
+            None => return false,
         }
+        true
     }
 
     /// `x = A⁻¹ b` with up to `steps` refinement steps (stops at rounding
@@ -512,7 +518,9 @@ impl SparseLu {
         let n = self.n;
         let bnorm = inf_norm(b);
         x.copy_from_slice(b);
-        self.raw_solve(x);
+        if !self.raw_solve(x) {
+            return f64::INFINITY; // no factors: nothing solved
+        }
         let mut r = vec![0.0; n];
         let mut best = f64::INFINITY;
         let mut best_x: Vec<f64> = Vec::new();

@@ -67,7 +67,7 @@ pub fn open_ring_at<const D: usize>(
     }
     let n = knots.n_ctrl();
     // Three periods [0, 3n]; the cut points n + w and 2n + w are strictly inside.
-    let (k3, c3) = unwrap_periodic(knots, ctrl, 0, 3);
+    let (k3, c3) = unwrap_periodic(knots, ctrl, 0, 3)?;
     let c1 = snap(&k3, n as f64 + knots.wrap(u));
     let c2 = c1 + n as f64;
     let [_, (kr, cr)] = split_open(&k3, &c3, c1)?;
@@ -84,16 +84,14 @@ pub(crate) fn unwrap_periodic<const D: usize>(
     ctrl: &[[f64; D]],
     start: i64,
     periods: usize,
-) -> Piece<D> {
+) -> Result<Piece<D>> {
     let n = knots.n_ctrl();
     let m = periods * n + 3;
     let t: Vec<f64> = (0..m + 4).map(|i| (start - 3 + i as i64) as f64).collect();
     let c: Vec<[f64; D]> = (0..m)
         .map(|i| ctrl[(start + i as i64).rem_euclid(n as i64) as usize])
         .collect();
-    // Unit-spaced knots with m >= 4 control points always pass validation.
-    let k = KnotVector::from_knots(t, m).expect("unwrapped periodic knots are valid");
-    (k, c)
+    Ok((KnotVector::from_knots(t, m)?, c))
 }
 
 /// Unwrap a periodic curve so that `u` (wrapped) is strictly inside the domain.
@@ -111,10 +109,10 @@ fn unwrap_for<const D: usize>(
     let w = knots.wrap(u);
     if w <= knots.tol() || n - w <= knots.tol() {
         // At the seam: unwrap around it instead.
-        let (k, c) = unwrap_periodic(knots, ctrl, -((knots.n_ctrl() / 2) as i64), 1);
+        let (k, c) = unwrap_periodic(knots, ctrl, -((knots.n_ctrl() / 2) as i64), 1)?;
         Ok((k, c, 0.0))
     } else {
-        let (k, c) = unwrap_periodic(knots, ctrl, 0, 1);
+        let (k, c) = unwrap_periodic(knots, ctrl, 0, 1)?;
         Ok((k, c, w))
     }
 }

@@ -75,13 +75,16 @@ pub fn control_point_order_with(rods: &[RodGraph<'_>], links: &[Link], groups: &
         }
     }
     let mut order = Vec::with_capacity(rods.iter().map(|r| r.n_ctrl).sum());
-    let mut done = vec![false; nr];
+    // Rods of each component, in rod order.
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); nr];
     for r in 0..nr {
-        if done[r] {
-            continue;
+        members[roots[r]].push(r);
+    }
+    for r in 0..nr {
+        if roots[r] != r {
+            continue; // each component once, at its smallest rod (its root)
         }
-        let comp: Vec<usize> = (r..nr).filter(|&q| roots[q] == roots[r]).collect();
-        comp.iter().for_each(|&q| done[q] = true);
+        let comp = std::mem::take(&mut members[r]);
         let user_groups: Vec<usize> = {
             let mut g: Vec<usize> = comp.iter().filter_map(|&q| (group_of[q] != usize::MAX).then_some(group_of[q])).collect();
             g.sort_unstable();
@@ -117,33 +120,52 @@ pub fn control_point_order_with(rods: &[RodGraph<'_>], links: &[Link], groups: &
 fn merge_oriented(rods: &[RodGraph<'_>], comp: &[usize], links: &[Link], order: &mut Vec<(usize, usize)>) {
     let frac = |q: usize, i: usize| i as f64 / (rods[q].n_ctrl.max(2) - 1) as f64;
     let mut reversed: Vec<Option<bool>> = vec![None; rods.len()];
-    reversed[comp[0]] = Some(false);
-    // Orient rods one by one from the first, through their links.
-    for _ in 0..comp.len() {
-        for &q in comp {
-            if reversed[q].is_some() {
-                continue;
-            }
-            let (mut sxy, mut sx, mut sy, mut sxx, mut syy, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-            for &(a, ca, b, cb) in links {
-                let (me, mine, other, theirs) = if a == q { (a, ca, b, cb) } else if b == q { (b, cb, a, ca) } else { continue };
-                let Some(rev) = reversed.get(other).copied().flatten() else { continue };
-                if me == other {
+    // Links by rod, then a breadth-first walk from the first rod: each rod
+    // is oriented by its links to the rods oriented before it. O(links).
+    let mut by_rod: Vec<Vec<usize>> = vec![Vec::new(); rods.len()];
+    for (k, &(a, _, b, _)) in links.iter().enumerate() {
+        if a != b && a < rods.len() && b < rods.len() {
+            by_rod[a].push(k);
+            by_rod[b].push(k);
+        }
+    }
+    let mut queue = VecDeque::new();
+    for &root in comp {
+        if reversed[root].is_some() {
+            continue;
+        }
+        reversed[root] = Some(false);
+        queue.push_back(root);
+        while let Some(other) = queue.pop_front() {
+            // Neighbours of `other` not oriented yet, each from all its links
+            // to oriented rods.
+            let next: Vec<usize> = by_rod[other]
+                .iter()
+                .map(|&k| if links[k].0 == other { links[k].2 } else { links[k].0 })
+                .filter(|&q| reversed[q].is_none())
+                .collect();
+            for q in next {
+                if reversed[q].is_some() {
                     continue;
                 }
-                let x = frac(me, mine);
-                let y = if rev { frac(other, rods[other].n_ctrl - 1 - theirs) } else { frac(other, theirs) };
-                sxy += x * y;
-                sx += x;
-                sy += y;
-                sxx += x * x;
-                syy += y * y;
-                n += 1.0;
-            }
-            if n > 0.0 {
+                let (mut sxy, mut sx, mut sy, mut sxx, mut syy, mut n) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+                for &k in &by_rod[q] {
+                    let (a, ca, b, cb) = links[k];
+                    let (mine, o, theirs) = if a == q { (ca, b, cb) } else { (cb, a, ca) };
+                    let Some(rev) = reversed[o] else { continue };
+                    let x = frac(q, mine);
+                    let y = if rev { frac(o, rods[o].n_ctrl - 1 - theirs) } else { frac(o, theirs) };
+                    sxy += x * y;
+                    sx += x;
+                    sy += y;
+                    sxx += x * x;
+                    syy += y * y;
+                    n += 1.0;
+                }
                 let cov = sxy / n - sx * sy / (n * n);
                 let var = (sxx / n - sx * sx / (n * n)) * (syy / n - sy * sy / (n * n));
                 reversed[q] = Some(var > 0.0 && cov < 0.0);
+                queue.push_back(q);
             }
         }
     }

@@ -138,30 +138,49 @@ impl World {
     }
 
     /// Rejects a constraint that repeats one already on the same rods (or
-    /// earlier in the batch) at the same place.
+    /// earlier in the batch) at the same place. Duplicates share their first
+    /// abscissa, so candidates are found by sorting on it: O(k log k).
     pub(crate) fn check_duplicates(&self, batch: &[Constraint]) -> Result<()> {
-        use std::collections::HashMap;
-        // Existing constraints by rod pair, only for the pairs the batch uses.
-        let pairs: std::collections::HashSet<(RodHandle, Option<RodHandle>)> = batch.iter().map(|c| (c.rod, c.other)).collect();
-        let mut seen: HashMap<(RodHandle, Option<RodHandle>), Vec<(String, &ConstraintKind)>> = HashMap::new();
-        if !pairs.is_empty() {
-            for (h, c) in self.constraints.iter() {
-                if pairs.contains(&(c.rod, c.other)) {
-                    seen.entry((c.rod, c.other)).or_default().push((format!("constraint {}", h.0), &c.kind));
-                }
+        use std::collections::HashSet;
+        let pairs: HashSet<(RodHandle, Option<RodHandle>)> = batch.iter().map(|c| (c.rod, c.other)).collect();
+        // (rod pair, first abscissa, who: Err(existing handle index) / Ok(batch index), kind)
+        let mut all: Vec<((RodHandle, Option<RodHandle>), f64, std::result::Result<usize, u32>, &ConstraintKind)> = Vec::new();
+        for (h, c) in self.constraints.iter() {
+            if pairs.contains(&(c.rod, c.other)) {
+                all.push(((c.rod, c.other), c.kind.u(), Err(h.0), &c.kind));
             }
         }
         for (k, c) in batch.iter().enumerate() {
-            let list = seen.entry((c.rod, c.other)).or_default();
-            if let Some((who, _)) = list.iter().find(|(_, o)| o.duplicates(&c.kind)) {
-                return Err(Error::input(format!(
-                    "duplicate constraint: {} repeats {who} on the same rods at the same abscissa",
-                    c.kind.name()
-                )));
-            }
-            list.push((format!("constraint {k} of the batch"), &c.kind));
+            all.push(((c.rod, c.other), c.kind.u(), Ok(k), &c.kind));
         }
-        Ok(())
+        all.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+        let tol = |u: f64| 1e-12 * (1.0 + u.abs());
+        let mut worst: Option<(usize, String, &ConstraintKind)> = None;
+        for (i, x) in all.iter().enumerate() {
+            let Ok(k) = x.2 else { continue };
+            // Neighbours with the same rods within the abscissa tolerance.
+            let near = all[..i].iter().rev().take_while(|y| y.0 == x.0 && x.1 - y.1 <= tol(x.1));
+            let after = all[i + 1..].iter().take_while(|y| y.0 == x.0 && y.1 - x.1 <= tol(x.1));
+            for y in near.chain(after) {
+                let earlier = match y.2 {
+                    Err(h) => Some(format!("constraint {h}")),
+                    Ok(j) if j < k => Some(format!("constraint {j} of the batch")),
+                    Ok(_) => None,
+                };
+                if let Some(who) = earlier {
+                    if y.3.duplicates(x.3) && worst.as_ref().is_none_or(|w| k < w.0) {
+                        worst = Some((k, who, x.3));
+                    }
+                }
+            }
+        }
+        match worst {
+            Some((_, who, kind)) => Err(Error::input(format!(
+                "duplicate constraint: {} repeats {who} on the same rods at the same abscissa",
+                kind.name()
+            ))),
+            None => Ok(()),
+        }
     }
 
     /// Coplanar relative clamp between rod a at ua and rod b at ub (III.61):
