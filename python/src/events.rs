@@ -4,7 +4,7 @@
 //! ConstraintHandle, a BeadHandle or a ClipHandle.
 use crate::convert::{self, tagged};
 use crate::handles::to_py;
-use crate::world::PyWorld;
+use crate::world_data::PyWorld;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use serde_json::Value;

@@ -4,7 +4,7 @@
 use crate::convert::tagged;
 use crate::guard;
 use crate::handles::{to_py, PyConstraintHandle};
-use crate::world::PyWorld;
+use crate::world_data::PyWorld;
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;

@@ -9,7 +9,7 @@
 use crate::convert::{self, from_json_with, tagged};
 use crate::guard;
 use crate::rod::PyRod;
-use crate::world::PyWorld;
+use crate::world_data::{label_of, PyWorld};
 use numpy::PyArray1;
 use pyo3::exceptions::PyAttributeError;
 use pyo3::prelude::*;
@@ -45,18 +45,6 @@ pub(crate) fn item_of(kind: &str, index: u32, generation: u32) -> PyResult<Item>
         "clip" => Item::Clip(ClipHandle { index, generation }),
         other => return Err(crate::bad(format!("cannot label a {other}"))),
     })
-}
-
-/// The label of an object (constraints carry theirs; other objects are
-/// found in the world's groups), alive or gone.
-pub(crate) fn label_of(w: &World, item: Item) -> Option<String> {
-    if let Item::Constraint(h) = item {
-        if let Some(l) = w.constraint(h).ok().and_then(|c| c.label.clone()) {
-            return Some(l);
-        }
-    }
-    let g = w.groups();
-    g.names().find_map(|name| g.members(name).ok()?.into_iter().find(|m| m.item == item).map(|m| m.label))
 }
 
 fn object(v: Value) -> Map<String, Value> {

@@ -3,7 +3,7 @@
 use crate::convert::{self, points};
 use crate::guard;
 use crate::rod::PyRod;
-use crate::world::PyWorld;
+use crate::world_data::PyWorld;
 use numpy::{PyArray1, PyArray3, PyArrayMethods};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;

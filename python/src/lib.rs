@@ -21,6 +21,7 @@ mod quasi;
 mod report;
 mod rod;
 mod world;
+mod world_data;
 
 /// Core error → the exception class of `strandkit.errors` for its variant
 /// (InvalidInputError, SingularError, …), with the same message and the

@@ -4,7 +4,7 @@ use crate::convert::{self, from_json};
 use crate::events::events_of;
 use crate::guard;
 use crate::report::PyFrameReport;
-use crate::world::PyWorld;
+use crate::world_data::PyWorld;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use strandkit_core::{Clock, QuasiDynamic, QuasiDynamicParameters, WallClock};

@@ -7,7 +7,7 @@
 use crate::convert::{self, array2, points};
 use crate::guard;
 use crate::props::{PyMaterial, PySection};
-use crate::world::PyWorld;
+use crate::world_data::PyWorld;
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use crate::bad;
@@ -392,7 +392,7 @@ impl PyRod {
         match &self.state {
             RodState::InWorld { world, handle } => {
                 let w = world.bind(py).try_borrow()?;
-                Ok(crate::handles::label_of(&w.inner, strandkit_core::Item::Rod(*handle)))
+                Ok(crate::world_data::label_of(&w.inner, strandkit_core::Item::Rod(*handle)))
             }
             RodState::Free(_) => Ok(None),
         }
@@ -460,7 +460,7 @@ impl PyRod {
                     .bind(py)
                     .try_borrow()
                     .ok()
-                    .and_then(|w| crate::handles::label_of(&w.inner, strandkit_core::Item::Rod(*handle)));
+                    .and_then(|w| crate::world_data::label_of(&w.inner, strandkit_core::Item::Rod(*handle)));
                 match label {
                     Some(l) => format!("rod {} {l:?} in a world", handle.index),
                     None => format!("rod {} in a world", handle.index),

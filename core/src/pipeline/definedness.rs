@@ -26,22 +26,28 @@ type Mode = (usize, usize, DVector<f64>);
 pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
     let layout = &world.ws.layout;
     let rods: Vec<_> = world.rods.iter().collect();
-    let pos_of = |h: crate::handles::RodHandle| rods.iter().position(|(i, _)| crate::handles::RodHandle::from(*i) == h);
+    let index: std::collections::HashMap<crate::handles::RodHandle, usize> =
+        rods.iter().enumerate().map(|(r, (i, _))| ((*i).into(), r)).collect();
+    let pos_of = |h: crate::handles::RodHandle| index.get(&h).copied();
+    // The first full position constraint of each rod (its pivot for rotations).
+    let mut pivot: Vec<Option<f64>> = vec![None; rods.len()];
+    for (_, c) in world.constraints.iter() {
+        if let (ConstraintKind::Position(p), Some(r)) = (&c.kind, pos_of(c.rod)) {
+            pivot[r].get_or_insert(p.u);
+        }
+    }
     // Rigid modes per rod, orthonormalised within the rod (dropping
     // degenerate ones, e.g. a straight 3-DOF rod's spin about itself);
     // `raw` keeps them unorthogonalised, for naming.
     let mut modes: Vec<Mode> = Vec::new();
     let mut raw: Vec<Mode> = Vec::new();
-    for (r, (h, rod)) in rods.iter().enumerate() {
+    for (r, (_, rod)) in rods.iter().enumerate() {
         let d = rod.dofs();
         let nc = rod.n_ctrl();
         let point = |i: usize| Vector3::new(rod.coords()[i * d], rod.coords()[i * d + 1], rod.coords()[i * d + 2]);
         // Rotations about a held point (if any), so that a rod pinned at
         // one point shows its free motion as a pure rotation.
-        let held = world.constraints.iter().find_map(|(_, c)| match &c.kind {
-            ConstraintKind::Position(p) if c.rod == (*h).into() => rod.position(p.u).ok(),
-            _ => None,
-        });
+        let held = pivot[r].and_then(|u| rod.position(u).ok());
         let centre = held.unwrap_or_else(|| (0..nc).fold(Vector3::zeros(), |c, i| c + point(i)) / nc as f64);
         let first = modes.len();
         for m in 0..if d == 4 { 7 } else { 6 } {
@@ -170,7 +176,17 @@ pub(crate) fn check_anchored(world: &World) -> Result<()> {
     use crate::handles::RodHandle;
     let rods: Vec<RodHandle> = world.rods().map(|(h, _)| h).collect();
     let mut held: Vec<bool> = vec![false; rods.len()];
-    let idx = |h: RodHandle| rods.iter().position(|r| *r == h);
+    let index: std::collections::HashMap<RodHandle, usize> = rods.iter().enumerate().map(|(i, h)| (*h, i)).collect();
+    let idx = |h: RodHandle| index.get(&h).copied();
+    // The constraints touching each rod, found once.
+    let mut touching: Vec<Vec<&crate::world::Constraint>> = vec![Vec::new(); rods.len()];
+    for (_, c) in world.constraints() {
+        for h in [Some(c.rod), c.other.filter(|o| *o != c.rod)].into_iter().flatten() {
+            if let Some(i) = idx(h) {
+                touching[i].push(c);
+            }
+        }
+    }
     // Links count once their other rod is held: iterate to a fixed point.
     loop {
         let mut changed = false;
@@ -179,7 +195,7 @@ pub(crate) fn check_anchored(world: &World) -> Result<()> {
                 continue;
             }
             let (mut points, mut orient) = (Vec::<f64>::new(), 0usize);
-            for (_, c) in world.constraints() {
+            for &c in &touching[i] {
                 let other_held = |o: Option<RodHandle>, me: RodHandle| {
                     let o = o.unwrap_or(me);
                     o != me && idx(o).is_some_and(|j| held[j])

@@ -23,14 +23,19 @@ use crate::world::{Event, World};
 pub fn relax(world: &mut World) -> Result<RelaxReport> {
     world.params.validate()?;
     let tol = world.params.relax_tolerance;
+    if world.rods.is_empty() {
+        return Ok(RelaxReport::default()); // nothing to move
+    }
     let length = world.rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
+    beads::static_load(world);
+    // Statically defined? (rigid-body modes not held by constraints nor by
+    // stiffness.) Checked before anything changes, so a refusal leaves the
+    // world as it was.
+    assemble(world, Regime::Statics { bead_unknowns: false })?;
+    definedness::check_statically_defined(world)?;
     for (_, r) in world.rods.iter_mut() {
         r.state_mut().1.iter_mut().for_each(|v| *v = 0.0);
     }
-    beads::static_load(world);
-    // Statically defined? (rigid-body modes not held by constraints nor by stiffness)
-    assemble(world, Regime::Statics { bead_unknowns: false })?;
-    definedness::check_statically_defined(world)?;
     let mut lambda: f64 = 1.0;
     let mut report = RelaxReport::default();
     let mut potential = solve::potential(world)?;
