@@ -5,6 +5,7 @@ mod common;
 use common::steel_rod;
 use nalgebra::Vector3;
 use strandkit::prelude::*;
+use strandkit::LinearSolver;
 
 /// repro/panic_relax_empty_world.py: relax of a world without rods is a
 /// no-op, like step.
@@ -30,4 +31,90 @@ fn refused_relax_keeps_the_velocities() {
     assert!(e.to_string().contains("not statically defined"), "{e}");
     assert_eq!(w.rod(h).unwrap().velocities(), &v[..]);
     assert_eq!(w.rod(h).unwrap().coords(), &q0[..]);
+}
+
+fn nylon_rod(n: usize, opts: RodOptions, material: Material) -> Rod {
+    RodBuilder::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0))
+        .control_points(n)
+        .section(Section::circle(0.01).unwrap())
+        .material(material)
+        .options(opts)
+        .build()
+        .unwrap()
+}
+
+/// Everything a refused step must leave as it was.
+fn state(w: &World) -> (f64, u64, Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<Section>>) {
+    let rods: Vec<_> = w.rods().map(|(_, r)| r).collect();
+    (
+        w.time(),
+        w.n_steps(),
+        rods.iter().map(|r| r.coords().to_vec()).collect(),
+        rods.iter().map(|r| r.velocities().to_vec()).collect(),
+        rods.iter().map(|r| r.sections().to_vec()).collect(),
+    )
+}
+
+/// repro/poisson_error_after_step_applied.py: a step whose Poisson update
+/// is impossible (a rubber rod stretched 300 %, ν = 0.5: 1 − νε < 0) is
+/// refused before it changes anything.
+#[test]
+fn impossible_poisson_update_refuses_the_whole_step() {
+    let rubber = Material::new("rubber", 1e6, 0.5, 1000.0).unwrap();
+    let mut w = World::new(IntegrationParameters::default());
+    let h = w.add_rod(nylon_rod(8, RodOptions { poisson_update: true, ..Default::default() }, rubber));
+    let mut q = w.rod(h).unwrap().coords().to_vec();
+    q.iter_mut().step_by(4).for_each(|x| *x *= 4.0);
+    w.rod_mut(h).unwrap().set_coords(&q).unwrap();
+    let before = state(&w);
+    let e = w.step().expect_err("ε ≈ 3 > 1/ν");
+    assert!(e.to_string().contains("Poisson update"), "{e}");
+    assert_eq!(state(&w), before, "the refused step changed the world");
+    // A sound stretch (10 %) steps and contracts the section: R = R0 (1 − ν ε).
+    let q: Vec<f64> = q.iter().enumerate().map(|(i, x)| if i % 4 == 0 { x / 4.0 * 1.1 } else { *x }).collect();
+    w.rod_mut(h).unwrap().set_coords(&q).unwrap();
+    w.step().expect("10 % stretch");
+    let Section::Circle { radius: r } = w.rod(h).unwrap().sections()[4] else { panic!("a circle") };
+    assert!((r / 0.01 - (1.0 - 0.5 * 0.1)).abs() < 0.01, "R/R0 = {}", r / 0.01);
+}
+
+/// repro/step_returns_nonfinite_state.py: a finite but extreme load whose
+/// step would overflow the coordinates is refused as NonFinite naming the
+/// rod, the world stays finite and unchanged, and the next step is refused
+/// the same way (not a NaN band).
+#[test]
+fn step_to_a_non_finite_state_is_refused() {
+    let mut w = World::new(IntegrationParameters { dt: 0.5, gravity: [0.0, -9.81, 0.0], ..Default::default() });
+    let h = w.add_rod(nylon_rod(8, RodOptions::default(), Material::preset("nylon").unwrap()));
+    w.add_constraint(h, Tangent { u: 0.5, direction: [1.0, 0.0, 0.0] }, 0.0).unwrap();
+    w.add_load(Load::Distributed(Distributed { rod: h, force_per_length: [0.0, 0.0, f64::MAX] })).unwrap();
+    let before = state(&w);
+    for _ in 0..2 {
+        match w.step() {
+            Err(Error::NonFinite { rod, .. }) => assert_eq!(rod, Some(h)),
+            other => panic!("expected NonFinite, got {other:?}"),
+        }
+        assert_eq!(state(&w), before);
+    }
+}
+
+/// repro/sparse_step_nan_state.py: a bead of mass 1e300 whose sliding step
+/// overflows is refused (NonFinite naming the string) with every solver,
+/// and nothing moves.
+#[test]
+fn overflowing_bead_is_refused_with_every_solver() {
+    for solver in [LinearSolver::Auto, LinearSolver::Sparse, LinearSolver::BandLu] {
+        let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], linear_solver: solver, ..Default::default() });
+        let h = w.add_rod(nylon_rod(8, RodOptions::default(), Material::preset("nylon").unwrap()));
+        let (start, end) = w.rod(h).unwrap().domain();
+        w.clamp(h, start, 0.0).unwrap();
+        let p = w.rod(h).unwrap().position(end).unwrap();
+        w.add_constraint(h, Position { u: end, axes: [true, true, true, false], target: [p.x, p.y, p.z, 0.0] }, 0.0).unwrap();
+        let b = w.add_bead(h, 2.5, 1e300, 0.0, 0.0).unwrap();
+        let before = state(&w);
+        let e = w.step().expect_err("overflowing bead");
+        assert!(matches!(e, Error::NonFinite { .. } | Error::Singular { .. }), "{solver:?}: {e}");
+        assert_eq!(state(&w), before, "{solver:?}");
+        assert!(w.bead(b).unwrap().u.is_finite());
+    }
 }

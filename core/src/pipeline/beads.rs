@@ -22,6 +22,12 @@ pub(crate) fn predict(world: &mut World, h: f64) -> Result<()> {
         let ds = (t.dot(&fp) + b.mass * ds_n / (h * h)) / (b.friction / h + b.mass / (h * h));
         let a_t = (ds - ds_n) / (h * h);
         let f = fp - t * (b.mass * a_t);
+        if !ds.is_finite() || !f.iter().all(|x| x.is_finite()) {
+            return Err(crate::error::Error::NonFinite {
+                rod: Some(b.rod),
+                detail: format!("bead {}: its sliding step or its force on the rod is not finite (mass {:e}); the world is unchanged", i.0, b.mass),
+            });
+        }
         if let Some(b) = world.beads.get_mut(i) {
             b.step_ds = ds;
             b.rod_force = f.into();

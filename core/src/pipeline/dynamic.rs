@@ -12,7 +12,7 @@ pub fn step(world: &mut World) -> Result<StepReport> {
     let h = world.params.dt;
     super::beads::predict(world, h)?;
     let (energy, solved) = solve::assemble_and_solve(world, Regime::Dynamic { h })?;
-    solve::apply(world, 1.0, Some(1.0 / h));
+    solve::commit(world, 1.0, Some(1.0 / h))?;
     world.time += h;
     world.steps += 1;
     let mut events = Vec::new();

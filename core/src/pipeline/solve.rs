@@ -3,7 +3,7 @@
 //! the multipliers and advance the sliders.
 use super::assemble::{assemble, Regime};
 use crate::constraint::{Row, MAX_ROWS};
-use crate::error::{Result, Unknown};
+use crate::error::{Error, Result, Unknown};
 use crate::handles::Index;
 use crate::system::{Layout, Solved};
 use crate::world::World;
@@ -128,6 +128,85 @@ fn update_active_set(world: &mut World) -> Result<bool> {
         }
     }
     Ok(changed)
+}
+
+/// Applies the solution as [`apply`] does, but only if the new state is
+/// acceptable: every coordinate and velocity finite (else `NonFinite`
+/// naming the rod, before anything moves) and every rod's Poisson update
+/// possible (else its error, with the move undone). On error the world is
+/// as it was before the call.
+pub(crate) fn commit(world: &mut World, scale: f64, set_velocity: Option<f64>) -> Result<(f64, f64)> {
+    check_finite(world, scale, set_velocity)?;
+    save_undo(world);
+    let moved = apply(world, scale, set_velocity);
+    let refused = world.rods.iter().find_map(|(_, r)| r.check_poisson().err());
+    if let Some(e) = refused {
+        undo(world);
+        return Err(e);
+    }
+    Ok(moved)
+}
+
+/// The state `apply` would produce is finite (coordinates, velocities,
+/// multipliers, slider increments).
+fn check_finite(world: &World, scale: f64, set_velocity: Option<f64>) -> Result<()> {
+    let ws = &world.ws;
+    for (r, (h, rod)) in world.rods.iter().enumerate() {
+        let d = rod.dofs();
+        let q = rod.coords();
+        for i in 0..q.len() / d {
+            for a in 0..d {
+                let dx = scale * ws.sys.sol[ws.layout.cp_index[r][i] + a];
+                let v = set_velocity.map_or(0.0, |inv_h| dx * inv_h);
+                if !(q[i * d + a] + dx).is_finite() || !v.is_finite() {
+                    return Err(Error::NonFinite {
+                        rod: Some(h.into()),
+                        detail: format!(
+                            "the step would move control point {i} (coordinate {a}) by {dx:e} to a non-finite state; the world is unchanged (reduce dt or the loads)"
+                        ),
+                    });
+                }
+            }
+        }
+    }
+    if let Some(x) = ws.sys.sol.iter().find(|x| !x.is_finite()) {
+        return Err(Error::NonFinite { rod: None, detail: format!("the solution holds {x}; the world is unchanged") });
+    }
+    Ok(())
+}
+
+/// Saves what [`apply`] overwrites.
+fn save_undo(world: &mut World) {
+    let World { rods, constraints, ws, .. } = world;
+    let u = &mut ws.undo;
+    u.clear();
+    for (_, rod) in rods.iter() {
+        u.extend_from_slice(rod.coords());
+        u.extend_from_slice(rod.velocities());
+    }
+    for (_, c) in constraints.iter() {
+        u.extend_from_slice(&c.multipliers);
+        c.kind.visit_abscissae(&mut |_, x| u.push(x));
+    }
+}
+
+/// Puts back what [`save_undo`] saved (same rods and constraints).
+fn undo(world: &mut World) {
+    let World { rods, constraints, ws, .. } = world;
+    let mut it = ws.undo.iter().copied();
+    for (_, rod) in rods.iter_mut() {
+        let (q, v) = rod.state_mut();
+        q.iter_mut().chain(v.iter_mut()).zip(&mut it).for_each(|(x, y)| *x = y);
+    }
+    for (_, c) in constraints.iter_mut() {
+        c.multipliers.iter_mut().zip(&mut it).for_each(|(x, y)| *x = y);
+        c.kind.visit_abscissae_mut(&mut |_, x| {
+            if let Some(y) = it.next() {
+                *x = y;
+            }
+        });
+    }
+    ws.left.clear();
 }
 
 /// Applies the solution: q += scale ΔX (and V = ΔX / h when given), stores

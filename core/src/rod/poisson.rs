@@ -15,12 +15,9 @@ use crate::energy;
 use crate::error::{Error, Result};
 
 impl Rod {
-    /// Applies II.59 with the current stretch; returns the largest relative
-    /// change of a section size. No-op unless `options().poisson_update`.
-    pub fn update_poisson(&mut self) -> Result<f64> {
-        if !self.opts.poisson_update {
-            return Ok(0.0);
-        }
+    /// The factors 1 − ν ε_i per control point at the current stretch, or
+    /// an error if one would make a section size non-positive.
+    fn poisson_factors(&self) -> Result<Vec<f64>> {
         let n = self.n_ctrl();
         let (mut num, mut den) = (vec![0.0; n], vec![0.0; n]);
         for (i, s) in self.cache.samples.iter().enumerate() {
@@ -32,19 +29,44 @@ impl Rod {
                 den[ctrl[k]] += s.w * s.basis[0][k];
             }
         }
+        let nu = self.material.poisson;
+        (0..n)
+            .map(|i| {
+                let eps = if den[i] > 0.0 { num[i] / den[i] } else { 0.0 };
+                let f = 1.0 - nu * eps;
+                if f > 0.0 {
+                    Ok(f)
+                } else {
+                    Err(Error::input(format!(
+                        "Poisson update: stretch strain {eps:.3e} at control point {i} would give a non-positive section size (ν = {nu})"
+                    )))
+                }
+            })
+            .collect()
+    }
+
+    /// Checks that II.59 can be applied at the current stretch (changes
+    /// nothing). Ok at once unless `options().poisson_update`.
+    pub fn check_poisson(&self) -> Result<()> {
+        if self.opts.poisson_update {
+            self.poisson_factors()?;
+        }
+        Ok(())
+    }
+
+    /// Applies II.59 with the current stretch; returns the largest relative
+    /// change of a section size. No-op unless `options().poisson_update`;
+    /// on error nothing changes.
+    pub fn update_poisson(&mut self) -> Result<f64> {
+        if !self.opts.poisson_update {
+            return Ok(0.0);
+        }
+        let factors = self.poisson_factors()?;
         if self.rest_sections.is_empty() {
             self.rest_sections = self.sections.clone();
         }
-        let nu = self.material.poisson;
         let mut change = 0.0f64;
-        for i in 0..n {
-            let eps = if den[i] > 0.0 { num[i] / den[i] } else { 0.0 };
-            let f = 1.0 - nu * eps;
-            if !(f > 0.0) {
-                return Err(Error::input(format!(
-                    "Poisson update: stretch strain {eps:.3e} at control point {i} would give a non-positive section size (ν = {nu})"
-                )));
-            }
+        for (i, f) in factors.into_iter().enumerate() {
             let old = self.sections[i].sizes();
             let new = self.rest_sections[i].sizes().map(|x| x * f);
             change = old.iter().zip(&new).filter(|(o, _)| **o > 0.0).fold(change, |c, (o, n)| c.max((n / o - 1.0).abs()));

@@ -75,7 +75,12 @@ impl TryFrom<KnotVectorData> for KnotVector {
     }
 }
 
+/// Most control points one spline may have (checked before allocating:
+/// a rod of 10⁷ control points already needs several GiB).
+pub const MAX_CONTROL_POINTS: usize = 10_000_000;
+
 fn check_count(n_ctrl: usize) -> Result<()> {
+    crate::error::size("number of control points", n_ctrl, MAX_CONTROL_POINTS)?;
     if n_ctrl < ORDER {
         return Err(Error::input(format!(
             "a cubic B-spline needs at least 4 control points, got {n_ctrl}"

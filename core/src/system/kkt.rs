@@ -466,7 +466,17 @@ impl KktSystem {
             }
         };
         if let Some(x) = self.sol.iter().position(|x| !x.is_finite()) {
-            return Err(Error::Singular { unknown: Some(describe(x)), constraints: Vec::new(), detail: format!("{f:?}: the solution is not finite") });
+            // The factorisation passed its pivot checks: the magnitudes
+            // overflowed (loads or steps beyond the floating-point range).
+            let unknown = describe(x);
+            let rod = match unknown {
+                crate::error::Unknown::Coordinate { rod, .. } => Some(rod),
+                _ => None,
+            };
+            return Err(Error::NonFinite {
+                rod,
+                detail: format!("{f:?}: the solution is not finite at {unknown} (loads, masses or the time step beyond the floating-point range?)"),
+            });
         }
         // Each constraint row must hold on its own scale: contradictory
         // dependent rows are "solved" with huge multipliers and a violated

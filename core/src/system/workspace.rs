@@ -32,6 +32,9 @@ pub struct Workspace {
     pub(crate) contact_ids: Vec<usize>,
     /// Sliders that left their rod in the last solve.
     pub(crate) left: Vec<Index>,
+    /// What the last `apply` overwrote (coordinates, velocities,
+    /// multipliers, slider abscissae), to undo a step refused after it.
+    pub(crate) undo: Vec<f64>,
 }
 
 /// Empties a vector and reuses its allocation for another element type of
