@@ -118,3 +118,66 @@ fn overflowing_bead_is_refused_with_every_solver() {
         assert!(w.bead(b).unwrap().u.is_finite());
     }
 }
+
+/// repro/panic_sparse_stale_pattern.py: after the sparse path fails on a
+/// singular system, removing a constraint (a smaller system) steps or
+/// fails cleanly — never a stale pattern inside faer.
+#[test]
+fn sparse_path_recovers_after_a_failure_and_a_topology_change() {
+    let mut w = World::new(IntegrationParameters { dt: 1e6, gravity: [0.0, -9.81, 0.0], linear_solver: LinearSolver::Sparse, ..Default::default() });
+    let h = w.add_rod(nylon_rod(8, RodOptions::default(), Material::preset("nylon").unwrap()));
+    let (start, end) = w.rod(h).unwrap().domain();
+    // The roll is held nowhere: at dt = 1e6 the system is singular.
+    w.add_constraint(h, Position { u: start, axes: [true, true, true, false], target: [0.0; 4] }, 0.0).unwrap();
+    let p = w.rod(h).unwrap().position(end).unwrap();
+    let c = w.add_constraint(h, Position { u: end, axes: [true, true, true, false], target: [p.x, p.y, p.z, 0.0] }, 0.0).unwrap();
+    let first = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| w.step().map(|_| ())));
+    assert!(matches!(first, Ok(Err(Error::Singular { .. }))), "step 1: {first:?}");
+    w.remove_constraint(c).unwrap();
+    let second = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| w.step().map(|_| ())));
+    match second {
+        Err(_) => panic!("step 2 panicked"),
+        Ok(r) => {
+            if let Err(e) = r {
+                assert!(matches!(e, Error::Singular { .. }), "{e}");
+            }
+        }
+    }
+}
+
+/// repro/relax_false_not_defined.py: a clamped straight rod is statically
+/// defined whatever its number of control points (the definedness
+/// threshold is relative); clamped rods relax under their weight to the
+/// small-deflection tip sag w L⁴ / 8EI. At 40,000 control points the
+/// rod is accepted (a full relax converges too, in ~400 damped Newton
+/// iterations, ~100 s: the (L/Δs)⁴ conditioning of static bending — too
+/// slow for the suite, so only the acceptance is checked there).
+#[test]
+fn clamped_rods_of_any_size_are_statically_defined() {
+    for (n, iterations) in [(1200, 500), (5000, 500), (40000, 2)] {
+        let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], relax_max_iterations: iterations, ..Default::default() });
+        let steel = Material::new("steel", 200e9, 0.3, 7800.0).unwrap();
+        let h = w.add_rod(
+            RodBuilder::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0))
+                .control_points(n)
+                .section(Section::circle(0.01).unwrap())
+                .material(steel)
+                .build()
+                .unwrap(),
+        );
+        let (start, end) = w.rod(h).unwrap().domain();
+        w.clamp(h, start, 0.0).unwrap();
+        match w.relax() {
+            Ok(_) => {
+                let y = w.rod(h).unwrap().position(end).unwrap().y;
+                // w L⁴ / 8 E I with w = ρ A g, I = π r⁴ / 4.
+                let (a, i) = (std::f64::consts::PI * 1e-4, std::f64::consts::PI * 1e-8 / 4.0);
+                let sag = 7800.0 * a * 9.81 / (8.0 * 200e9 * i);
+                assert!((-y / sag - 1.0).abs() < 1e-3, "n = {n}: tip sag {} vs {sag}", -y);
+            }
+            Err(Error::NotConverged { .. }) if iterations < 10 => {}
+            Err(e) => panic!("n = {n}: {e}"),
+        }
+    }
+}
+

@@ -334,6 +334,9 @@ impl SparseLu {
         self.pattern_valid = true;
         self.ldlt_rejected = false;
         self.sym_lu = None;
+        // faer's numeric LU keeps the previous factor's column pointers:
+        // a factor of another size must start from a fresh one.
+        self.num_lu = NumericLu::new();
         self.sym_ldlt = None;
         self.scratch = None;
         self.scratch_req = None;

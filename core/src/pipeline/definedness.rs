@@ -115,8 +115,13 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
     let kscale = (0..layout.n).map(|g| world.ws.sys.band.get(g, g).abs()).fold(0.0, f64::max);
     let n = layout.n;
     let (mut x, mut y) = (vec![0.0; n], vec![0.0; n]);
+    // A mode is held when the constraints see it. The scale is relative:
+    // with modes of unit norm over n control points, a tangent clamp sees a
+    // rotation at λ ~ 3/n³ of what a position constraint sees of a
+    // translation (λ ~ 1/n), while round-off on a free mode is ~1e-32.
+    let lmax = eig.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l));
     for j in 0..k {
-        if eig.eigenvalues[j] > 1e-10 {
+        if eig.eigenvalues[j] > 1e-14 * lmax {
             continue;
         }
         // Unconstrained rigid motion: does the stiffness hold it?
