@@ -113,6 +113,23 @@ fn rupture(world: &mut World, h: RodHandle, site: RuptureSite, events: &mut Vec<
             world.loads.insert(l);
         }
     }
+    for piece in [Some(h), new_rod].into_iter().flatten() {
+        drop_if_fragment(world, piece, events)?;
+    }
+    Ok(())
+}
+
+/// Removes `h` if it is shorter than its own thickness (see
+/// [`Event::FragmentRemoved`]).
+fn drop_if_fragment(world: &mut World, h: RodHandle, events: &mut Vec<Event>) -> Result<()> {
+    let rod = world.rod(h)?;
+    let area = rod.sections().iter().filter_map(|s| s.props().ok()).map(|p| p.area).fold(0.0f64, f64::max);
+    let thickness = 2.0 * (area / std::f64::consts::PI).sqrt();
+    let rest_length = rod.rest_length();
+    if rest_length < thickness {
+        world.remove_rod(h)?;
+        events.push(Event::FragmentRemoved { rod: h, rest_length, time: world.time });
+    }
     Ok(())
 }
 
