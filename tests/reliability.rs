@@ -215,3 +215,30 @@ fn rupture_cascades_are_bounded_and_the_world_keeps_stepping() {
     }
     eprintln!("ruptures {ruptures}, fragments removed {removed}, rods left {}", w.n_rods());
 }
+
+/// repro/repro_small_rest_curvature_ignored.py: a gently curved rod (rest
+/// radius of curvature 10 L, 2 L, L, L/2, with the default regularisation
+/// κ_ε = 1/L) is at zero energy and zero force in its rest shape, and a
+/// relax without load leaves it there.
+#[test]
+fn gentle_rest_curvature_is_kept() {
+    let r: f64 = 0.005;
+    let mat = Material::new("m", 1.0 / (std::f64::consts::PI * r.powi(4) / 4.0), 0.3, 1.0).unwrap(); // EI = 1
+    for rad in [10.0f64, 2.0, 1.0, 0.5] {
+        let arc = move |s: f64| Vector3::new(rad * (s / rad).sin(), rad * (1.0 - (s / rad).cos()), 0.0);
+        let rod = RodBuilder::curve(1.0, arc).control_points(20).section(Section::circle(r).unwrap()).material(mat.clone()).build().unwrap();
+        // ½ EI κ0² L would be the energy if the rest curvature were lost.
+        let lost = 0.5 / (rad * rad);
+        assert!(rod.elastic_energy() < 1e-12 * lost, "R = {rad}: energy at rest {:e}", rod.elastic_energy());
+        let f = rod.internal_forces().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        assert!(f < 1e-9, "R = {rad}: force at rest {f:e}");
+        let mut w = World::new(IntegrationParameters::default());
+        let h = w.add_rod(rod);
+        let (start, end) = w.rod(h).unwrap().domain();
+        w.clamp(h, start, 0.0).unwrap();
+        w.add_constraint(h, Plane { u: end, origin: [0.0; 3], normal: [0.0, 0.0, 1.0] }, 0.0).unwrap();
+        w.relax().unwrap();
+        let tip = w.rod(h).unwrap().position(end).unwrap();
+        assert!((tip - arc(1.0)).norm() < 1e-6, "R = {rad}: tip moved by {:e}", (tip - arc(1.0)).norm());
+    }
+}

@@ -80,7 +80,7 @@ fn consts(curved: bool) -> impl Strategy<Value = SampleConsts> {
             kappa2: if curved { k2 } else { 0.0 },
             omega: om,
             eps_p: 0.01,
-            delta: 1e-3,
+            delta: 1e-3, delta_bend: 1e-3,
         })
 }
 
@@ -146,7 +146,7 @@ proptest! {
 #[test]
 fn exactly_straight_is_finite() {
     let d = state(Vector3::new(1.0, 0.0, 0.0), Vector3::zeros(), Vector3::new(0.0, 0.3, 0.1), 0.4, 0.2);
-    let c = SampleConsts { ea: 1.0, ei1: 1.0, ei2: 2.0, gj: 1.0, speed0: 1.0, delta: 1e-3, ..Default::default() };
+    let c = SampleConsts { ea: 1.0, ei1: 1.0, ei2: 2.0, gj: 1.0, speed0: 1.0, delta: 1e-3, delta_bend: 1e-3, ..Default::default() };
     for t in TERMS {
         let e = closed(&d, &c, t);
         assert!(e.w.is_finite() && e.grad.iter().all(|x| x.is_finite()) && e.hess.iter().all(|x| x.is_finite()));
@@ -160,7 +160,7 @@ fn exactly_straight_is_finite() {
 /// continuous across |C| = δ.
 #[test]
 fn huber_branch_is_c1() {
-    let c = SampleConsts { ea: 1.0, ei1: 1.0, ei2: 1.5, gj: 1.0, speed0: 1.0, kappa1: 0.2, kappa2: 0.4, delta: 1e-3, ..Default::default() };
+    let c = SampleConsts { ea: 1.0, ei1: 1.0, ei2: 1.5, gj: 1.0, speed0: 1.0, kappa1: 0.2, kappa2: 0.4, delta: 1e-3, delta_bend: 1e-3, ..Default::default() };
     let t = EnergyTerms { stretch: false, bend: true, twist: false };
     let r1 = Vector3::new(1.0, 0.0, 0.0);
     let at = |m: f64| closed(&state(r1, Vector3::new(0.0, m, 0.0), Vector3::zeros(), 0.3, 0.0), &c, t);

@@ -16,7 +16,10 @@
 //!   C¹ Huber extension of |C| below δ, so its gradient stays bounded;
 //! - κ² = c2/a³ is a polynomial ratio and needs no extension, so a straight
 //!   rod keeps the exact anisotropic quadratic bending energy;
-//! - rest curvatures below κ_ε are rounded to zero (straight rest).
+//! - on a curved rest shape that extension starts below ½ the rest |C⁰|
+//!   (δ_b = min(δ, ½|C⁰|)), so any rest curvature, however small, is kept
+//!   exactly: the rest shape has zero energy and zero force. The Huber
+//!   Hessian B/δ_b stays bounded because B ∝ κ⁰.
 use super::invariants::{LocalState, Mat5, Vec5, QA, QC2, QP, QTH, QTH1};
 use super::{ActiveSlots, EnergyTerms, FrameKinematics, FrameState, HoldCrossSection, MaterialAngle, SampleConsts, Strains};
 use crate::error::{Error, Result};
@@ -140,7 +143,7 @@ fn add_bend(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
         let b1 = c.ei1 * c.kappa1 * cs - c.ei2 * c.kappa2 * sn;
         let b2 = -b;
         // K = h(c2) a^(-3/2) ≈ κ
-        let (h, h1, h2) = huber_sqrt(c2, c.delta);
+        let (h, h1, h2) = huber_sqrt(c2, c.delta_bend);
         let ia15 = ia * ia.sqrt();
         let kv = h * ia15;
         let (k_a, k_c) = (-1.5 * kv * ia, h1 * ia15);
@@ -217,9 +220,6 @@ fn strains(q: &Vec5, c: &SampleConsts) -> Strains {
 /// threshold δ are rounded to zero, see the module doc).
 fn rest_values(q: &Vec5, delta: f64) -> (f64, f64, f64) {
     let om = omega(q, delta).0;
-    if q[QC2] < delta * delta {
-        return (0.0, 0.0, om);
-    }
     let k = kappa(q);
     let (sn, cs) = q[QTH].sin_cos();
     (k * sn, k * cs, om)

@@ -154,6 +154,10 @@ pub struct SampleConsts {
     pub eps_p: f64,
     /// Curvature regularisation δ (see [`frenet`]).
     pub delta: f64,
+    /// δ of the bending term's linear part: min(δ, ½|C⁰|) on a curved rest
+    /// shape, so the rest curvature is never inside the regularised region
+    /// (the rest shape stays an exact, zero-energy equilibrium).
+    pub delta_bend: f64,
 }
 
 /// Strains at one sample: stretch ε, material curvatures κ1, κ2, twist ω.

@@ -126,7 +126,9 @@ impl Cache {
             let p = sec.props()?;
             let delta = kappa_eps * speed0 * speed0 * speed0;
             let (k1, k2, om) = energy::rest_values(&s0, delta, rod.opts.model);
-            let mut consts = SampleConsts { speed0, delta, ..Default::default() };
+            let c0 = s0.invariants()[crate::energy::invariants::QC2].sqrt();
+            let delta_bend = if c0 > 0.0 { delta.min(0.5 * c0) } else { delta };
+            let mut consts = SampleConsts { speed0, delta, delta_bend, ..Default::default() };
             set_stiffness(&mut consts, &p, e, g);
             let rest = [k1, k2, om];
             set_plastic(&mut consts, &rest, &rod.plastic.get(idx).copied().unwrap_or_default());
