@@ -1,18 +1,59 @@
 //! Linearised implicit Euler (II.77–II.82; V^n is the velocity):
 //!   (M/h² + D/h + K^n) ΔX = M V^n / h + F + P^n,   V^{n+1} = ΔX / h,
 //! with the constraint rows of SPEC §4 in the same solve.
+//!
+//! With `IntegrationParameters::adaptive_dt`, a step refused as diverged or
+//! non-finite is retried as 2, 4, … sub-steps (up to `2^max_halvings`)
+//! from the state before it; the report counts the sub-steps.
 use super::assemble::Regime;
 use super::{post_solve, solve, StepReport};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::world::World;
 
 /// Advances the world by one time step `params.dt`.
 pub fn step(world: &mut World) -> Result<StepReport> {
     world.params.validate()?;
     let h = world.params.dt;
+    let first = step_by(world, h);
+    if !world.params.adaptive_dt || !matches!(first, Err(Error::Diverged { .. } | Error::NonFinite { .. })) {
+        return first; // a refused step left the world unchanged
+    }
+    let before = world.clone();
+    let mut last = first;
+    for j in 1..=world.params.max_halvings {
+        let n = 1u32 << j;
+        match substeps(world, h / n as f64, n) {
+            Ok(report) => return Ok(report),
+            Err(e) => {
+                *world = before.clone();
+                let retry = matches!(e, Error::Diverged { .. } | Error::NonFinite { .. });
+                last = Err(e);
+                if !retry {
+                    break;
+                }
+            }
+        }
+    }
+    last
+}
+
+/// `n` steps of `h`, reported as one (events in order, energy before the first).
+fn substeps(world: &mut World, h: f64, n: u32) -> Result<StepReport> {
+    let mut report = step_by(world, h)?;
+    for _ in 1..n {
+        let next = step_by(world, h)?;
+        let events = std::mem::take(&mut report.events);
+        report = StepReport { elastic_energy: report.elastic_energy, events: [events, next.events.clone()].concat(), ..next };
+    }
+    report.substeps = n;
+    Ok(report)
+}
+
+/// One step of `h`.
+fn step_by(world: &mut World, h: f64) -> Result<StepReport> {
     super::beads::predict(world, h)?;
     let (energy, solved) = solve::assemble_and_solve(world, Regime::Dynamic { h })?;
-    solve::commit(world, 1.0, Some(1.0 / h))?;
+    solve::commit(world, 1.0, Some(1.0 / h), Some(energy))?;
     world.time += h;
     world.steps += 1;
     let mut events = Vec::new();
@@ -30,6 +71,7 @@ pub fn step(world: &mut World) -> Result<StepReport> {
         elastic_energy: energy,
         plastic_samples: inelastic.yielded,
         active_contacts: world.contacts.active().count(),
+        substeps: 1,
         events,
     })
 }

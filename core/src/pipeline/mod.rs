@@ -50,6 +50,10 @@ pub struct StepReport {
     pub plastic_samples: usize,
     /// Contact pairs active at the end of the step.
     pub active_contacts: usize,
+    /// Sub-steps taken (1, or 2^k after adaptive halving; see
+    /// `IntegrationParameters::adaptive_dt`).
+    #[serde(default)]
+    pub substeps: u32,
     /// What happened in this step (broken constraints, departed sliders,
     /// clips, ruptures), in the order it happened.
     pub events: Vec<Event>,

@@ -252,7 +252,7 @@ fn static_frame(world: &mut World, dt: f64, fraction: f64, cap: Option<f64>) -> 
             capped = true;
         }
     }
-    let (motion, _) = solve::commit(world, scale, Some(1.0 / dt))?;
+    let (motion, _) = solve::commit(world, scale, Some(1.0 / dt), None)?;
     world.beads.iter_mut().for_each(|(_, b)| b.velocity = 0.0);
     world.time += dt;
     world.steps += 1;

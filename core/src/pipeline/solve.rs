@@ -135,16 +135,84 @@ fn update_active_set(world: &mut World) -> Result<bool> {
 /// naming the rod, before anything moves) and every rod's Poisson update
 /// possible (else its error, with the move undone). On error the world is
 /// as it was before the call.
-pub(crate) fn commit(world: &mut World, scale: f64, set_velocity: Option<f64>) -> Result<(f64, f64)> {
+///
+/// `elastic_before` (a dynamic step: the elastic energy at its start) turns
+/// on the divergence guard: see `IntegrationParameters::divergence_factor`.
+pub(crate) fn commit(world: &mut World, scale: f64, set_velocity: Option<f64>, elastic_before: Option<f64>) -> Result<(f64, f64)> {
     check_finite(world, scale, set_velocity)?;
+    let guard = elastic_before.filter(|_| world.params.divergence_factor.is_finite());
+    let budget = guard.map(|u| u + energy_in(world, scale));
     save_undo(world);
     let moved = apply(world, scale, set_velocity);
     let refused = world.rods.iter().find_map(|(_, r)| r.check_poisson().err());
+    let refused = refused.or_else(|| budget.and_then(|b| divergence(world, b)));
     if let Some(e) = refused {
         undo(world);
         return Err(e);
     }
     Ok(moved)
+}
+
+/// Stores each rod's kinetic energy now and returns what the step may
+/// bring in on top of the elastic energy: the kinetic energy plus the work
+/// of the external forces and the constraints, Σ ½VᵀMV + Σ |F·ΔX| + Σ |Λ E|.
+fn energy_in(world: &mut World, scale: f64) -> f64 {
+    let World { rods, ws, .. } = world;
+    ws.energy_before.clear();
+    let mut total = 0.0;
+    for (r, (_, rod)) in rods.iter().enumerate() {
+        let k = rod.kinetic_energy();
+        ws.energy_before.push(k);
+        total += k;
+        let d = rod.dofs();
+        if let Some(f) = ws.ext.get(r) {
+            for i in 0..rod.n_ctrl() {
+                for a in 0..d {
+                    total += (f[i * d + a] * scale * ws.sys.sol[ws.layout.cp_index[r][i] + a]).abs();
+                }
+            }
+        }
+    }
+    for (c, &r0) in ws.layout.row_index.iter().enumerate() {
+        for i in r0..r0 + ws.layout.row_count[c] {
+            total += (ws.sys.sol[i] * ws.sys.rhs[i]).abs();
+        }
+    }
+    total
+}
+
+/// The guard's verdict after `apply`: implicit Euler never creates energy,
+/// so the kinetic energy after a step cannot exceed the energy before it
+/// plus the work done during it; a step beyond `divergence_factor` times
+/// that is refused as Diverged, naming the rod whose kinetic energy grew
+/// the most. (The kinetic energy is cheap and explodes with any blow-up:
+/// V = ΔX/h.)
+fn divergence(world: &World, budget: f64) -> Option<Error> {
+    let factor = world.params.divergence_factor;
+    let (mut after, mut floor) = (0.0, 0.0);
+    let mut worst: Option<(crate::handles::RodHandle, f64)> = None;
+    for ((h, rod), k0) in world.rods.iter().zip(&world.ws.energy_before) {
+        let k1 = rod.kinetic_energy();
+        // Energy of a 1e-6 strain: below it, nothing counts as a jump.
+        let f = rod.cache().samples.first().map_or(0.0, |s| 1e-12 * s.consts.ea * rod.rest_length());
+        after += k1;
+        floor += f;
+        let ratio = k1 / (k0 + f);
+        if worst.is_none_or(|(_, r)| ratio > r) {
+            worst = Some((h.into(), ratio));
+        }
+    }
+    if after.is_finite() && after <= factor * (budget + floor) {
+        return None;
+    }
+    Some(Error::Diverged {
+        step: world.steps + 1,
+        rod: worst.map(|w| w.0),
+        factor: after / (budget + floor),
+        detail: format!(
+            "the step would raise the kinetic energy to {after:.3e} while the energy before it plus the work of the loads and constraints was {budget:.3e} (divergence_factor = {factor}); the world is unchanged (reduce dt, or World(adaptive_dt=True))"
+        ),
+    })
 }
 
 /// The state `apply` would produce is finite (coordinates, velocities,

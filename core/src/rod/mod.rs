@@ -455,11 +455,23 @@ impl Rod {
             .collect()
     }
 
-    /// Kinetic energy ½ VᵀMV.
+    /// Kinetic energy ½ VᵀMV (allocates nothing: summed per segment).
     pub fn kinetic_energy(&self) -> f64 {
-        let mut mv = vec![0.0; self.v.len()];
-        self.mass_times(&self.v, &mut mv);
-        0.5 * self.v.iter().zip(&mv).map(|(a, b)| a * b).sum::<f64>()
+        let (d, v) = (self.dofs, &self.v);
+        let mut e = 0.0;
+        for (seg, ctrl) in self.cache.seg_ctrl.iter().enumerate() {
+            let (m, j) = (&self.cache.seg_mass[seg], &self.cache.seg_inertia[seg]);
+            for k in 0..4 {
+                for l in 0..4 {
+                    let (a, b) = (ctrl[k] * d, ctrl[l] * d);
+                    e += m[k][l] * (v[a] * v[b] + v[a + 1] * v[b + 1] + v[a + 2] * v[b + 2]);
+                    if d == 4 {
+                        e += j[k][l] * v[a + 3] * v[b + 3];
+                    }
+                }
+            }
+        }
+        0.5 * e
     }
 
     /// Linear momentum Σ (M V) over the translational coordinates.

@@ -35,6 +35,8 @@ pub struct Workspace {
     /// What the last `apply` overwrote (coordinates, velocities,
     /// multipliers, slider abscissae), to undo a step refused after it.
     pub(crate) undo: Vec<f64>,
+    /// Elastic + kinetic energy of each rod before the step being committed.
+    pub(crate) energy_before: Vec<f64>,
 }
 
 /// Empties a vector and reuses its allocation for another element type of

@@ -27,6 +27,21 @@ pub struct IntegrationParameters {
     /// failed one falls back along the chain, reported in the step report.
     #[serde(default)]
     pub linear_solver: LinearSolver,
+    /// Divergence guard of dynamic steps: a step is refused as `Diverged`
+    /// (the world unchanged) when the kinetic energy after it exceeds this
+    /// factor times the elastic + kinetic energy before it plus the work
+    /// done by the external forces and the constraints during it (implicit
+    /// Euler never creates energy: a jump means the step went wrong). `inf`
+    /// switches the guard off. Dimensionless, > 1.
+    #[serde(default = "default_divergence_factor")]
+    pub divergence_factor: f64,
+    /// Adaptive stepping: a step that diverges (or would reach a non-finite
+    /// state) is retried as 2, 4, … sub-steps of dt/2, dt/4, … (at most
+    /// `2^max_halvings` sub-steps) before the error is raised.
+    #[serde(default)]
+    pub adaptive_dt: bool,
+    #[serde(default = "default_max_halvings")]
+    pub max_halvings: u32,
 }
 
 impl Default for IntegrationParameters {
@@ -39,12 +54,21 @@ impl Default for IntegrationParameters {
             relax_max_iterations: 500,
             plastic_tolerance: default_plastic_tolerance(),
             linear_solver: LinearSolver::Auto,
+            divergence_factor: default_divergence_factor(),
+            adaptive_dt: false,
+            max_halvings: default_max_halvings(),
         }
     }
 }
 
 fn default_plastic_tolerance() -> f64 {
     1e-6
+}
+fn default_divergence_factor() -> f64 {
+    100.0
+}
+fn default_max_halvings() -> u32 {
+    10
 }
 
 impl IntegrationParameters {
@@ -55,6 +79,12 @@ impl IntegrationParameters {
             crate::error::finite("gravity", g)?;
         }
         crate::error::positive("relax_tolerance", self.relax_tolerance)?;
+        if !(self.divergence_factor > 1.0) {
+            return Err(Error::invalid("divergence_factor", self.divergence_factor, "> 1 (inf: no guard)"));
+        }
+        if self.max_halvings > 30 {
+            return Err(Error::invalid("max_halvings", self.max_halvings, "at most 30"));
+        }
         if self.relax_max_iterations == 0 || self.relax_max_iterations > 1_000_000 {
             return Err(Error::invalid("relax_max_iterations", self.relax_max_iterations, "in 1..=1000000"));
         }
