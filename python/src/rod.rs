@@ -7,7 +7,7 @@
 use crate::convert::{self, array2, points};
 use crate::guard;
 use crate::props::{PyMaterial, PySection};
-use crate::world_data::PyWorld;
+use crate::world_data::{read, write, PyWorld};
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use crate::bad;
@@ -66,7 +66,7 @@ impl PyRod {
         match &self.state {
             RodState::Free(r) => f(r),
             RodState::InWorld { world, handle } => {
-                let w = world.bind(py).try_borrow()?;
+                let w = read(world.bind(py))?;
                 let r = w.inner.rod(*handle).map_err(crate::err)?;
                 f(r)
             }
@@ -80,7 +80,7 @@ impl PyRod {
         match &mut self.state {
             RodState::Free(r) => f(r),
             RodState::InWorld { world, handle } => {
-                let mut w = world.bind(py).try_borrow_mut()?;
+                let mut w = write(world.bind(py))?;
                 let r = w.inner.rod_mut(*handle).map_err(crate::err)?;
                 f(r)
             }
@@ -391,7 +391,7 @@ impl PyRod {
     fn label(&self, py: Python<'_>) -> PyResult<Option<String>> {
         match &self.state {
             RodState::InWorld { world, handle } => {
-                let w = world.bind(py).try_borrow()?;
+                let w = read(world.bind(py))?;
                 Ok(crate::world_data::label_of(&w.inner, strandkit_core::Item::Rod(*handle)))
             }
             RodState::Free(_) => Ok(None),
@@ -458,6 +458,7 @@ impl PyRod {
             RodState::InWorld { handle, world } => {
                 let label = world
                     .bind(py)
+                    
                     .try_borrow()
                     .ok()
                     .and_then(|w| crate::world_data::label_of(&w.inner, strandkit_core::Item::Rod(*handle)));
