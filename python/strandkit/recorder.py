@@ -23,6 +23,7 @@ from typing import Callable, Dict, List
 import numpy as np
 
 from ._progress import progress
+from .errors import FileError, _invalid
 
 __all__ = ["Recorder"]
 
@@ -62,17 +63,28 @@ class Recorder:
             self._data[name] = [np.nan] * len(self._data["time"])
         return self
 
+    def _own(self, obj, what: str) -> None:
+        """A rod or handle given to a channel must be of the recorded world
+        (else the channel would silently record something else)."""
+        owner = getattr(obj, "world", None)
+        if owner is not self.world:
+            where = "is not in a world" if owner is None else "belongs to another world"
+            raise _invalid(f"Recorder.{what}: this {type(obj).__name__} {where} (record it with a Recorder of its world)")
+
     def point(self, name: str, rod, u: float) -> "Recorder":
         """Centreline point r(u) of ``rod`` (length unit): columns name_x, _y, _z."""
+        self._own(rod, "point")
         return self.add(name, lambda w: rod.position(u))
 
     def tangent(self, name: str, rod, u: float) -> "Recorder":
         """Unit tangent at u."""
+        self._own(rod, "tangent")
         return self.add(name, lambda w: rod.tangent(u))
 
     def reaction(self, name: str, constraint) -> "Recorder":
         """Force (force unit) and torque (force × length) of a constraint:
         columns name_fx … name_tz."""
+        self._own(constraint, "reaction")
 
         def f(w):
             if not constraint.alive:  # removed or broken: NaN from then on
@@ -84,11 +96,13 @@ class Recorder:
 
     def multipliers(self, name: str, constraint) -> "Recorder":
         """Raw multipliers of a constraint (force / torque units; NaN once it is gone)."""
+        self._own(constraint, "multipliers")
         width = len(constraint.multipliers)
         return self.add(name, lambda w: constraint.multipliers if constraint.alive else np.full(width, np.nan))
 
     def extension(self, name: str, rod) -> "Recorder":
         """End-to-end distance |r(u_end) − r(u_start)| (length unit)."""
+        self._own(rod, "extension")
         return self.add(name, lambda w: float(np.linalg.norm(rod.position(rod.u_end) - rod.position(rod.u_start))))
 
     # -- recording --------------------------------------------------------
