@@ -22,8 +22,9 @@ from typing import Callable, Dict, List
 
 import numpy as np
 
+from ._files import file_error, temporary_for
 from ._progress import progress
-from .errors import FileError, _invalid
+from .errors import _invalid
 
 __all__ = ["Recorder"]
 
@@ -41,7 +42,7 @@ class Recorder:
 
     def __init__(self, world, *, every: int = 1, energies: bool = True):
         if every < 1:
-            raise ValueError(f"invalid input: every must be >= 1, got {every}")
+            raise _invalid("every", repr(every), ">= 1")
         self.world = world
         self.every = int(every)
         self._channels: Dict[str, Callable] = {}
@@ -55,7 +56,7 @@ class Recorder:
     def add(self, name: str, fn: Callable) -> "Recorder":
         """A custom channel ``fn(world)`` → float or 1-D array."""
         if name in self._data:
-            raise ValueError(f"invalid input: channel {name!r} exists already")
+            raise _invalid(f"channel {name!r} exists already")
         self._channels[name] = fn
         self._data[name] = []
         if self._data["time"]:
@@ -178,31 +179,49 @@ class Recorder:
         return out
 
     def to_csv(self, path: str) -> str:
-        """Writes the columns as CSV (and events, if any, to ``<path>.events.csv``)."""
-        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        """Writes the columns as CSV (and events, if any, to
+        ``<path without extension>.events.csv``), each atomically: on an
+        error (a FileError) no temporary file is left and an existing
+        file keeps its content."""
+        path = os.fspath(path)
+        self._make_parent(path)
         cols = self.columns()
         names = list(cols)
-        tmp = f"{path}.tmp{os.getpid()}"
-        with open(tmp, "w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(names)
-            for i in range(len(self)):
-                w.writerow([repr(float(cols[n][i])) for n in names])
-        os.replace(tmp, path)
+        with temporary_for(path) as tmp:
+            with open(tmp, "x", newline="") as f:
+                w = csv.writer(f)
+                w.writerow(names)
+                for i in range(len(self)):
+                    w.writerow([repr(float(cols[n][i])) for n in names])
         if self.events:
             keys = sorted({k for e in self.events for k in e})
-            with open(tmp, "w", newline="") as f:
-                w = csv.writer(f)
-                w.writerow(keys)
-                for e in self.events:
-                    w.writerow([e.get(k, "") for k in keys])
-            os.replace(tmp, f"{os.path.splitext(path)[0]}.events.csv")
+            with temporary_for(f"{os.path.splitext(path)[0]}.events.csv") as tmp:
+                with open(tmp, "x", newline="") as f:
+                    w = csv.writer(f)
+                    w.writerow(keys)
+                    for e in self.events:
+                        w.writerow([e.get(k, "") for k in keys])
         return path
 
     def to_npz(self, path: str) -> str:
-        """Writes every channel to a numpy .npz archive."""
-        np.savez(path, **self.to_numpy())
+        """Writes every channel to a numpy .npz archive (atomically, like
+        ``to_csv``); ``.npz`` is appended to a path without it, as numpy
+        does. Returns the path written."""
+        path = os.fspath(path)
+        if not path.endswith(".npz"):
+            path += ".npz"
+        self._make_parent(path)
+        with temporary_for(path) as tmp:
+            with open(tmp, "xb") as f:
+                np.savez(f, **self.to_numpy())
         return path
+
+    @staticmethod
+    def _make_parent(path: str) -> None:
+        try:
+            os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        except OSError as e:
+            raise file_error(path, e) from e
 
     def __repr__(self) -> str:
         return f"Recorder({len(self)} records, channels={[k for k in self._data if k not in ('time', 'step')]}, events={len(self.events)})"
