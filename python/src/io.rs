@@ -36,7 +36,8 @@ type MeshArrays<'py> = (
 /// normals (N,3), triangles (T,3) vertex indices, part (N,) rod index).
 /// `rings_per_segment` rings per spline segment, `points_per_ring`
 /// vertices per ring, radius = section bounding radius × `radius_scale`,
-/// `caps` closes open ends.
+/// `caps` closes open ends. At most 10^7 vertices in all (an
+/// InvalidInputError beyond, before anything is allocated).
 #[pyfunction]
 #[pyo3(signature = (obj, *, rings_per_segment = 6, points_per_ring = 12, radius_scale = 1.0, caps = true))]
 fn tube_mesh<'py>(

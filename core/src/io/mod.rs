@@ -7,6 +7,11 @@ use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
+/// At most this many points (mesh vertices, sampled parameters) per
+/// generated output: a larger request is an input error rather than an
+/// allocation that aborts the process.
+pub const MAX_OUTPUT_POINTS: usize = 10_000_000;
+
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let io = |e: std::io::Error| Error::io(path.display().to_string(), format!("{e}"));
     let name = path.file_name().ok_or_else(|| Error::io(path.display().to_string(), "not a file path"))?;
