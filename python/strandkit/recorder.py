@@ -33,7 +33,9 @@ _SUFFIXES = {3: ("x", "y", "z"), 6: ("fx", "fy", "fz", "tx", "ty", "tz")}
 
 class Recorder:
     """Records ``time`` plus named channels each time :meth:`record` is
-    called (``run`` and ``relax`` call it), and keeps every event.
+    called (``run`` and ``relax`` call it), and keeps every event as a dict
+    of its fields plus ``kind`` (the event's name, e.g. "ConstraintBroken"),
+    ``step`` and ``time_recorded``.
 
     A channel is a function ``f(world) -> float or 1-D array``; helpers add
     the usual ones. ``rec[name]`` is a numpy array of shape (records,) or
@@ -117,8 +119,12 @@ class Recorder:
             self._data[name].append(np.array(v, dtype=float) if np.ndim(v) else float(v))
         if report is not None:
             for e in report.events:
-                d = dict(e.data)
-                d.update(kind=e.kind, step=w.n_steps, time_recorded=w.time)
+                # The event's own fields are kept as they are (a broken
+                # constraint's kind is `constraint_kind`); the recorder's
+                # keys never replace one: a clash is stored as event_<key>.
+                d = {"kind": e.kind, "step": w.n_steps, "time_recorded": w.time}
+                for k, v in e.data.items():
+                    d[f"event_{k}" if k in d else k] = v
                 self.events.append(d)
 
     def run(self, steps: int, *, progress_bar: bool = True, callback: Callable | None = None, desc: str = "steps"):
