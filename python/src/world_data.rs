@@ -23,6 +23,11 @@ use strandkit_core::{Item, World};
 /// break after every step (and at every relax equilibrium); a rupture is a
 /// `RodRuptured` event whose `rod` and `new_rod` are the two pieces.
 ///
+/// Threads: `step`, `relax` and `QuasiDynamic.step` release the GIL. While
+/// one thread steps a world, any use of it from another thread (reading a
+/// rod, a handle, stepping it too) raises WorldBusyError at once; nothing
+/// waits and nothing is changed.
+///
 /// >>> import strandkit as sk
 /// >>> world = sk.World(dt=1e-3, gravity=(0, -9.81, 0))
 /// >>> world.params["relax_max_iterations"]
