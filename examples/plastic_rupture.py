@@ -8,21 +8,19 @@
    rupture strain: it splits at the most strained sample into two rods
    (knot of multiplicity 4, algorithms 2–3) and the pieces fly apart.
 
-Prints the figures and saves out/plastic_rupture.png.
+Prints the figures and saves plastic_rupture.png in the output directory;
+exits with status 1 if a check fails.
 
-    python examples/plastic_rupture.py
+    python examples/plastic_rupture.py [--out DIR]    # default: $STRANDKIT_OUT, else ./out
 """
-from pathlib import Path
-
 import numpy as np
 
 import strandkit as sk
 import strandkit.plot as skplot
+from _common import Checks, output_dir
 
-OUT = Path(__file__).resolve().parent.parent / "out"
 
-
-def hook():
+def hook(checks):
     # Copper: E = 124 GPa; yield strain ≈ 0.05 % → yield curvature ε_y / R = 0.5 1/m.
     copper = sk.Material.preset("copper").with_yield(bend=0.5, stretch=5e-4)
     # EA/EI = 4/R² = 4e6 m⁻²: Newton increments bottom out near 1e-9 m.
@@ -48,10 +46,14 @@ def hook():
     print(f"hook: imposed curvature {phi:.4f} 1/m, yield 0.5 1/m -> plastic offset {kappa_p:.4f} 1/m "
           f"(expected {phi - 0.5:.4f}); after release curvature {kappa:.4f} 1/m, "
           f"end tangent at {turned:.1f} deg (270 deg loaded)")
+    # Perfect plasticity: the offset is the imposed curvature beyond yield,
+    # and the released wire keeps it (springs back by the elastic 0.5 1/m).
+    checks.close("hook plastic curvature [1/m]", kappa_p, phi - 0.5, rtol=5e-3)
+    checks.close("hook curvature after release [1/m]", kappa, kappa_p, rtol=5e-3)
     return loaded, rod
 
 
-def rupture():
+def rupture(checks):
     nylon = sk.Material.preset("nylon").with_rupture(stretch=0.05)
     world = sk.World(parallel=False)
     radii = [2e-3 if i != 14 else 1.6e-3 for i in range(24)]
@@ -66,6 +68,8 @@ def rupture():
         if hits:
             event = hits[0]
             break
+    if not checks.true("the strand breaks", event is not None, "RodRuptured" if event else "no RodRuptured event in 2000 steps"):
+        return [rod]
     x = rod.position(event.u)[0]
     print(f"rupture: at t = {event.time * 1e3:.1f} ms, x = {x:.4f} m (thin spot at control point 14), "
           f"stretch {event.strain:.5f} > {event.limit}; pieces on u in {rod.domain} and {event.new_rod.domain}")
@@ -73,17 +77,24 @@ def rupture():
         world.step()
     gap = np.linalg.norm(event.new_rod.position(event.u) - rod.position(event.u))
     print(f"rupture: 0.1 s later the ends are {gap * 1e3:.1f} mm apart")
+    # The thin spot is control point 14 of a clamped cubic: its Greville
+    # abscissa is u = 13 (segments of unit length); the cut is within a segment.
+    checks.close("rupture abscissa u (thin spot)", event.u, 13.0, atol=1.0)
+    checks.true("rupture strain beyond the limit", event.strain >= event.limit, f"{event.strain} >= {event.limit}")
+    checks.true("the pieces separate", gap > 5e-3, f"{gap * 1e3:.1f} mm after 0.1 s")
     return [rod, event.new_rod]
 
 
 def main():
-    OUT.mkdir(exist_ok=True)
-    loaded, released = hook()
-    pieces = rupture()
-    skplot.plot_world([released] + pieces, str(OUT / "plastic_rupture.png"), view="xy",
+    out = output_dir(__doc__)
+    checks = Checks()
+    loaded, released = hook(checks)
+    pieces = rupture(checks)
+    skplot.plot_world([released] + pieces, str(out / "plastic_rupture.png"), view="xy",
                       overlay=[(loaded.sample_points(), {"color": "0.6", "linestyle": "--"})],
                       title="plastic hook (dashed: loaded) and a broken strand")
-    print(f"saved {OUT / 'plastic_rupture.png'}")
+    print(f"saved {out / 'plastic_rupture.png'}")
+    checks.finish()
 
 
 if __name__ == "__main__":

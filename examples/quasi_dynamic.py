@@ -13,24 +13,24 @@ times more expensive. Three things are then visible in the run:
   much further than the support moves in one frame.
 
 The budget and the extra work are wall-clock based, so the exact frame of
-each switch varies from run to run. Prints the timeline and saves
-out/quasi_dynamic.png.
+each switch varies from run to run, and the checks (exit status 1 if one
+fails) are loose enough for a busy machine. Prints the timeline and saves
+quasi_dynamic.png in the output directory.
 
-    python examples/quasi_dynamic.py
+    python examples/quasi_dynamic.py [--out DIR]    # default: $STRANDKIT_OUT, else ./out
 """
 import time
-from pathlib import Path
 
 import numpy as np
 
 import strandkit as sk
 import strandkit.plot as skplot
-
-OUT = Path(__file__).resolve().parent.parent / "out"
+from _common import Checks, output_dir
 
 
 def main():
-    OUT.mkdir(exist_ok=True)
+    out = output_dir(__doc__)
+    checks = Checks()
     world = sk.World(gravity=(0, -9.81, 0), parallel=False)
     rope = world.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=2e-3, material="nylon",
                                      n_control_points=60, with_roll=False, drag=0.05))
@@ -82,10 +82,22 @@ def main():
             print(f"frame {s} ({'quasi-static' if static[s] else 'dynamic'}): motion "
                   f"{motion[s - 2] * 1e3:.3f}, {motion[s - 1] * 1e3:.3f} | {motion[s] * 1e3:.3f}, "
                   f"{motion[s + 1] * 1e3:.3f} mm (two frames before | from the switch)")
-    skplot.plot_curves({k: np.array(v) for k, v in rec.items()}, ["tip_y", "static"], path=str(OUT / "quasi_dynamic.png"),
+    # The wire makes frames several times the budget: mostly quasi-static;
+    # without it, mostly dynamic again (a loaded machine adds a few slow frames).
+    checks.true("quasi-static with the wire", static[200:400].mean() > 0.5, f"{static[200:400].mean():.0%} of frames")
+    checks.true("dynamic again after it", static[450:].mean() < 0.5, f"{static[450:].mean():.0%} quasi-static")
+    checks.true("no quasi-static frame refused", refused == 0, f"{refused}")
+    # Continuity: the frames after a switch move the rope about as much as
+    # the frames before it (the support keeps moving at 0.16 m/s).
+    for s in switches[switches > 2]:
+        before, after = motion[s - 2:s].max(), motion[s:s + 2].max()
+        checks.true(f"motion continuous at the switch of frame {s}", after <= 5 * before + 1e-6,
+                    f"{after * 1e3:.3f} mm after vs {before * 1e3:.3f} mm before")
+    skplot.plot_curves({k: np.array(v) for k, v in rec.items()}, ["tip_y", "static"], path=str(out / "quasi_dynamic.png"),
                        labels=["rope middle y (m)", "quasi-static frame (1)"],
                        title="quasi-dynamic frames (a wire added at frame 200, removed at 400)")
-    print(f"saved {OUT / 'quasi_dynamic.png'}")
+    print(f"saved {out / 'quasi_dynamic.png'}")
+    checks.finish()
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@ use crate::rod::PyRod;
 use pyo3::prelude::*;
 use serde_json::Value;
 use strandkit_core::assembly::AssemblyConstraint;
+use strandkit_core::constraint::FieldInfo;
 use strandkit_core::world::groups::{base_of, check_label};
 use strandkit_core::{Assembly, Breaking, ConstraintKind, Load};
 
@@ -69,12 +70,42 @@ pub(crate) fn breaking(break_force: Option<f64>, policy: &str, tension_only: boo
 /// A constraint kind given as a dict (or JSON text).
 pub(crate) fn constraint_kind(kind: &Bound<'_, PyAny>, owner: Option<&Bound<'_, PyAny>>) -> PyResult<ConstraintKind> {
     let v = json_arg(kind, "constraint", owner)?;
+    let fields = |name: &str| ConstraintKind::CATALOGUE.iter().find(|k| k.name == name).map(|k| k.fields);
+    known_fields(&v, "constraint", "add_constraint / add_link", fields)?;
     serde_json::from_value(v).map_err(|e| crate::bad(format!("constraint kind: {e}")))
 }
 
 /// A load given as a dict (or JSON text), its rod fields as JSON.
 pub(crate) fn load_value(load: &Bound<'_, PyAny>, owner: Option<&Bound<'_, PyAny>>) -> PyResult<Value> {
-    json_arg(load, "load", owner)
+    let v = json_arg(load, "load", owner)?;
+    known_fields(&v, "load", "add_load", |name| Load::CATALOGUE.iter().find(|l| l.name == name).map(|l| l.fields))?;
+    Ok(v)
+}
+
+/// Every field of a kind `{"Name": {field: …}}` must be one the catalogue
+/// lists: serde would silently drop any other (a misspelt field, or a
+/// `label` meant for the call). Unknown kind names are left to serde,
+/// which lists the variants.
+fn known_fields(v: &Value, what: &str, call: &str, fields: impl Fn(&str) -> Option<&'static [FieldInfo]>) -> PyResult<()> {
+    let (name, given) = convert::variant(v);
+    let (Some(known), Value::Object(given)) = (fields(&name), given) else { return Ok(()) };
+    for key in given.keys() {
+        if !known.iter().any(|f| f.name == key) {
+            let names: Vec<&str> = known.iter().map(|f| f.name).collect();
+            let hint = match key.as_str() {
+                "label" | "compliance" | "break_force" | "policy" | "tension_only" => {
+                    format!(" ({key}= is a keyword of {call}, not a field of the kind)")
+                }
+                _ => String::new(),
+            };
+            return Err(crate::err(strandkit_core::Error::invalid(
+                format!("unknown {what} {name} field {key:?}{hint}"),
+                "",
+                format!("one of {}", names.join(", ")),
+            )));
+        }
+    }
+    Ok(())
 }
 
 /// Names of the fields of type rod of a load kind (from the catalogue).

@@ -4,7 +4,7 @@
 use crate::convert::tagged;
 use crate::guard;
 use crate::handles::{to_py, PyConstraintHandle};
-use crate::world_data::PyWorld;
+use crate::world_data::{read, PyWorld};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
 use pyo3::types::PyTuple;
@@ -44,17 +44,17 @@ impl PyGroup {
     /// A group of `world`; an InvalidInputError when no object has that label.
     pub(crate) fn new(world: &Bound<'_, PyWorld>, name: &str) -> PyResult<Self> {
         {
-            let w = world.try_borrow()?;
+            let w = read(world)?;
             guard(|| w.inner.group(name))?;
         }
         Ok(PyGroup { world: world.clone().unbind(), name: name.to_string() })
     }
     fn states(&self, py: Python<'_>) -> PyResult<Vec<ConstraintState>> {
-        let w = self.world.bind(py).try_borrow()?;
+        let w = read(self.world.bind(py))?;
         guard(|| w.inner.group_constraints(&self.name))
     }
     fn objects(&self, py: Python<'_>) -> PyResult<Vec<ObjectState>> {
-        let w = self.world.bind(py).try_borrow()?;
+        let w = read(self.world.bind(py))?;
         guard(|| w.inner.group_objects(&self.name))
     }
     fn rows<'py>(&self, py: Python<'py>, f: impl Fn(&ConstraintState) -> [f64; 3]) -> PyResult<Bound<'py, PyArray2<f64>>> {
@@ -167,13 +167,13 @@ impl PyGroup {
     fn members<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyTuple>>> {
         let w = self.world.bind(py);
         let ms = {
-            let b = w.try_borrow()?;
+            let b = read(w)?;
             guard(|| b.inner.group(&self.name))?
         };
         ms.iter().map(|m| PyTuple::new(py, [m.label.clone().into_pyobject(py)?.into_any(), item_object(w, &m.item)?])).collect()
     }
     fn __len__(&self, py: Python<'_>) -> PyResult<usize> {
-        let w = self.world.bind(py).try_borrow()?;
+        let w = read(self.world.bind(py))?;
         Ok(guard(|| w.inner.group(&self.name))?.len())
     }
     fn __repr__(&self, py: Python<'_>) -> String {

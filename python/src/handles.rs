@@ -9,7 +9,7 @@
 use crate::convert::{self, from_json_with, tagged};
 use crate::guard;
 use crate::rod::PyRod;
-use crate::world_data::{label_of, PyWorld};
+use crate::world_data::{label_of, read, PyWorld};
 use numpy::PyArray1;
 use pyo3::exceptions::PyAttributeError;
 use pyo3::prelude::*;
@@ -86,7 +86,7 @@ macro_rules! handle_class {
             }
             /// The object's fields; an InvalidHandleError once it is gone.
             fn fields(&self, py: Python<'_>) -> PyResult<Map<String, Value>> {
-                let w = self.world.bind(py).try_borrow()?;
+                let w = read(self.world.bind(py))?;
                 guard(|| Self::lookup(&w.inner, self.handle))
             }
         }
@@ -116,13 +116,13 @@ macro_rules! handle_class {
             /// False once the object is gone (removed, broken, left its rod).
             #[getter]
             fn alive(&self, py: Python<'_>) -> PyResult<bool> {
-                let w = self.world.bind(py).try_borrow()?;
+                let w = read(self.world.bind(py))?;
                 Ok(Self::lookup(&w.inner, self.handle).is_ok())
             }
             /// Its label in the world's groups (e.g. "rung[3]"), or None.
             #[getter]
             fn label(&self, py: Python<'_>) -> PyResult<Option<String>> {
-                let w = self.world.bind(py).try_borrow()?;
+                let w = read(self.world.bind(py))?;
                 Ok(label_of(&w.inner, $item(self.handle)))
             }
             /// The object's fields, read from the world through serde.
@@ -156,7 +156,7 @@ macro_rules! handle_class {
                 ((self.handle.generation as u64) << 32) | self.handle.index as u64
             }
             fn __repr__(&self, py: Python<'_>) -> String {
-                let Ok(w) = self.world.bind(py).try_borrow() else {
+                let Ok(w) = read(self.world.bind(py)) else {
                     return format!("{}({})", $name, self.handle.index);
                 };
                 let label = label_of(&w.inner, $item(self.handle)).map(|l| format!(" {l:?}")).unwrap_or_default();
@@ -196,7 +196,7 @@ handle_class!(
         /// Multipliers of the last solve (force / torque units), shape (rows,).
         #[getter]
         fn multipliers<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-            let w = self.world.bind(py).try_borrow()?;
+            let w = read(self.world.bind(py))?;
             let m = guard(|| w.inner.constraint(self.handle))?.multipliers.clone();
             Ok(PyArray1::from_vec(py, m))
         }
@@ -204,12 +204,12 @@ handle_class!(
         /// > 0 pulling the ends together); None for kinds without one.
         #[getter]
         fn tension(&self, py: Python<'_>) -> PyResult<Option<f64>> {
-            let w = self.world.bind(py).try_borrow()?;
+            let w = read(self.world.bind(py))?;
             guard(|| w.inner.tension(self.handle))
         }
         /// Force and torque on the (first) rod in the last solve.
         fn reaction(&self, py: Python<'_>) -> PyResult<PyReaction> {
-            let w = self.world.bind(py).try_borrow()?;
+            let w = read(self.world.bind(py))?;
             let r = guard(|| w.inner.reaction(self.handle))?;
             Ok(PyReaction { force: r.force, torque: r.torque })
         }
@@ -248,14 +248,14 @@ handle_class!(
         /// External force besides gravity (force unit), shape (3,).
         #[getter]
         fn force<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-            let w = self.world.bind(py).try_borrow()?;
+            let w = read(self.world.bind(py))?;
             let f = guard(|| w.inner.bead(self.handle))?.force;
             Ok(PyArray1::from_slice(py, &f))
         }
         /// Position (length unit), shape (3,).
         #[getter]
         fn position<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
-            let w = self.world.bind(py).try_borrow()?;
+            let w = read(self.world.bind(py))?;
             let p = guard(|| w.inner.bead_position(self.handle))?;
             Ok(PyArray1::from_vec(py, vec![p.x, p.y, p.z]))
         }
@@ -282,14 +282,14 @@ handle_class!(
         /// The Rod the clip holds, or None.
         #[getter]
         fn held(&self, py: Python<'_>) -> PyResult<Option<PyRod>> {
-            let w = self.world.bind(py).try_borrow()?;
+            let w = read(self.world.bind(py))?;
             let h = guard(|| w.inner.clip(self.handle))?.held.map(|(r, _)| r);
             Ok(h.map(|r| PyRod::attached(self.world.clone_ref(py), r)))
         }
         /// The position constraint holding the rod, or None.
         #[getter]
         fn constraint(&self, py: Python<'_>) -> PyResult<Option<PyConstraintHandle>> {
-            let w = self.world.bind(py).try_borrow()?;
+            let w = read(self.world.bind(py))?;
             let h = guard(|| w.inner.clip(self.handle))?.held.map(|(_, k)| k);
             Ok(h.map(|k| PyConstraintHandle::new(self.world.clone_ref(py), k)))
         }

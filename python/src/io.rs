@@ -3,7 +3,7 @@
 use crate::convert::{self, points};
 use crate::guard;
 use crate::rod::PyRod;
-use crate::world_data::PyWorld;
+use crate::world_data::{read, PyWorld};
 use numpy::{PyArray1, PyArray3, PyArrayMethods};
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -14,7 +14,7 @@ use strandkit_core::io::trajectory::{self as traj, DcdHeader, DcdWriter, Topolog
 
 fn mesh_of(obj: &Bound<'_, PyAny>, o: &TubeOptions) -> PyResult<TubeMesh> {
     if let Ok(w) = obj.cast::<PyWorld>() {
-        let w = w.try_borrow()?;
+        let w = read(w)?;
         return guard(|| mesh::world_tubes(&w.inner, o));
     }
     if let Ok(r) = obj.cast::<PyRod>() {
@@ -36,7 +36,8 @@ type MeshArrays<'py> = (
 /// normals (N,3), triangles (T,3) vertex indices, part (N,) rod index).
 /// `rings_per_segment` rings per spline segment, `points_per_ring`
 /// vertices per ring, radius = section bounding radius × `radius_scale`,
-/// `caps` closes open ends.
+/// `caps` closes open ends. At most 10^7 vertices in all (an
+/// InvalidInputError beyond, before anything is allocated).
 #[pyfunction]
 #[pyo3(signature = (obj, *, rings_per_segment = 6, points_per_ring = 12, radius_scale = 1.0, caps = true))]
 fn tube_mesh<'py>(
@@ -105,7 +106,7 @@ mesh_writer!(
 /// points of every rod in world order (one bead per sample point).
 #[pyfunction]
 fn bead_positions<'py>(world: &Bound<'py, PyWorld>) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
-    let p = traj::bead_positions(&world.try_borrow()?.inner);
+    let p = traj::bead_positions(&read(world)?.inner);
     points(world.py(), p)
 }
 
@@ -139,7 +140,7 @@ impl PyTopology {
     #[new]
     fn new(world: &Bound<'_, PyWorld>) -> PyResult<Self> {
         Ok(PyTopology {
-            inner: Topology::from_world(&world.try_borrow()?.inner),
+            inner: Topology::from_world(&read(world)?.inner),
         })
     }
     #[getter]
@@ -200,7 +201,7 @@ impl PyTopology {
 #[pyfunction]
 #[pyo3(signature = (world, path, *, scale = 10.0))]
 fn write_pdb(world: &Bound<'_, PyWorld>, path: PathBuf, scale: f64) -> PyResult<()> {
-    let w = world.try_borrow()?;
+    let w = read(world)?;
     let topo = Topology::from_world(&w.inner);
     let p = traj::bead_positions(&w.inner);
     guard(|| traj::write_pdb(&path, &topo, &[p], scale))
@@ -209,7 +210,7 @@ fn write_pdb(world: &Bound<'_, PyWorld>, path: PathBuf, scale: f64) -> PyResult<
 /// Writes the world's bead topology as a CHARMM PSF.
 #[pyfunction]
 fn write_psf(world: &Bound<'_, PyWorld>, path: PathBuf) -> PyResult<()> {
-    let topo = Topology::from_world(&world.try_borrow()?.inner);
+    let topo = Topology::from_world(&read(world)?.inner);
     guard(|| traj::write_psf(&path, &topo))
 }
 
@@ -288,7 +289,7 @@ impl PyDcdWriter {
     /// Appends the world's current bead positions.
     #[pyo3(signature = (world, *, scale = 10.0))]
     fn write_world(&mut self, world: &Bound<'_, PyWorld>, scale: f64) -> PyResult<()> {
-        let p = traj::bead_positions(&world.try_borrow()?.inner);
+        let p = traj::bead_positions(&read(world)?.inner);
         let w = self.w()?;
         guard(|| w.write_frame(&p, scale))?;
         self.n_frames = w.n_frames();

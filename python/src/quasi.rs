@@ -4,7 +4,7 @@ use crate::convert::{self, from_json};
 use crate::events::events_of;
 use crate::guard;
 use crate::report::PyFrameReport;
-use crate::world_data::PyWorld;
+use crate::world_data::{busy, read, write, PyWorld};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use strandkit_core::{Clock, QuasiDynamic, QuasiDynamicParameters, WallClock};
@@ -27,23 +27,34 @@ pub struct PyQuasiDynamic {
     world: Py<PyWorld>,
 }
 
-/// A Python callable returning seconds, as a core clock; the first error
-/// it raises is kept and re-raised after the frame.
-struct PyClock<'py> {
-    f: Bound<'py, PyAny>,
+/// A Python callable returning seconds, as a core clock. The frame runs
+/// with the GIL released, so the clock takes it back only for the call;
+/// the first error it raises is kept and re-raised after the frame.
+struct PyClock {
+    f: Py<PyAny>,
     error: Option<PyErr>,
     last: f64,
 }
 
-impl Clock for PyClock<'_> {
+impl Clock for PyClock {
     fn now(&mut self) -> f64 {
-        match self.f.call0().and_then(|v| v.extract::<f64>()) {
+        Python::attach(|py| match self.f.bind(py).call0().and_then(|v| v.extract::<f64>()) {
             Ok(t) => self.last = t,
             Err(e) => {
                 self.error.get_or_insert(e);
             }
-        }
+        });
         self.last
+    }
+}
+
+impl PyQuasiDynamic {
+    /// The driver for changing; a WorldBusyError while another thread steps it.
+    fn driver<'py>(slf: &Bound<'py, Self>) -> PyResult<PyRefMut<'py, Self>> {
+        slf.try_borrow_mut().map_err(|_| busy(slf.py(), "this QuasiDynamic"))
+    }
+    fn driver_ref<'py>(slf: &Bound<'py, Self>) -> PyResult<PyRef<'py, Self>> {
+        slf.try_borrow().map_err(|_| busy(slf.py(), "this QuasiDynamic"))
     }
 }
 
@@ -55,24 +66,29 @@ impl PyQuasiDynamic {
         let p: QuasiDynamicParameters =
             convert::kwargs_into(&QuasiDynamicParameters::default(), convert::kwargs(params)?, "quasi-dynamic parameter")?;
         let inner = {
-            let w = world.try_borrow()?;
+            let w = read(&world)?;
             guard(|| QuasiDynamic::new(&w.inner, p))?
         };
         Ok(PyQuasiDynamic { inner, world: world.unbind() })
     }
 
     /// One frame. `clock`: a callable returning seconds (default: the
-    /// process' monotonic clock); tests pass a scripted one.
+    /// process' monotonic clock); tests pass a scripted one. The GIL is
+    /// released while the core works (like World.step); a Python clock
+    /// takes it back only for its calls.
     #[pyo3(signature = (clock = None))]
-    fn step(&mut self, py: Python<'_>, clock: Option<Bound<'_, PyAny>>) -> PyResult<PyFrameReport> {
-        let world = self.world.bind(py).clone();
+    fn step(slf: &Bound<'_, Self>, clock: Option<Bound<'_, PyAny>>) -> PyResult<PyFrameReport> {
+        let py = slf.py();
+        let mut me = Self::driver(slf)?;
+        let world = me.world.bind(py).clone();
         let rep = {
-            let mut w = world.try_borrow_mut()?;
+            let mut w = write(&world)?;
+            let (qd, inner) = (&mut me.inner, &mut w.inner);
             match clock {
-                None => guard(|| self.inner.step(&mut w.inner, &mut WallClock::default()))?,
+                None => py.detach(|| guard(|| qd.step(inner, &mut WallClock::default())))?,
                 Some(f) => {
-                    let mut c = PyClock { f, error: None, last: 0.0 };
-                    let r = guard(|| self.inner.step(&mut w.inner, &mut c));
+                    let mut c = PyClock { f: f.unbind(), error: None, last: 0.0 };
+                    let r = py.detach(|| guard(|| qd.step(inner, &mut c)));
                     if let Some(e) = c.error {
                         return Err(e);
                     }
@@ -80,30 +96,38 @@ impl PyQuasiDynamic {
                 }
             }
         };
+        drop(me);
         let events = events_of(&world, &rep.events)?;
         Ok(PyFrameReport { inner: rep, events })
     }
 
     /// "dynamic" or "quasi_static".
     #[getter]
-    fn mode(&self) -> String {
-        serde_json::to_value(self.inner.mode()).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default()
+    fn mode(slf: &Bound<'_, Self>) -> PyResult<String> {
+        Ok(Self::driver_ref(slf)?.mode_name())
     }
     /// The parameters as a dict.
     #[getter]
-    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        from_json(py, &serde_json::to_value(self.inner.params).unwrap_or_default())
+    fn params<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        from_json(slf.py(), &serde_json::to_value(Self::driver_ref(slf)?.inner.params).unwrap_or_default())
     }
-    fn __repr__(&self) -> String {
-        let p = &self.inner.params;
+    fn __repr__(slf: &Bound<'_, Self>) -> String {
+        let Ok(me) = Self::driver_ref(slf) else { return "QuasiDynamic(<being stepped in another thread>)".into() };
+        let p = &me.inner.params;
         format!(
             "QuasiDynamic(mode={}, dt0={}, time_budget={:?}, to_static={}, to_dynamic={})",
-            self.mode(),
+            me.mode_name(),
             p.dt0,
             p.time_budget,
             p.to_static,
             p.to_dynamic
         )
+    }
+}
+
+impl PyQuasiDynamic {
+    fn mode_name(&self) -> String {
+        serde_json::to_value(self.inner.mode()).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default()
     }
 }
 

@@ -7,7 +7,7 @@
 use crate::convert::{self, array2, points};
 use crate::guard;
 use crate::props::{PyMaterial, PySection};
-use crate::world_data::PyWorld;
+use crate::world_data::{read, write, PyWorld};
 use nalgebra::Vector3;
 use numpy::{PyArray1, PyArray2, PyArrayMethods};
 use crate::bad;
@@ -17,6 +17,7 @@ use pyo3::types::PyDict;
 use std::sync::{Arc, Mutex};
 use strandkit_core::energy::Strains;
 use strandkit_core::io::mesh::{self, TubeOptions};
+use strandkit_core::io::MAX_OUTPUT_POINTS;
 use strandkit_core::spline::KnotKind;
 use strandkit_core::{frames, Error, Material, Rod, RodBuilder, RodHandle, RodOptions, Section};
 
@@ -66,7 +67,7 @@ impl PyRod {
         match &self.state {
             RodState::Free(r) => f(r),
             RodState::InWorld { world, handle } => {
-                let w = world.bind(py).try_borrow()?;
+                let w = read(world.bind(py))?;
                 let r = w.inner.rod(*handle).map_err(crate::err)?;
                 f(r)
             }
@@ -80,12 +81,22 @@ impl PyRod {
         match &mut self.state {
             RodState::Free(r) => f(r),
             RodState::InWorld { world, handle } => {
-                let mut w = world.bind(py).try_borrow_mut()?;
+                let mut w = write(world.bind(py))?;
                 let r = w.inner.rod_mut(*handle).map_err(crate::err)?;
                 f(r)
             }
         }
     }
+}
+
+/// A requested output size `n`: an InvalidInputError beyond the cap on
+/// generated output (checked before anything is allocated, so a typo such
+/// as 10**10 is an error rather than an aborted process).
+fn output_size(what: &str, n: usize) -> PyResult<()> {
+    if n > MAX_OUTPUT_POINTS {
+        return Err(crate::err(Error::invalid(what, n, format!("at most {MAX_OUTPUT_POINTS}"))));
+    }
+    Ok(())
 }
 
 fn strains_flat(s: &[Strains]) -> Vec<f64> {
@@ -142,12 +153,14 @@ impl PyRod {
         let u = self.with(py, |r| Ok(r.sample_params()))?;
         Ok(PyArray1::from_vec(py, u))
     }
-    /// `n` ≥ 2 parameters evenly spread over the domain, ends included.
+    /// `n` parameters evenly spread over the domain, ends included
+    /// (2 ≤ n ≤ 10^7, the cap on generated output).
     fn uniform_params<'py>(
         &self,
         py: Python<'py>,
         n: usize,
     ) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        output_size("uniform_params n", n)?;
         let u = self.with(py, |r| guard(|| frames::uniform_params(r, n)))?;
         Ok(PyArray1::from_vec(py, u))
     }
@@ -184,7 +197,8 @@ impl PyRod {
     /// Rotation-minimising frames (double reflection, Wang et al. 2008)
     /// rotated by θ: returns (points, tangents, d1, d2), each (m, 3). `u`:
     /// increasing parameters (default: the sample points); or `n` evenly
-    /// spread ones. `reference`: direction fixing the first d1 (before roll).
+    /// spread ones (n ≤ 10^7). `reference`: direction fixing the first d1
+    /// (before roll).
     #[pyo3(signature = (u = None, *, n = None, reference = None))]
     fn frames<'py>(
         &self,
@@ -200,6 +214,9 @@ impl PyRod {
         let reference = reference
             .map(|r| convert::vec3(r, "reference"))
             .transpose()?;
+        if let Some(n) = n {
+            output_size("frames n", n)?;
+        }
         let f = self.with(py, |r| {
             let us = match (us, n) {
                 (Some(u), _) => u,
@@ -267,6 +284,7 @@ impl PyRod {
     }
     /// Tube mesh (generalised cylinder): (vertices (N,3), normals (N,3),
     /// triangles (T,3) int). Radius = section bounding radius × radius_scale.
+    /// At most 10^7 vertices (segments × rings_per_segment × points_per_ring).
     #[pyo3(signature = (*, rings_per_segment = 6, points_per_ring = 12, radius_scale = 1.0, caps = true))]
     fn mesh<'py>(
         &self,
@@ -391,7 +409,7 @@ impl PyRod {
     fn label(&self, py: Python<'_>) -> PyResult<Option<String>> {
         match &self.state {
             RodState::InWorld { world, handle } => {
-                let w = world.bind(py).try_borrow()?;
+                let w = read(world.bind(py))?;
                 Ok(crate::world_data::label_of(&w.inner, strandkit_core::Item::Rod(*handle)))
             }
             RodState::Free(_) => Ok(None),
@@ -458,6 +476,7 @@ impl PyRod {
             RodState::InWorld { handle, world } => {
                 let label = world
                     .bind(py)
+                    
                     .try_borrow()
                     .ok()
                     .and_then(|w| crate::world_data::label_of(&w.inner, strandkit_core::Item::Rod(*handle)));

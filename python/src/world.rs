@@ -15,12 +15,13 @@ use crate::handles::{self, PyBeadHandle, PyClipHandle, PyConstraintHandle, PyLoa
 use crate::report::{PyRelaxReport, PyStepReport};
 use crate::rod::{PyRod, RodState};
 pub use crate::world_data::PyWorld;
+use crate::world_data::{read, write};
 use crate::bad;
 use numpy::PyArray1;
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyTuple};
 use serde_json::Value;
-use strandkit_core::{Constraint, ConstraintHandle, Error, IntegrationParameters, Load, RodHandle, World};
+use strandkit_core::{Constraint, ConstraintHandle, IntegrationParameters, Load, RodHandle, World};
 
 impl PyWorld {
     /// The handle of `rod`, which must be in this world.
@@ -71,14 +72,14 @@ impl PyWorld {
         let breaking = assembly::breaking(break_force, policy, tension_only)?;
         let c = Constraint { breaking, label, ..Constraint::new(ha, hb, k, compliance) };
         let h = {
-            let mut w = slf.try_borrow_mut()?;
+            let mut w = write(slf)?;
             guard(|| w.inner.insert_constraint(c))?
         };
         Ok(Self::constraint(slf, h))
     }
 
     fn with_mut<R>(slf: &Bound<'_, Self>, f: impl FnOnce(&mut World) -> strandkit_core::Result<R>) -> PyResult<R> {
-        let mut w = slf.try_borrow_mut()?;
+        let mut w = write(slf)?;
         guard(|| f(&mut w.inner))
     }
 }
@@ -96,52 +97,56 @@ impl PyWorld {
 
     /// Simulated time (time unit).
     #[getter]
-    fn time(&self) -> f64 {
-        self.inner.time()
+    fn time(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(read(slf)?.inner.time())
     }
     /// Steps taken so far.
     #[getter]
-    fn n_steps(&self) -> u64 {
-        self.inner.n_steps()
+    fn n_steps(slf: &Bound<'_, Self>) -> PyResult<u64> {
+        Ok(read(slf)?.inner.n_steps())
     }
     /// Time step h (time unit).
     #[getter]
-    fn get_dt(&self) -> f64 {
-        self.inner.params.dt
+    fn get_dt(slf: &Bound<'_, Self>) -> PyResult<f64> {
+        Ok(read(slf)?.inner.params.dt)
     }
     #[setter]
-    fn set_dt(&mut self, dt: f64) -> PyResult<()> {
+    fn set_dt(slf: &Bound<'_, Self>, dt: f64) -> PyResult<()> {
         guard(|| strandkit_core::error::positive("dt", dt))?;
-        self.inner.params.dt = dt;
+        write(slf)?.inner.params.dt = dt;
         Ok(())
     }
     /// Gravity (length/time²), shape (3,).
     #[getter]
-    fn get_gravity<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
-        PyArray1::from_slice(py, &self.inner.params.gravity)
+    fn get_gravity<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        Ok(PyArray1::from_slice(slf.py(), &read(slf)?.inner.params.gravity))
     }
     #[setter]
-    fn set_gravity(&mut self, g: &Bound<'_, PyAny>) -> PyResult<()> {
+    fn set_gravity(slf: &Bound<'_, Self>, g: &Bound<'_, PyAny>) -> PyResult<()> {
         let g = convert::vec3(g, "gravity")?;
         for x in g {
             guard(|| strandkit_core::error::finite("gravity", x))?;
         }
-        self.inner.params.gravity = g;
+        write(slf)?.inner.params.gravity = g;
         Ok(())
     }
     /// All integration parameters as a dict.
     #[getter]
-    fn params<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        from_json(py, &serde_json::to_value(&self.inner.params).unwrap_or_default())
+    fn params<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyAny>> {
+        from_json(slf.py(), &serde_json::to_value(&read(slf)?.inner.params).unwrap_or_default())
     }
     /// Sets integration parameters by name (any field of the core's
     /// IntegrationParameters, e.g. dt=1e-4, relax_max_iterations=1000;
     /// None restores a field's default). Nothing changes on an error.
     #[pyo3(signature = (**fields))]
-    fn set_params(&mut self, fields: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
-        let p = convert::kwargs_into(&self.inner.params, convert::kwargs(fields)?, "integration parameter")?;
+    fn set_params(slf: &Bound<'_, Self>, fields: Option<&Bound<'_, PyDict>>) -> PyResult<()> {
+        // The keywords are converted without holding the world: converting
+        // them may run Python code (numpy's tolist), during which another
+        // thread may use the world.
+        let base = read(slf)?.inner.params.clone();
+        let p = convert::kwargs_into(&base, convert::kwargs(fields)?, "integration parameter")?;
         guard(|| p.validate())?;
-        self.inner.params = p;
+        write(slf)?.inner.params = p;
         Ok(())
     }
 
@@ -149,7 +154,7 @@ impl PyWorld {
     /// live view of the world's rod and its handle).
     fn add_rod<'py>(slf: &Bound<'py, Self>, rod: &Bound<'py, PyRod>) -> PyResult<Bound<'py, PyRod>> {
         // Both borrows first, so nothing can fail once the rod is moved.
-        let mut w = slf.try_borrow_mut()?;
+        let mut w = write(slf)?;
         let mut r = rod.try_borrow_mut()?;
         if !matches!(r.state, RodState::Free(_)) {
             return Err(bad("this rod is already in a world; add rod.copy() for a second one"));
@@ -171,36 +176,36 @@ impl PyWorld {
     }
     /// The rods, in world order.
     fn rods<'py>(slf: &Bound<'py, Self>) -> PyResult<Vec<PyRod>> {
-        let hs: Vec<RodHandle> = slf.try_borrow()?.inner.rods().map(|(h, _)| h).collect();
+        let hs: Vec<RodHandle> = read(slf)?.inner.rods().map(|(h, _)| h).collect();
         Ok(hs.into_iter().map(|h| PyRod::attached(slf.clone().unbind(), h)).collect())
     }
     /// The live constraints, in handle order.
     fn constraints(slf: &Bound<'_, Self>) -> PyResult<Vec<PyConstraintHandle>> {
-        let hs: Vec<ConstraintHandle> = slf.try_borrow()?.inner.constraints().map(|(h, _)| h).collect();
+        let hs: Vec<ConstraintHandle> = read(slf)?.inner.constraints().map(|(h, _)| h).collect();
         Ok(hs.into_iter().map(|h| Self::constraint(slf, h)).collect())
     }
     /// The live loads, in handle order.
     fn loads(slf: &Bound<'_, Self>) -> PyResult<Vec<PyLoadHandle>> {
-        let hs: Vec<_> = slf.try_borrow()?.inner.loads().map(|(h, _)| h).collect();
+        let hs: Vec<_> = read(slf)?.inner.loads().map(|(h, _)| h).collect();
         Ok(hs.into_iter().map(|h| PyLoadHandle::new(slf.clone().unbind(), h)).collect())
     }
     /// The beads on rods, in handle order.
     fn beads(slf: &Bound<'_, Self>) -> PyResult<Vec<PyBeadHandle>> {
-        let hs: Vec<_> = slf.try_borrow()?.inner.beads().map(|(h, _)| h).collect();
+        let hs: Vec<_> = read(slf)?.inner.beads().map(|(h, _)| h).collect();
         Ok(hs.into_iter().map(|h| PyBeadHandle::new(slf.clone().unbind(), h)).collect())
     }
     /// The clips, in handle order.
     fn clips(slf: &Bound<'_, Self>) -> PyResult<Vec<PyClipHandle>> {
-        let hs: Vec<_> = slf.try_borrow()?.inner.clips().map(|(h, _)| h).collect();
+        let hs: Vec<_> = read(slf)?.inner.clips().map(|(h, _)| h).collect();
         Ok(hs.into_iter().map(|h| PyClipHandle::new(slf.clone().unbind(), h)).collect())
     }
     #[getter]
-    fn n_rods(&self) -> usize {
-        self.inner.n_rods()
+    fn n_rods(slf: &Bound<'_, Self>) -> PyResult<usize> {
+        Ok(read(slf)?.inner.n_rods())
     }
     #[getter]
-    fn n_constraints(&self) -> usize {
-        self.inner.n_constraints()
+    fn n_constraints(slf: &Bound<'_, Self>) -> PyResult<usize> {
+        Ok(read(slf)?.inner.n_constraints())
     }
 
     /// Adds a constraint on one rod (`kind` from strandkit.position,
@@ -335,20 +340,23 @@ impl PyWorld {
     /// exerted on its (first) rod in the last solve.
     fn reaction(slf: &Bound<'_, Self>, constraint: &Bound<'_, PyConstraintHandle>) -> PyResult<PyReaction> {
         let h = Self::own(slf, constraint)?;
-        let r = guard(|| slf.try_borrow().map_err(|e| Error::input(e.to_string()))?.inner.reaction(h))?;
+        let r = {
+            let w = read(slf)?;
+            guard(|| w.inner.reaction(h))?
+        };
         Ok(PyReaction { force: r.force, torque: r.torque })
     }
     /// Tension along the constraint's line of action in the last solve
     /// (force unit, > 0 pulling its ends together); None for kinds without one.
     fn tension(slf: &Bound<'_, Self>, constraint: &Bound<'_, PyConstraintHandle>) -> PyResult<Option<f64>> {
         let h = Self::own(slf, constraint)?;
-        let w = slf.try_borrow()?;
+        let w = read(slf)?;
         guard(|| w.inner.tension(h))
     }
     /// Lagrange multipliers of the last solve (force / torque units), shape (rows,).
     fn multipliers<'py>(slf: &Bound<'py, Self>, constraint: &Bound<'py, PyConstraintHandle>) -> PyResult<Bound<'py, PyArray1<f64>>> {
         let h = Self::own(slf, constraint)?;
-        let w = slf.try_borrow()?;
+        let w = read(slf)?;
         let m = guard(|| Ok(w.inner.constraint(h)?.multipliers.clone()))?;
         Ok(PyArray1::from_vec(slf.py(), m))
     }
@@ -441,8 +449,8 @@ impl PyWorld {
     }
     /// Names of the groups (base names of the labels), sorted.
     #[getter]
-    fn groups(&self) -> Vec<String> {
-        self.inner.groups().names().map(String::from).collect()
+    fn groups(slf: &Bound<'_, Self>) -> PyResult<Vec<String>> {
+        Ok(read(slf)?.inner.groups().names().map(String::from).collect())
     }
     /// Adds an Assembly in one checked batch (atomic: on any error the
     /// world is unchanged); returns what was added (`rods`, `constraints`,
@@ -469,7 +477,7 @@ impl PyWorld {
     fn step(slf: &Bound<'_, Self>) -> PyResult<PyStepReport> {
         let py = slf.py();
         let rep = {
-            let mut w = slf.try_borrow_mut()?;
+            let mut w = write(slf)?;
             let inner = &mut w.inner;
             py.detach(|| guard(|| inner.step()))?
         };
@@ -480,7 +488,7 @@ impl PyWorld {
     fn relax(slf: &Bound<'_, Self>) -> PyResult<PyRelaxReport> {
         let py = slf.py();
         let rep = {
-            let mut w = slf.try_borrow_mut()?;
+            let mut w = write(slf)?;
             let inner = &mut w.inner;
             py.detach(|| guard(|| inner.relax()))?
         };
@@ -489,9 +497,10 @@ impl PyWorld {
     }
     /// Benchmark helper: seconds taken by `n` steps run in a Rust loop
     /// (no Python in between), to measure the binding overhead.
-    fn _time_steps(&mut self, py: Python<'_>, n: usize) -> PyResult<f64> {
-        let inner = &mut self.inner;
-        py.detach(|| {
+    fn _time_steps(slf: &Bound<'_, Self>, n: usize) -> PyResult<f64> {
+        let mut w = write(slf)?;
+        let inner = &mut w.inner;
+        slf.py().detach(|| {
             guard(|| {
                 let t = std::time::Instant::now();
                 for _ in 0..n {
@@ -503,8 +512,9 @@ impl PyWorld {
     }
 
     /// The whole world as JSON (a versioned snapshot; floats round-trip exactly).
-    fn to_json(&self) -> PyResult<String> {
-        guard(|| self.inner.to_json())
+    fn to_json(slf: &Bound<'_, Self>) -> PyResult<String> {
+        let w = read(slf)?;
+        guard(|| w.inner.to_json())
     }
     /// A world from `to_json()` text; other formats or versions raise FileError.
     #[staticmethod]
@@ -513,8 +523,9 @@ impl PyWorld {
     }
     /// Writes a snapshot (JSON) atomically; `World.load` reads it back and
     /// continues bit-for-bit.
-    fn save(&self, path: std::path::PathBuf) -> PyResult<()> {
-        guard(|| self.inner.save(&path))
+    fn save(slf: &Bound<'_, Self>, path: std::path::PathBuf) -> PyResult<()> {
+        let w = read(slf)?;
+        guard(|| w.inner.save(&path))
     }
     /// A world from a snapshot file written by `save`.
     #[staticmethod]
@@ -522,28 +533,30 @@ impl PyWorld {
         Ok(PyWorld { inner: guard(|| World::load(&path))? })
     }
     /// An independent deep copy.
-    fn copy(&self) -> Self {
-        PyWorld { inner: self.inner.clone() }
+    fn copy(slf: &Bound<'_, Self>) -> PyResult<Self> {
+        Ok(PyWorld { inner: read(slf)?.inner.clone() })
     }
-    fn __copy__(&self) -> Self {
-        self.copy()
+    fn __copy__(slf: &Bound<'_, Self>) -> PyResult<Self> {
+        Self::copy(slf)
     }
-    fn __deepcopy__(&self, _memo: &Bound<'_, PyAny>) -> Self {
-        self.copy()
+    fn __deepcopy__(slf: &Bound<'_, Self>, _memo: &Bound<'_, PyAny>) -> PyResult<Self> {
+        Self::copy(slf)
     }
     fn __reduce__<'py>(slf: &Bound<'py, Self>) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyTuple>)> {
-        let json = slf.try_borrow()?.to_json()?;
+        let json = Self::to_json(slf)?;
         Ok((slf.get_type().getattr("from_json")?, PyTuple::new(slf.py(), [json])?))
     }
-    fn __repr__(&self) -> String {
-        let p = &self.inner.params;
-        let groups: Vec<&str> = self.inner.groups().names().collect();
+    fn __repr__(slf: &Bound<'_, Self>) -> String {
+        // A repr never raises: a world busy in another thread says so.
+        let Ok(w) = read(slf) else { return "World(<being stepped in another thread>)".into() };
+        let p = &w.inner.params;
+        let groups: Vec<&str> = w.inner.groups().names().collect();
         let mut s = format!(
             "World(time={}, steps={}, rods={}, constraints={}, dt={}, gravity={:?}",
-            self.inner.time(),
-            self.inner.n_steps(),
-            self.inner.n_rods(),
-            self.inner.n_constraints(),
+            w.inner.time(),
+            w.inner.n_steps(),
+            w.inner.n_rods(),
+            w.inner.n_constraints(),
             p.dt,
             p.gravity
         );

@@ -2,6 +2,7 @@
 //! methods are in `world.rs`; the views of its objects (rods, handles,
 //! groups, events) need only this module, so the bindings form no import
 //! circle.
+use pyo3::exceptions::PyRuntimeError;
 use pyo3::prelude::*;
 use strandkit_core::{Item, World};
 
@@ -22,6 +23,11 @@ use strandkit_core::{Item, World};
 /// break after every step (and at every relax equilibrium); a rupture is a
 /// `RodRuptured` event whose `rod` and `new_rod` are the two pieces.
 ///
+/// Threads: `step`, `relax` and `QuasiDynamic.step` release the GIL. While
+/// one thread steps a world, any use of it from another thread (reading a
+/// rod, a handle, stepping it too) raises WorldBusyError at once; nothing
+/// waits and nothing is changed.
+///
 /// >>> import strandkit as sk
 /// >>> world = sk.World(dt=1e-3, gravity=(0, -9.81, 0))
 /// >>> world.params["relax_max_iterations"]
@@ -36,6 +42,28 @@ use strandkit_core::{Item, World};
 #[pyclass(name = "World", module = "strandkit._native")]
 pub struct PyWorld {
     pub inner: World,
+}
+
+/// `strandkit.WorldBusyError` saying that `what` is in use elsewhere.
+pub(crate) fn busy(py: Python<'_>, what: &str) -> PyErr {
+    let msg = format!("{what} is being stepped in another thread: wait for its step to return");
+    match py.import("strandkit.errors").and_then(|m| m.getattr("WorldBusyError")).and_then(|c| c.call1((&msg,))) {
+        Ok(e) => PyErr::from_value(e),
+        Err(_) => PyRuntimeError::new_err(msg),
+    }
+}
+
+/// The world's data for reading. `step`, `relax` and quasi-dynamic frames
+/// hold the world mutably with the GIL released, so another Python thread
+/// can get here meanwhile: it gets a WorldBusyError, never pyo3's
+/// "Already borrowed".
+pub(crate) fn read<'py>(w: &Bound<'py, PyWorld>) -> PyResult<PyRef<'py, PyWorld>> {
+    w.try_borrow().map_err(|_| busy(w.py(), "world"))
+}
+
+/// The world's data for changing (see [`read`]).
+pub(crate) fn write<'py>(w: &Bound<'py, PyWorld>) -> PyResult<PyRefMut<'py, PyWorld>> {
+    w.try_borrow_mut().map_err(|_| busy(w.py(), "world"))
 }
 
 /// The label of an object (constraints carry theirs; other objects are

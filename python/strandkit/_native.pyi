@@ -413,7 +413,7 @@ class Rod:
     u_start: Any
     """First parameter of the domain (the rod's start)."""
     def uniform_params(self, n):
-        """`n` ≥ 2 parameters evenly spread over the domain, ends included."""
+        """`n` parameters evenly spread over the domain, ends included (2 ≤ n ≤ 10^7, the cap on generated output)."""
     velocities: Any
     """Velocities of the control points, same shape as `control_points` (length/time, rad/time)."""
     world: Any

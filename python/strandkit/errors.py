@@ -74,7 +74,10 @@ class FileError(StrandkitError, OSError):
 
 
 class WorldBusyError(StrandkitError, RuntimeError):
-    """The world is being used by another thread (e.g. stepped) right now."""
+    """The world (or QuasiDynamic driver) is being stepped in another thread
+    right now (``step``, ``relax`` and frames run without the GIL): the call
+    did nothing; retry once that step has returned. Not a core variant:
+    raised by the bindings."""
 
 
 def _invalid(what: str, value: str = "", expected: str = "") -> InvalidInputError:

@@ -12,6 +12,7 @@ from typing import Dict, Iterable, Sequence
 import numpy as np
 
 from . import _native
+from ._files import file_error, temporary_for
 
 __all__ = ["plot_world", "plot_curves"]
 
@@ -36,12 +37,15 @@ def _rods(scene) -> list:
 
 
 def _save(fig, path):
+    """Saves atomically (see ``_files.temporary_for``): no temporary is left on an error."""
     if path is not None:
-        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        try:
+            os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        except OSError as e:
+            raise file_error(path, e) from e
         fmt = os.path.splitext(path)[1][1:].lower() or "png"
-        tmp = f"{path}.tmp{os.getpid()}"
-        fig.savefig(tmp, dpi=fig.dpi, format=fmt)
-        os.replace(tmp, path)
+        with temporary_for(path) as tmp:
+            fig.savefig(tmp, dpi=fig.dpi, format=fmt)
 
 
 def _shade(n, base, eye, up):

@@ -22,7 +22,9 @@ from typing import Callable, Dict, List
 
 import numpy as np
 
+from ._files import file_error, temporary_for
 from ._progress import progress
+from .errors import _invalid
 
 __all__ = ["Recorder"]
 
@@ -31,7 +33,9 @@ _SUFFIXES = {3: ("x", "y", "z"), 6: ("fx", "fy", "fz", "tx", "ty", "tz")}
 
 class Recorder:
     """Records ``time`` plus named channels each time :meth:`record` is
-    called (``run`` and ``relax`` call it), and keeps every event.
+    called (``run`` and ``relax`` call it), and keeps every event as a dict
+    of its fields plus ``kind`` (the event's name, e.g. "ConstraintBroken"),
+    ``step`` and ``time_recorded``.
 
     A channel is a function ``f(world) -> float or 1-D array``; helpers add
     the usual ones. ``rec[name]`` is a numpy array of shape (records,) or
@@ -40,7 +44,7 @@ class Recorder:
 
     def __init__(self, world, *, every: int = 1, energies: bool = True):
         if every < 1:
-            raise ValueError(f"invalid input: every must be >= 1, got {every}")
+            raise _invalid("every", repr(every), ">= 1")
         self.world = world
         self.every = int(every)
         self._channels: Dict[str, Callable] = {}
@@ -54,7 +58,7 @@ class Recorder:
     def add(self, name: str, fn: Callable) -> "Recorder":
         """A custom channel ``fn(world)`` → float or 1-D array."""
         if name in self._data:
-            raise ValueError(f"invalid input: channel {name!r} exists already")
+            raise _invalid(f"channel {name!r} exists already")
         self._channels[name] = fn
         self._data[name] = []
         if self._data["time"]:
@@ -62,17 +66,28 @@ class Recorder:
             self._data[name] = [np.nan] * len(self._data["time"])
         return self
 
+    def _own(self, obj, what: str) -> None:
+        """A rod or handle given to a channel must be of the recorded world
+        (else the channel would silently record something else)."""
+        owner = getattr(obj, "world", None)
+        if owner is not self.world:
+            where = "is not in a world" if owner is None else "belongs to another world"
+            raise _invalid(f"Recorder.{what}: this {type(obj).__name__} {where} (record it with a Recorder of its world)")
+
     def point(self, name: str, rod, u: float) -> "Recorder":
         """Centreline point r(u) of ``rod`` (length unit): columns name_x, _y, _z."""
+        self._own(rod, "point")
         return self.add(name, lambda w: rod.position(u))
 
     def tangent(self, name: str, rod, u: float) -> "Recorder":
         """Unit tangent at u."""
+        self._own(rod, "tangent")
         return self.add(name, lambda w: rod.tangent(u))
 
     def reaction(self, name: str, constraint) -> "Recorder":
         """Force (force unit) and torque (force × length) of a constraint:
         columns name_fx … name_tz."""
+        self._own(constraint, "reaction")
 
         def f(w):
             if not constraint.alive:  # removed or broken: NaN from then on
@@ -84,11 +99,13 @@ class Recorder:
 
     def multipliers(self, name: str, constraint) -> "Recorder":
         """Raw multipliers of a constraint (force / torque units; NaN once it is gone)."""
+        self._own(constraint, "multipliers")
         width = len(constraint.multipliers)
         return self.add(name, lambda w: constraint.multipliers if constraint.alive else np.full(width, np.nan))
 
     def extension(self, name: str, rod) -> "Recorder":
         """End-to-end distance |r(u_end) − r(u_start)| (length unit)."""
+        self._own(rod, "extension")
         return self.add(name, lambda w: float(np.linalg.norm(rod.position(rod.u_end) - rod.position(rod.u_start))))
 
     # -- recording --------------------------------------------------------
@@ -102,8 +119,12 @@ class Recorder:
             self._data[name].append(np.array(v, dtype=float) if np.ndim(v) else float(v))
         if report is not None:
             for e in report.events:
-                d = dict(e.data)
-                d.update(kind=e.kind, step=w.n_steps, time_recorded=w.time)
+                # The event's own fields are kept as they are (a broken
+                # constraint's kind is `constraint_kind`); the recorder's
+                # keys never replace one: a clash is stored as event_<key>.
+                d = {"kind": e.kind, "step": w.n_steps, "time_recorded": w.time}
+                for k, v in e.data.items():
+                    d[f"event_{k}" if k in d else k] = v
                 self.events.append(d)
 
     def run(self, steps: int, *, progress_bar: bool = True, callback: Callable | None = None, desc: str = "steps"):
@@ -164,31 +185,49 @@ class Recorder:
         return out
 
     def to_csv(self, path: str) -> str:
-        """Writes the columns as CSV (and events, if any, to ``<path>.events.csv``)."""
-        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        """Writes the columns as CSV (and events, if any, to
+        ``<path without extension>.events.csv``), each atomically: on an
+        error (a FileError) no temporary file is left and an existing
+        file keeps its content."""
+        path = os.fspath(path)
+        self._make_parent(path)
         cols = self.columns()
         names = list(cols)
-        tmp = f"{path}.tmp{os.getpid()}"
-        with open(tmp, "w", newline="") as f:
-            w = csv.writer(f)
-            w.writerow(names)
-            for i in range(len(self)):
-                w.writerow([repr(float(cols[n][i])) for n in names])
-        os.replace(tmp, path)
+        with temporary_for(path) as tmp:
+            with open(tmp, "x", newline="") as f:
+                w = csv.writer(f)
+                w.writerow(names)
+                for i in range(len(self)):
+                    w.writerow([repr(float(cols[n][i])) for n in names])
         if self.events:
             keys = sorted({k for e in self.events for k in e})
-            with open(tmp, "w", newline="") as f:
-                w = csv.writer(f)
-                w.writerow(keys)
-                for e in self.events:
-                    w.writerow([e.get(k, "") for k in keys])
-            os.replace(tmp, f"{os.path.splitext(path)[0]}.events.csv")
+            with temporary_for(f"{os.path.splitext(path)[0]}.events.csv") as tmp:
+                with open(tmp, "x", newline="") as f:
+                    w = csv.writer(f)
+                    w.writerow(keys)
+                    for e in self.events:
+                        w.writerow([e.get(k, "") for k in keys])
         return path
 
     def to_npz(self, path: str) -> str:
-        """Writes every channel to a numpy .npz archive."""
-        np.savez(path, **self.to_numpy())
+        """Writes every channel to a numpy .npz archive (atomically, like
+        ``to_csv``); ``.npz`` is appended to a path without it, as numpy
+        does. Returns the path written."""
+        path = os.fspath(path)
+        if not path.endswith(".npz"):
+            path += ".npz"
+        self._make_parent(path)
+        with temporary_for(path) as tmp:
+            with open(tmp, "xb") as f:
+                np.savez(f, **self.to_numpy())
         return path
+
+    @staticmethod
+    def _make_parent(path: str) -> None:
+        try:
+            os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        except OSError as e:
+            raise file_error(path, e) from e
 
     def __repr__(self) -> str:
         return f"Recorder({len(self)} records, channels={[k for k in self._data if k not in ('time', 'step')]}, events={len(self.events)})"

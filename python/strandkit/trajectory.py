@@ -15,6 +15,7 @@ import os
 
 from . import _native
 from ._progress import progress
+from .errors import _invalid
 
 __all__ = ["TrajectoryWriter", "write_trajectory"]
 
@@ -58,8 +59,8 @@ class TrajectoryWriter:
             self.dcd = _native.DcdWriter.append(self.paths["dcd"])
             if self.dcd.n_atoms != self.topology.n_beads:
                 self.dcd.close()
-                raise ValueError(f"invalid input: {self.paths['dcd']} has {self.dcd.n_atoms} atoms, "
-                                 f"the world has {self.topology.n_beads} beads")
+                raise _invalid(f"{self.paths['dcd']} has {self.dcd.n_atoms} atoms, "
+                               f"the world has {self.topology.n_beads} beads")
         else:
             self.dcd = _native.DcdWriter(self.paths["dcd"], self.topology.n_beads, dt=world.dt, nsavc=every,
                                          istart=world.n_steps)

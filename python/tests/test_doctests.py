@@ -16,8 +16,6 @@ WITH_EXAMPLES = {"strandkit", "strandkit._catalogue", "strandkit._native", "stra
 
 @pytest.mark.parametrize("name", MODULES)
 def test_docstring_examples(name, tmp_path, monkeypatch):
-    if name == "strandkit.plot":
-        pytest.importorskip("matplotlib")
     monkeypatch.chdir(tmp_path)  # examples that write files write here or in temp dirs
     module = importlib.import_module(name)
     finder = doctest.DocTestFinder(exclude_empty=True)

@@ -1,16 +1,69 @@
-"""Every example script runs to completion (each prints its figures against
-its reference and saves a picture in out/)."""
+"""Every example script runs, passes its checks against its reference
+(it exits with status 1 when one fails) and writes only to the output
+directory it is given."""
+import os
 import pathlib
 import subprocess
 import sys
 
 import pytest
 
-EXAMPLES = sorted((pathlib.Path(__file__).resolve().parents[2] / "examples").glob("*.py"))
+EXAMPLES_DIR = pathlib.Path(__file__).resolve().parents[2] / "examples"
+# Scripts (not the helper module _common.py) and the files each writes.
+OUTPUTS = {
+    "bead_on_string.py": ["bead_on_string.png"],
+    "cantilever.py": ["cantilever.png"],
+    "catenary.py": ["catenary.png"],
+    "pendulum.py": ["pendulum.csv", "pendulum.dcd", "pendulum.pdb", "pendulum.png", "pendulum.psf", "pendulum_tip.png"],
+    "plastic_rupture.py": ["plastic_rupture.png"],
+    "quasi_dynamic.py": ["quasi_dynamic.png"],
+    "sliding_points.py": ["sliding_points.png"],
+}
 
 
-@pytest.mark.parametrize("script", EXAMPLES, ids=lambda p: p.name)
-def test_example_runs(script, tmp_path):
-    r = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300, cwd=tmp_path)
+def run(args, cwd, env=None):
+    e = dict(os.environ)
+    e.pop("STRANDKIT_OUT", None)
+    e["PYTHONDONTWRITEBYTECODE"] = "1"  # no __pycache__ in the examples directory
+    e.update(env or {})
+    return subprocess.run([sys.executable, *map(str, args)], capture_output=True, text=True, timeout=300, cwd=cwd, env=e)
+
+
+def test_every_example_is_listed():
+    assert sorted(p.name for p in EXAMPLES_DIR.glob("[!_]*.py")) == sorted(OUTPUTS)
+
+
+@pytest.mark.parametrize("name", sorted(OUTPUTS))
+def test_example_passes_its_checks(name, tmp_path):
+    out = tmp_path / "results"
+    work = tmp_path / "cwd"
+    work.mkdir()
+    r = run([EXAMPLES_DIR / name, "--out", out], cwd=work)
+    assert r.returncode == 0, r.stdout[-3000:] + r.stderr[-2000:]
+    assert "all checks passed" in r.stdout and "check FAIL" not in r.stdout
+    assert sorted(f.name for f in out.iterdir()) == OUTPUTS[name]
+    assert list(work.iterdir()) == []  # nothing written beside
+
+
+def test_output_directory_from_the_environment_or_the_current_directory(tmp_path):
+    env_out = tmp_path / "env"
+    r = run([EXAMPLES_DIR / "catenary.py"], cwd=tmp_path, env={"STRANDKIT_OUT": str(env_out)})
     assert r.returncode == 0, r.stderr[-2000:]
-    assert "saved" in r.stdout or "out/" in r.stdout or r.stdout.strip(), "the example printed nothing"
+    assert [f.name for f in env_out.iterdir()] == ["catenary.png"] and not (tmp_path / "out").exists()
+    r = run([EXAMPLES_DIR / "catenary.py"], cwd=tmp_path)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert [f.name for f in (tmp_path / "out").iterdir()] == ["catenary.png"]
+
+
+def test_a_failed_check_exits_with_status_1(tmp_path):
+    code = ("from _common import Checks\n"
+            "c = Checks()\n"
+            "c.close('within', 1.0005, 1.0, rtol=1e-3)\n"
+            "c.close('off by 2 %', 1.02, 1.0, rtol=1e-3)\n"
+            "c.close('NaN', float('nan'), 1.0, rtol=1.0)\n"
+            "c.finish()\n"
+            "print('not reached')\n")
+    r = run(["-c", code], cwd=tmp_path, env={"PYTHONPATH": str(EXAMPLES_DIR)})
+    assert r.returncode == 1
+    assert "check OK   within" in r.stdout and "check FAIL off by 2 %" in r.stdout and "check FAIL NaN" in r.stdout
+    assert "not reached" not in r.stdout and "FAILED 2 check(s): off by 2 %, NaN" in r.stderr

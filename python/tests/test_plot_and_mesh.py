@@ -1,10 +1,9 @@
 """Pictures and meshes."""
+import matplotlib  # noqa: F401  (a hard requirement of the tests: pip install "./python[test]")
 import numpy as np
 import pytest
 
 import strandkit as sk
-
-pytest.importorskip("matplotlib")
 
 
 def test_png_has_expected_size_and_content(two_rod_world, tmp_path):
@@ -77,3 +76,40 @@ def test_gltf_reads_back_with_trimesh(two_rod_world, tmp_path):
         mine = v[part == p]
         np.testing.assert_allclose(g.vertices, mine.astype(np.float32), rtol=0, atol=1e-6)
         assert len(g.faces) == int(np.sum(part[tri[:, 0]] == p))
+
+
+@pytest.mark.parametrize("sizes", [
+    dict(rings_per_segment=10**9, points_per_ring=10**9),   # used to abort on a 40 GB allocation
+    dict(rings_per_segment=2**63),                          # used to panic: capacity overflow
+    dict(rings_per_segment=2**64 - 1, points_per_ring=2**64 - 1),
+    dict(rings_per_segment=200_000, points_per_ring=12),    # 5 segments: 1.2e7 vertices > 1e7
+])
+def test_absurd_mesh_sizes_are_errors_before_allocating(two_rod_world, tmp_path, sizes):
+    w, rod, _ = two_rod_world
+    for call in (lambda: sk.tube_mesh(w, **sizes), lambda: sk.tube_mesh(rod, **sizes), lambda: rod.mesh(**sizes),
+                 lambda: sk.write_obj(w, str(tmp_path / "m.obj"), **sizes)):
+        with pytest.raises(sk.InvalidInputError, match="tube mesh size must be at most 10000000 vertices") as e:
+            call()
+        assert isinstance(e.value, ValueError)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_mesh_size_cap_counts_vertices_as_built():
+    rod = sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", n_control_points=4)  # 1 segment
+    # (rings + 1) × points vertices, + 2 × (points + 1) for the caps.
+    v, _, _ = rod.mesh(rings_per_segment=7, points_per_ring=10, caps=True)
+    assert v.shape == ((7 + 1) * 10 + 2 * 11, 3)
+    # One ring past the cap (10^7 vertices exactly is allowed: core io::mesh tests).
+    with pytest.raises(sk.InvalidInputError, match="1 segments × 1000000 rings × 10 points per ring"):
+        rod.mesh(rings_per_segment=1_000_000, points_per_ring=10, caps=False)
+
+
+@pytest.mark.parametrize("n", [10**10, 2**64 - 1, 10**7 + 1])
+def test_absurd_parameter_counts_are_errors_before_allocating(n):
+    rod = sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", n_control_points=8)
+    with pytest.raises(sk.InvalidInputError, match=f"uniform_params n must be at most 10000000, got {n}"):
+        rod.uniform_params(n)
+    with pytest.raises(sk.InvalidInputError, match="frames n must be at most 10000000"):
+        rod.frames(n=n)
+    u = rod.uniform_params(5)
+    np.testing.assert_allclose(u, np.linspace(rod.u_start, rod.u_end, 5), rtol=0, atol=1e-15)

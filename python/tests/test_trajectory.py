@@ -1,10 +1,9 @@
 """mdtraj reads our PDB (+CONECT) and PSF + DCD for a two-rod world over several frames."""
+import mdtraj as md  # a hard requirement of the tests (pip install "./python[test]")
 import numpy as np
 import pytest
 
 import strandkit as sk
-
-md = pytest.importorskip("mdtraj")
 
 
 def _run(world, prefix, frames=6):
@@ -89,3 +88,42 @@ def test_pdb_refuses_coordinates_beyond_its_columns(two_rod_world, tmp_path):
         sk.write_pdb(w, str(tmp_path / "big.pdb"), scale=1e10)
     sk.write_psf(w, str(tmp_path / "big.psf"))
     assert (tmp_path / "big.psf").exists() and not (tmp_path / "big.pdb").exists()
+
+
+def test_dcd_refuses_values_beyond_float32_and_writes_nothing(tmp_path):
+    """A finite 1e300 used to be stored as float32 inf without an error."""
+    path = str(tmp_path / "ovf.dcd")
+    good = np.array([[0.0, 0.0, 0.0], [1.0, 2.0, 3.0]])
+    with sk.DcdWriter(path, 2) as d:
+        d.write_frame(good, scale=1.0)
+        size = (tmp_path / "ovf.dcd").stat().st_size
+        with pytest.raises(sk.InvalidInputError, match=r"DCD atom 1 coordinate \(Å, float32\) must be within") as e:
+            d.write_frame(np.array([[0.0, 0.0, 0.0], [1e300, 0.0, 0.0]]), scale=1.0)
+        assert e.value.value == "1e300"
+        # Finite positions that overflow only once scaled to Å.
+        with pytest.raises(sk.InvalidInputError, match="float32"):
+            d.write_frame(good * 1e38, scale=10.0)
+        assert d.n_frames == 1 and (tmp_path / "ovf.dcd").stat().st_size == size
+        d.write_frame(good * 2, scale=1.0)
+    header, xyz = sk.read_dcd(path)
+    assert header["n_frames"] == 2 and np.isfinite(xyz).all()
+    np.testing.assert_array_equal(xyz, np.array([good, good * 2], dtype=np.float32))
+
+
+def test_pdb_columns_hold_up_to_their_width_and_a_refused_write_keeps_the_old_file(two_rod_world, tmp_path):
+    w, _, _ = two_rod_world
+    topo = sk.Topology(w)
+    p = sk.bead_positions(w)
+    path = tmp_path / "edge.pdb"
+    for x in (9999.999, -999.999):  # the extremes of PDB's 8.3 columns (Å)
+        q = p.copy()
+        q[3, 0] = x
+        topo.write_pdb(str(path), q, scale=1.0)
+        assert md.load(str(path)).xyz[0, 3, 0] == pytest.approx(x / 10.0, abs=1e-6)  # nm
+    before = path.read_bytes()
+    for x in (10000.0, -1000.0, 1e300):
+        q = p.copy()
+        q[3, 0] = x
+        with pytest.raises(sk.InvalidInputError, match="bead 3 coordinate .* does not fit PDB columns"):
+            topo.write_pdb(str(path), q, scale=1.0)
+    assert path.read_bytes() == before and sorted(f.name for f in tmp_path.iterdir()) == ["edge.pdb"]

@@ -64,9 +64,33 @@ fn radius_at(rod: &Rod, u: f64) -> Result<f64> {
     Ok(blended.bounding_radius())
 }
 
-/// The tube around one rod.
-pub fn tube(rod: &Rod, opts: &TubeOptions) -> Result<TubeMesh> {
+/// Vertices of the tube around `rod` (rings, and caps on an open rod);
+/// an error, before anything is allocated, beyond
+/// [`super::MAX_OUTPUT_POINTS`] (or on overflow).
+pub fn tube_vertices(rod: &Rod, opts: &TubeOptions) -> Result<usize> {
     opts.validate()?;
+    let m = opts.points_per_ring;
+    // A closed rod's last ring is its first, and it has no caps.
+    let closed = rod.knots().kind() == KnotKind::Periodic;
+    let n = rod
+        .n_segments()
+        .checked_mul(opts.rings_per_segment)
+        .and_then(|r| r.checked_add(usize::from(!closed)))
+        .and_then(|r| r.checked_mul(m))
+        .and_then(|v| if opts.caps && !closed { m.checked_add(1)?.checked_mul(2)?.checked_add(v) } else { Some(v) });
+    match n {
+        Some(n) if n <= super::MAX_OUTPUT_POINTS => Ok(n),
+        _ => Err(Error::invalid(
+            "tube mesh size",
+            format!("{} segments × {} rings × {} points per ring", rod.n_segments(), opts.rings_per_segment, m),
+            format!("at most {} vertices (lower rings_per_segment or points_per_ring)", super::MAX_OUTPUT_POINTS),
+        )),
+    }
+}
+
+/// The tube around one rod (at most [`super::MAX_OUTPUT_POINTS`] vertices).
+pub fn tube(rod: &Rod, opts: &TubeOptions) -> Result<TubeMesh> {
+    tube_vertices(rod, opts)?;
     let closed = rod.knots().kind() == KnotKind::Periodic;
     let n_rings = rod.n_segments() * opts.rings_per_segment + 1;
     let us = frames::uniform_params(rod, n_rings)?;
@@ -183,8 +207,20 @@ impl TubeMesh {
     }
 }
 
-/// Tubes of every rod of a world, in world order (part = position in that order).
+/// Tubes of every rod of a world, in world order (part = position in that
+/// order); at most [`super::MAX_OUTPUT_POINTS`] vertices in all.
 pub fn world_tubes(world: &World, opts: &TubeOptions) -> Result<TubeMesh> {
+    let mut total = 0usize;
+    for (_, rod) in world.rods() {
+        total = total.saturating_add(tube_vertices(rod, opts)?);
+    }
+    if total > super::MAX_OUTPUT_POINTS {
+        return Err(Error::invalid(
+            "tube mesh size",
+            format!("{total} vertices over {} rods", world.n_rods()),
+            format!("at most {} vertices (lower rings_per_segment or points_per_ring)", super::MAX_OUTPUT_POINTS),
+        ));
+    }
     let mut mesh = TubeMesh::default();
     for (i, (_, rod)) in world.rods().enumerate() {
         mesh.append(&tube(rod, opts)?, i as u32);
@@ -279,8 +315,39 @@ mod tests {
             TubeOptions { points_per_ring: 2, ..Default::default() },
             TubeOptions { rings_per_segment: 0, ..Default::default() },
             TubeOptions { radius_scale: f64::NAN, ..Default::default() },
+            // Sizes that used to abort the process on allocation, or overflow.
+            TubeOptions { rings_per_segment: 1_000_000_000, points_per_ring: 1_000_000_000, ..Default::default() },
+            TubeOptions { rings_per_segment: 1 << 63, ..Default::default() },
+            TubeOptions { rings_per_segment: usize::MAX, points_per_ring: usize::MAX, ..Default::default() },
         ] {
-            assert!(matches!(tube(&r, &o), Err(Error::InvalidInput { .. })));
+            assert!(matches!(tube(&r, &o), Err(Error::InvalidInput { .. })), "{o:?}");
         }
+    }
+
+    #[test]
+    fn size_cap_counts_exactly() {
+        let r = rod(Section::circle(0.1).unwrap(), 4); // 1 segment
+        let o = |rings, caps| TubeOptions { rings_per_segment: rings, points_per_ring: 10, caps, ..Default::default() };
+        // (rings + 1) × 10 vertices (+ 22 for the caps) against 10^7.
+        assert_eq!(tube_vertices(&r, &o(999_999, false)).unwrap(), crate::io::MAX_OUTPUT_POINTS);
+        assert!(tube_vertices(&r, &o(1_000_000, false)).is_err());
+        assert!(tube_vertices(&r, &o(999_999, true)).is_err());
+        assert_eq!(tube(&r, &o(5, true)).unwrap().vertices.len(), tube_vertices(&r, &o(5, true)).unwrap());
+        let ring = RodBuilder::curve(6.0, |t| Vector3::new(t.cos(), t.sin(), 0.0))
+            .control_points(8)
+            .knots(KnotKind::Periodic)
+            .section(Section::circle(0.1).unwrap())
+            .material(Material::preset("nylon").unwrap())
+            .build()
+            .unwrap();
+        assert_eq!(tube(&ring, &o(3, true)).unwrap().vertices.len(), tube_vertices(&ring, &o(3, true)).unwrap());
+        let half = TubeOptions { rings_per_segment: 1, points_per_ring: usize::MAX / 2, caps: true, ..Default::default() };
+        assert!(tube_vertices(&r, &half).is_err());
+        // A world: the sum over its rods.
+        let mut w = World::new(crate::world::IntegrationParameters::default());
+        w.add_rod(r.clone());
+        w.add_rod(r);
+        assert!(matches!(world_tubes(&w, &o(600_000, false)), Err(Error::InvalidInput { .. })));
+        assert_eq!(world_tubes(&w, &o(4, false)).unwrap().vertices.len(), 100);
     }
 }

@@ -366,7 +366,9 @@ impl DcdWriter {
     }
 
     /// Appends one frame: positions (length unit) × `scale` → Å, stored as
-    /// float32, with a zero (non-periodic) unit cell.
+    /// float32, with a zero (non-periodic) unit cell. A position that is
+    /// not finite or whose Å value exceeds float32 (±3.4e38) is an error
+    /// and nothing is written.
     pub fn write_frame(&mut self, positions: &[[f64; 3]], scale: f64) -> Result<()> {
         let n = self.header.n_atoms;
         if positions.len() != n {
@@ -376,8 +378,19 @@ impl DcdWriter {
             )));
         }
         crate::error::positive("length scale (Å per length unit)", scale)?;
-        if let Some(i) = positions.iter().position(|p| p.iter().any(|x| !(x * scale).is_finite())) {
+        if let Some(i) = positions.iter().position(|p| p.iter().any(|x| !x.is_finite())) {
             return Err(Error::input(format!("atom {i} has a non-finite coordinate {:?}", positions[i])));
+        }
+        // Stored as float32: a finite value beyond ±f32::MAX would land on
+        // disk as inf. Checked before anything is written.
+        for (i, p) in positions.iter().enumerate() {
+            if let Some(x) = p.iter().map(|x| x * scale).find(|x| !(*x as f32).is_finite()) {
+                return Err(Error::invalid(
+                    format!("DCD atom {i} coordinate (Å, float32)"),
+                    format!("{x:e}"),
+                    format!("within ±{:e} (lower the scale)", f32::MAX),
+                ));
+            }
         }
         let b = &mut self.buf;
         b.clear();
@@ -588,6 +601,54 @@ mod tests {
         assert_eq!(&first[9..11], "R0");
         assert_eq!(&first[19..22], "SKB");
         assert_eq!(first[48..62].trim(), "30.9700");
+    }
+
+    #[test]
+    fn values_beyond_the_format_are_refused_and_nothing_is_written() {
+        let d = tmpdir("range");
+        let w = world();
+        let t = Topology::from_world(&w);
+        let p = bead_positions(&w);
+        // PDB: 8.3 columns hold -999.999 ..= 9999.999 Å.
+        for (x, fits) in [(9999.999, true), (-999.999, true), (9999.9996, false), (-1000.0, false), (1e300, false)] {
+            let mut f = p.clone();
+            f[4][2] = x;
+            let path = d.join("r.pdb");
+            let r = write_pdb(&path, &t, &[f], 1.0);
+            if fits {
+                r.unwrap();
+                let s = std::fs::read_to_string(&path).unwrap();
+                let line = s.lines().filter(|l| l.starts_with("HETATM")).nth(4).unwrap();
+                assert_eq!((line.len(), line[46..54].trim().parse::<f64>().unwrap()), (80, x));
+                std::fs::remove_file(&path).unwrap();
+            } else {
+                let e = r.unwrap_err();
+                assert!(matches!(e, Error::InvalidInput { .. }) && e.to_string().contains("bead 4"), "{e}");
+                assert!(std::fs::read_dir(&d).unwrap().next().is_none(), "nothing written for {x}");
+            }
+        }
+        // DCD: float32 after the conversion to Å.
+        let path = d.join("r.dcd");
+        let hdr = DcdHeader { n_atoms: p.len(), n_frames: 0, istart: 0, nsavc: 1, delta: 1.0, titles: Default::default() };
+        let mut wr = DcdWriter::create(&path, hdr).unwrap();
+        wr.write_frame(&p, 10.0).unwrap();
+        let size = std::fs::metadata(&path).unwrap().len();
+        let mut big = p.clone();
+        big[1][0] = 1e300; // finite in f64, inf in f32
+        let e = wr.write_frame(&big, 1.0).unwrap_err();
+        assert!(matches!(&e, Error::InvalidInput { what, .. } if what.contains("atom 1")), "{e}");
+        big[1][0] = 1e37; // fits, but not once scaled to Å
+        assert!(matches!(wr.write_frame(&big, 100.0), Err(Error::InvalidInput { .. })));
+        big[1][0] = f64::INFINITY;
+        assert!(matches!(wr.write_frame(&big, 1.0), Err(Error::InvalidInput { .. })));
+        assert_eq!((wr.n_frames(), std::fs::metadata(&path).unwrap().len()), (1, size));
+        // The largest float32 itself is still a value.
+        big[1][0] = f32::MAX as f64;
+        wr.write_frame(&big, 1.0).unwrap();
+        wr.close().unwrap();
+        let (h, frames) = read_dcd(&path).unwrap();
+        assert_eq!((h.n_frames, frames[1][1][0]), (2, f32::MAX));
+        std::fs::remove_dir_all(&d).ok();
     }
 
     #[test]
