@@ -61,13 +61,18 @@ impl Rod {
 
     /// Elastic energy U (energy unit).
     pub fn elastic_energy(&self) -> f64 {
-        let mut b = SegBlock::default();
-        (0..self.n_segments())
-            .map(|s| {
-                self.segment(s, &mut b, Need::Energy);
-                b.energy
-            })
-            .sum()
+        // The densities alone: no chain-rule accumulators (this runs in
+        // every step's divergence guard).
+        let c = &self.cache;
+        let mut u = 0.0;
+        for (seg, ctrl) in c.seg_ctrl.iter().enumerate() {
+            for i in c.seg_start[seg]..c.seg_start[seg + 1] {
+                let s = &c.samples[i];
+                let ls = local_state(&self.q, self.dofs, ctrl, &s.basis);
+                u += s.w * density(&ls, &s.consts, self.frame_state(i), self.opts.terms, self.opts.model, false).w;
+            }
+        }
+        u
     }
 
     /// Internal generalised forces P = −∂U/∂q (flat like the coordinates).

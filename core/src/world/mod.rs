@@ -41,6 +41,10 @@ pub struct World {
     pub params: IntegrationParameters,
     pub(crate) time: f64,
     pub(crate) steps: u64,
+    /// Energy growth of the current run of energy-creating steps (the
+    /// divergence guard's memory; see `pipeline::solve::commit`).
+    #[serde(default)]
+    pub(crate) growth: Growth,
     /// Groups of rods whose control points are interleaved by parameter
     /// (a user override of the computed ordering).
     pub(crate) interleave: Vec<Vec<RodHandle>>,
@@ -52,6 +56,14 @@ pub struct World {
     /// Contact detectors run before each solve (configuration, not state).
     #[serde(skip)]
     pub(crate) detectors: Vec<Arc<dyn ContactDetector>>,
+}
+
+/// Consecutive dynamic steps that ended with more energy than they started
+/// with plus the work done on them, and their combined growth factor.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub(crate) struct Growth {
+    pub(crate) steps: u32,
+    pub(crate) factor: f64,
 }
 
 /// The versioned envelope of a snapshot.
@@ -284,6 +296,9 @@ impl World {
         self.clips.repair()?;
         self.params.validate()?;
         crate::error::finite("snapshot time", self.time)?;
+        if !(self.growth.factor >= 0.0 && self.growth.factor.is_finite()) {
+            return Err(Error::invalid("snapshot growth factor", self.growth.factor, "finite and ≥ 0"));
+        }
         for (i, r) in self.rods.iter_mut() {
             r.restore().map_err(|e| e.context(format_args!("snapshot rod {}", i.0)))?;
         }

@@ -27,12 +27,14 @@ pub struct IntegrationParameters {
     /// failed one falls back along the chain, reported in the step report.
     #[serde(default)]
     pub linear_solver: LinearSolver,
-    /// Divergence guard of dynamic steps: a step is refused as `Diverged`
-    /// (the world unchanged) when the kinetic energy after it exceeds this
-    /// factor times the elastic + kinetic energy before it plus the work
-    /// done by the external forces and the constraints during it (implicit
-    /// Euler never creates energy: a jump means the step went wrong). `inf`
-    /// switches the guard off. Dimensionless, > 1.
+    /// Divergence guard of dynamic steps. Implicit Euler never creates
+    /// energy; a step that ends with more elastic + kinetic energy than it
+    /// began with plus the work of the loads and constraints extends a run
+    /// of such steps, and a step is refused as `Diverged` (the world
+    /// unchanged) when a run of two or more multiplies the energy by more
+    /// than this factor. (A single overshoot — a linearised step with a
+    /// large dt — is allowed: the next steps dissipate it.) `inf` switches
+    /// the guard off. Dimensionless, > 1.
     #[serde(default = "default_divergence_factor")]
     pub divergence_factor: f64,
     /// Adaptive stepping: a step that diverges (or would reach a non-finite
@@ -65,7 +67,7 @@ fn default_plastic_tolerance() -> f64 {
     1e-6
 }
 fn default_divergence_factor() -> f64 {
-    100.0
+    10.0
 }
 fn default_max_halvings() -> u32 {
     10
