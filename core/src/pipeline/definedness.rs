@@ -65,12 +65,16 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
                 }
             }
             raw.push((r, m, v.clone()));
-            let norm0 = v.norm();
+            // Degenerate against the mode's natural size (a unit move of
+            // every control point; a rotation moves them by up to the rod's
+            // length), not against its own norm: a straight 3-DOF rod's spin
+            // about itself is round-off (1e-17), not a mode.
+            let size = (nc as f64).sqrt() * if (3..=5).contains(&m) { rod.rest_length() } else { 1.0 };
             for (_, _, q) in &modes[first..] {
                 let c = q.dot(&v);
                 v -= q * c;
             }
-            if v.norm() > 1e-8 * norm0.max(1e-300) {
+            if v.norm() > 1e-8 * size {
                 let nv = v.norm();
                 modes.push((r, m, v / nv));
             }

@@ -119,9 +119,13 @@ fn rupture(world: &mut World, h: RodHandle, site: RuptureSite, events: &mut Vec<
     Ok(())
 }
 
-/// Removes `h` if it is shorter than its own thickness (see
-/// [`Event::FragmentRemoved`]).
+/// Removes `h` if it is shorter than its own thickness and no constraint
+/// holds it (a free chip: see [`Event::FragmentRemoved`]; a short piece
+/// left in a grip stays).
 fn drop_if_fragment(world: &mut World, h: RodHandle, events: &mut Vec<Event>) -> Result<()> {
+    if world.constraints.iter().any(|(_, c)| c.rod == h || c.other == Some(h)) {
+        return Ok(());
+    }
     let rod = world.rod(h)?;
     let area = rod.sections().iter().filter_map(|s| s.props().ok()).map(|p| p.area).fold(0.0f64, f64::max);
     let thickness = 2.0 * (area / std::f64::consts::PI).sqrt();

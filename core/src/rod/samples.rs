@@ -127,7 +127,11 @@ impl Cache {
             let delta = kappa_eps * speed0 * speed0 * speed0;
             let (k1, k2, om) = energy::rest_values(&s0, delta, rod.opts.model);
             let c0 = s0.invariants()[crate::energy::invariants::QC2].sqrt();
-            let delta_bend = if c0 > 0.0 { delta.min(0.5 * c0) } else { delta };
+            // |C⁰| below 1e-8 δ is the round-off of a straight rest shape
+            // (its curvature energy would be 1e-16 of the threshold's): no
+            // rest curvature to keep, and a δ_b at round-off level would
+            // make the Huber Hessian noise.
+            let delta_bend = if c0 > 1e-8 * delta { delta.min(0.5 * c0) } else { delta };
             let mut consts = SampleConsts { speed0, delta, delta_bend, ..Default::default() };
             set_stiffness(&mut consts, &p, e, g);
             let rest = [k1, k2, om];

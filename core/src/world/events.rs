@@ -39,9 +39,10 @@ pub enum Event {
         strain: f64,
         limit: f64,
     },
-    /// A rupture cut off a piece shorter than its own thickness (the
-    /// equivalent diameter of its section): no longer slender, it left the
-    /// world with its attachments (loads on it included). This bounds a
+    /// A rupture cut off a free piece (held by no constraint) shorter than
+    /// its own thickness (the equivalent diameter of its section): no
+    /// longer slender, it left the world with its attachments (loads on it
+    /// included). This bounds a
     /// rupture cascade — a load beyond the breaking strength tears the
     /// loaded end off instead of cutting it ever smaller.
     FragmentRemoved {
