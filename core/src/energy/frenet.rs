@@ -220,6 +220,9 @@ fn strains(q: &Vec5, c: &SampleConsts) -> Strains {
 /// threshold δ are rounded to zero, see the module doc).
 fn rest_values(q: &Vec5, delta: f64) -> (f64, f64, f64) {
     let om = omega(q, delta).0;
+    if q[QC2].sqrt() <= 1e-8 * delta {
+        return (0.0, 0.0, om); // round-off of a straight rest shape (see δ_b in rod::samples)
+    }
     let k = kappa(q);
     let (sn, cs) = q[QTH].sin_cos();
     (k * sn, k * cs, om)
