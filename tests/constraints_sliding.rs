@@ -179,9 +179,9 @@ fn contact_between_crossing_rods_slides() {
         w.set_constraint(guide, ConstraintKind::Position(Position { u: b1, axes: [true, false, false, false], target: [x, 0.0, 0.0, 0.0] })).unwrap();
         w.relax().unwrap();
         let c = w.constraint(contact).unwrap();
-        let (ub_, ua_) = match c.kind {
-            ConstraintKind::Contact(Contact { ua, ub, .. }) => (ua, ub),
-            _ => unreachable!(),
+        // The link is (b, a): the kind's first abscissa is on B, its second on A.
+        let ConstraintKind::Contact(Contact { ua: ub_, ub: ua_, .. }) = c.kind else {
+            panic!("the contact constraint changed kind: {:?}", c.kind);
         };
         let pa = w.rod(a).unwrap().position(ua_).unwrap();
         let f = Vector3::from(w.reaction(contact).unwrap().force);

@@ -110,7 +110,8 @@ fn pinned_stiff_rod_swings_like_a_rigid_pendulum() {
     let omega = std::f64::consts::PI / half;
     let expected = (3.0 * g / (2.0 * len)).sqrt();
     println!("pendulum: ω = {omega:.5} rad/s, rigid rod {expected:.5} ({:.3} %)", 100.0 * (omega / expected - 1.0));
-    assert!((omega / expected - 1.0).abs() < 0.02);
+    // README: within 0.016 % (−0.016 % measured; the rod's extensibility).
+    assert!((omega / expected - 1.0).abs() < 2e-4);
 }
 
 /// Quasi-static and dynamic with a very large step reach the same

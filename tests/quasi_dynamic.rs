@@ -80,7 +80,8 @@ fn switches_with_hysteresis_and_stays_continuous() {
     for k in [6, 8, 21, 61] {
         let ratio = motions[k] / motions[k - 1];
         println!("switch at frame {k} ({:?} → {:?}): motion {:.3e} m after {:.3e} m (ratio {ratio:.3})", modes[k - 1], modes[k], motions[k], motions[k - 1]);
-        assert!(motions[k] > 0.0 && ratio <= 1.5, "trajectory jumped at the switch");
+        // README: motion ratio at the switches ≤ 1.05 (1.046 measured).
+        assert!(motions[k] > 0.0 && ratio <= 1.05, "trajectory jumped at the switch");
     }
     // Quasi-static frames converge towards the static equilibrium.
     let mut reference = common::cantilever(10, 5, [0.0, -1e4, 0.0]);

@@ -88,7 +88,8 @@ fn band_and_sparse_agree() {
     let r = c.world.step().unwrap();
     assert_eq!(r.factorisation, Factorisation::BandLdlt, "a narrow clamped band stays on the band path (LDLᵀ)");
     // Pure Newton statics (no inertia) keep the pivoting LU.
-    c.world.relax().unwrap();
+    let r = c.world.relax().unwrap();
+    assert_eq!(r.factorisation, Factorisation::BandLu, "statics: the band LU");
 }
 
 /// On a clamped cantilever (a saddle-point system: 6 clamp rows) the band
