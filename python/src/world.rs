@@ -484,7 +484,11 @@ impl PyWorld {
         let events = if rep.events.is_empty() { Vec::new() } else { events_of(slf, &rep.events)? };
         Ok(PyStepReport { inner: rep, events })
     }
-    /// Quasi-static equilibrium (Newton with pseudo-transient continuation).
+    /// Quasi-static equilibrium: Newton's method damped by
+    /// Levenberg–Marquardt (K + λ|diag K|), accepting a step when the
+    /// potential energy does not rise; refuses a world that is not
+    /// statically defined (SingularError naming the free rigid motion)
+    /// and leaves it as it was.
     fn relax(slf: &Bound<'_, Self>) -> PyResult<PyRelaxReport> {
         let py = slf.py();
         let rep = {

@@ -4,7 +4,7 @@
 //!   [ L  −C  ] [ −Λ ] = [ E ]      B = c_v M V + F + P
 //!
 //! (implicit Euler: c_m = 1/h², c_d = c_v = 1/h; statics: c_m = c_d = c_v = 0,
-//! or c_m = 1/h_pt² for pseudo-transient continuation). Segment blocks are
+//! with relax's Levenberg–Marquardt damping added to the diagonal). Segment blocks are
 //! scattered into the band (they overlap: summed); all buffers are reused
 //! across steps.
 use super::layout::Layout;
@@ -17,14 +17,17 @@ use serde::{Deserialize, Serialize};
 /// Which factorisation solves the KKT system (SPEC §5).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum LinearSolver {
-    /// Band LU for narrow bands, sparse LDLᵀ/LU (faer) from half-bandwidth
-    /// 40 on (measured crossover, `core/examples/band_vs_sparse.rs`).
+    /// Narrow bands: band LDLᵀ where it applies (steps whose inertia is
+    /// felt), else the pivoting band LU, then sparse; from half-bandwidth
+    /// 40 on (measured crossover, `core/examples/band_vs_sparse.rs`):
+    /// sparse first, band LU as the fallback. See [`Factorisation`].
     #[default]
     Auto,
-    /// Band LDLᵀ where it applies (systems with inertia), else the band LU.
+    /// Band LDLᵀ where it applies, else (or when it declines) the band LU.
     Band,
     /// Always the pivoting band LU (for comparisons and diagnostics).
     BandLu,
+    /// faer's sparse LDLᵀ (regularised), or its LU when that fails.
     Sparse,
 }
 /// The factorisation that solved a system. The chain tried is: for
