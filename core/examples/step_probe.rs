@@ -1,7 +1,7 @@
 //! Quick per-step probe used while optimising (not the reference benchmark,
 //! see `bench_table` and BENCHMARKS.md):
 //!
-//!   cargo run --release -p strandkit-core --example step_probe [-- --runs N] [--rows sbtd] [--sizes 100,400,40000]
+//!   cargo run --release -p strandkit-core --example step_probe [-- --runs N] [--rows sbtd] [--sizes 100,400,40000] [--no-guard]
 //!
 //! Prints, for each energy row (s = stretch only, b = stretch+bend, t = full
 //! static, d = full dynamic) and size, the smallest of N medians of the
@@ -22,10 +22,12 @@ fn setup(n: usize, row: char) -> (World, RodHandle, Vec<f64>) {
         _ => EnergyTerms::default(),
     };
     let r = rod(n, terms, 0.0, steel());
-    if row == 't' {
-        return table_rod::static_world(r);
+    let (mut w, h, q0) = if row == 't' { table_rod::static_world(r) } else { table_rod::dynamic_world(r, false) };
+    // `--no-guard`: without the divergence guard (to measure its cost).
+    if std::env::args().any(|a| a == "--no-guard") {
+        w.params.divergence_factor = f64::INFINITY;
     }
-    table_rod::dynamic_world(r, false)
+    (w, h, q0)
 }
 
 fn median_step(n: usize, row: char) -> (f64, usize) {
