@@ -56,3 +56,18 @@ def test_divergence_guard_bad_parameters():
         sk.World(divergence_factor=0.5)
     with pytest.raises(sk.InvalidInputError, match="max_halvings"):
         sk.World(max_halvings=100)
+
+
+def test_relax_reports_stability():
+    """A clamped cantilever under a tip load is a stable equilibrium; a
+    column straight under 1.03 P_cr is not (one unstable direction) —
+    tests/reliability.rs checks the buckled branch too."""
+    mat = sk.Material("m", young=1 / (np.pi * R**4 / 4), poisson=0.3, density=1.0)  # EI = 1
+    for load, stable, k in ((-0.5, True, 0), (1.03, False, 1)):
+        w = sk.World()
+        rod = w.add_rod(sk.straight((0, 0, 0), (L, 0, 0), section=R, material=mat, n_control_points=20, with_roll=False))
+        sk.clamp(w, rod, target=(0, 0, 0), direction=(1, 0, 0))
+        w.add_constraint(rod, sk.plane(rod.u_end, (0, 0, 0), (0, 0, 1)))
+        w.add_load(sk.point_force(rod, rod.u_end, (-load * np.pi**2 / 4, 0, 0)))
+        report = w.relax()
+        assert (report.stable, report.unstable_directions) == (stable, k), report

@@ -407,10 +407,31 @@ impl BandLdlt {
         Self::default()
     }
 
+    /// Negative pivots of the last factorisation: by Sylvester's law of
+    /// inertia, the number of negative eigenvalues of the factored matrix.
+    pub fn negative_pivots(&self) -> usize {
+        if !self.factored {
+            return 0;
+        }
+        (0..self.n).filter(|&j| self.l[j * self.ld] < 0.0).count()
+    }
+
     /// Copies the lower band of `a` (with ‖A‖_inf and a finiteness check in the
     /// same pass) and factors it in place. Allocates only when `a` is larger
     /// than any matrix factored before by this object.
     pub fn factor(&mut self, a: &BandMatrix) -> std::result::Result<(), LdltDecline> {
+        self.factor_with(a, LDLT_TOL, LDLT_INDEF_TOL)
+    }
+
+    /// The factorisation for counting the inertia ([`Self::negative_pivots`])
+    /// rather than solving: a pivot counts as long as its sign is above
+    /// round-off (|d| > 1e-12 a_jj), where `factor` asks 1e-6 of an
+    /// indefinite matrix for a stable solve.
+    pub fn factor_for_inertia(&mut self, a: &BandMatrix) -> std::result::Result<(), LdltDecline> {
+        self.factor_with(a, 1e-12, 1e-12)
+    }
+
+    fn factor_with(&mut self, a: &BandMatrix, tol_pd: f64, tol_indef: f64) -> std::result::Result<(), LdltDecline> {
         self.factored = false;
         if a.kl != a.ku {
             return Err(LdltDecline::NotSymmetricBand);
@@ -428,7 +449,7 @@ impl BandLdlt {
             let d = self.eliminate(j);
             let ajj = a.data[j * a.ldab + a.ku].abs();
             indefinite |= d < 0.0;
-            let tol = if indefinite { LDLT_INDEF_TOL } else { LDLT_TOL };
+            let tol = if indefinite { tol_indef } else { tol_pd };
             if !(d.abs() > tol * ajj) {
                 return Err(LdltDecline::Pivot { row: j, d });
             }

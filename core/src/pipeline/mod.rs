@@ -83,6 +83,16 @@ pub struct RelaxReport {
     /// What happened at the equilibrium found (broken constraints, clips,
     /// a rupture — which ends the solve).
     pub events: Vec<Event>,
+    /// Stability of the equilibrium found, from the inertia of its static
+    /// KKT matrix (an unpivoted LDLᵀ: negative pivots beyond the multiplier
+    /// rows are directions in which the potential energy decreases). None
+    /// when that factorisation declines (a near-zero pivot: a neutral
+    /// direction, e.g. exactly at a bifurcation) or the solve ended with a
+    /// topology change.
+    #[serde(default)]
+    pub stable: Option<bool>,
+    #[serde(default)]
+    pub unstable_directions: Option<usize>,
 }
 
 impl World {

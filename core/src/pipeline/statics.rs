@@ -140,6 +140,10 @@ pub fn relax(world: &mut World) -> Result<RelaxReport> {
             report.potential = potential;
             report.bandwidth = world.ws.layout.bandwidth;
             report.n_unknowns = world.ws.layout.n;
+            if !topology_changed {
+                report.unstable_directions = unstable_directions(world);
+                report.stable = report.unstable_directions.map(|k| k == 0);
+            }
             return Ok(report);
         }
         lambda /= 4.0;
@@ -149,4 +153,77 @@ pub fn relax(world: &mut World) -> Result<RelaxReport> {
         report.violation.max(report.increment),
         format!("relax: last increment {:.3e}, violation {:.3e}", report.increment, report.violation),
     ))
+}
+
+/// Unstable directions of the last assembled static system (the undamped
+/// Newton matrix at the converged iterate). By Sylvester's law of inertia
+/// the constrained equilibrium is stable when the stiffness restricted to
+/// the constraints' null space is positive definite. That restriction has
+/// the inertia of A + Σ ρ_r l_r l_rᵀ (A the coordinate block, l_r the
+/// constraint rows) minus the rows' positive directions: a compliant row is
+/// its own spring (ρ = 1/C), a hard row gets ρ = 1e4 × the stiffest diagonal
+/// — far above any negative stiffness, far below round-off trouble. The
+/// negative pivots of that matrix's LDLᵀ are the unstable directions.
+/// (Factoring the KKT matrix itself meets zero pivots where the layout puts
+/// a row before the last control point it touches.)
+fn unstable_directions(world: &World) -> Option<usize> {
+    use crate::linalg::band::{BandLdlt, BandMatrix};
+    let (a, layout) = (&world.ws.sys.band, &world.ws.layout);
+    let (n, bw) = (a.n(), a.kl().max(a.ku()));
+    let mut is_row = vec![false; n];
+    for (c, &r0) in layout.row_index.iter().enumerate() {
+        is_row[r0..r0 + layout.row_count[c]].iter_mut().for_each(|x| *x = true);
+    }
+    let mut pos = vec![usize::MAX; n];
+    let mut m = 0;
+    for g in 0..n {
+        if !is_row[g] {
+            pos[g] = m;
+            m += 1;
+        }
+    }
+    let is_row = &is_row;
+    let cols = |g: usize| (g.saturating_sub(bw)..(g + bw + 1).min(n)).filter(move |&j| j != g && !is_row[j] && a.get(g, j) != 0.0);
+    let diag_max = (0..n).filter(|&g| !is_row[g]).map(|g| a.get(g, g).abs()).fold(0.0f64, f64::max);
+    // Width: the coordinate block's, and each row's span of coordinates.
+    let mut width = 0;
+    for g in 0..n {
+        let span: Vec<usize> = cols(g).map(|j| pos[j]).collect();
+        if is_row[g] {
+            if let (Some(lo), Some(hi)) = (span.iter().min(), span.iter().max()) {
+                width = width.max(hi - lo);
+            }
+        } else {
+            width = span.iter().fold(width, |w, &p| w.max(p.abs_diff(pos[g])));
+        }
+    }
+    let mut p = BandMatrix::new(m, width, width);
+    for g in (0..n).filter(|&g| !is_row[g]) {
+        p.set(pos[g], pos[g], a.get(g, g));
+        for j in cols(g) {
+            p.set(pos[g], pos[j], a.get(g, j));
+        }
+    }
+    for g in (0..n).filter(|&g| is_row[g]) {
+        let l: Vec<(usize, f64)> = cols(g).map(|j| (pos[j], a.get(g, j))).collect();
+        let norm2: f64 = l.iter().map(|e| e.1 * e.1).sum();
+        if norm2 == 0.0 {
+            continue;
+        }
+        let c = -a.get(g, g); // the row's compliance (scaled), ≥ 0
+        let rho = if c > 0.0 { 1.0 / c } else { 1e4 * diag_max / norm2 };
+        for &(i, x) in &l {
+            for &(j, y) in &l {
+                p.add(i, j, rho * x * y);
+            }
+        }
+    }
+    let mut f = BandLdlt::new();
+    if let Err(e) = f.factor_for_inertia(&p) {
+        if std::env::var_os("STRANDKIT_DEBUG").is_some() {
+            eprintln!("relax stability: LDLᵀ declined: {e:?}");
+        }
+        return None;
+    }
+    Some(f.negative_pivots())
 }
