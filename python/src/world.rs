@@ -488,13 +488,22 @@ impl PyWorld {
     /// Levenberg–Marquardt (K + λ|diag K|), accepting a step when the
     /// potential energy does not rise; refuses a world that is not
     /// statically defined (SingularError naming the free rigid motion)
-    /// and leaves it as it was.
-    fn relax(slf: &Bound<'_, Self>) -> PyResult<PyRelaxReport> {
+    /// and leaves it as it was. The report says whether the equilibrium
+    /// is stable (`stable`, `unstable_directions`, from the inertia of the
+    /// constrained stiffness). `perturb` (length unit): if the equilibrium
+    /// found is unstable, push the control points by at most this much
+    /// along a direction of decreasing energy and relax again (a column
+    /// straight above its buckling load ends buckled).
+    #[pyo3(signature = (*, perturb = None))]
+    fn relax(slf: &Bound<'_, Self>, perturb: Option<f64>) -> PyResult<PyRelaxReport> {
         let py = slf.py();
         let rep = {
             let mut w = write(slf)?;
             let inner = &mut w.inner;
-            py.detach(|| guard(|| inner.relax()))?
+            py.detach(|| guard(|| match perturb {
+                Some(a) => inner.relax_perturbed(a),
+                None => inner.relax(),
+            }))?
         };
         let events = events_of(slf, &rep.events)?;
         Ok(PyRelaxReport { inner: rep, events })

@@ -551,7 +551,7 @@ class World:
     """All integration parameters as a dict."""
     def reaction(self, constraint):
         """Force (force unit) and torque (force × length) the constraint exerted on its (first) rod in the last solve."""
-    def relax(self):
+    def relax(self, *, perturb=None):
         """Quasi-static equilibrium: Newton's method damped by Levenberg–Marquardt (K + λ|diag K|), accepting a step when the potential energy does not rise; refuses a world that is not statically defined (SingularError naming the free rigid motion) and leaves it as it was."""
     def remove_bead(self, bead):
         """Takes a bead off its rod."""

@@ -71,3 +71,22 @@ def test_relax_reports_stability():
         w.add_load(sk.point_force(rod, rod.u_end, (-load * np.pi**2 / 4, 0, 0)))
         report = w.relax()
         assert (report.stable, report.unstable_directions) == (stable, k), report
+
+
+def test_relax_perturb_leaves_an_unstable_column_buckled():
+    mat = sk.Material("m", young=1 / (np.pi * R**4 / 4), poisson=0.3, density=1.0)
+    w = sk.World()
+    rod = sk.straight((0, 0, 0), (L, 0, 0), section=R, material=mat, n_control_points=20, with_roll=False)
+    q = rod.control_points.copy()
+    q[:, 1] = 1e-6 * (1 - np.cos(np.pi * q[:, 0] / (2 * L)))
+    rod.control_points = q
+    rod = w.add_rod(rod)
+    sk.clamp(w, rod, target=(0, 0, 0), direction=(1, 0, 0))
+    w.add_constraint(rod, sk.plane(rod.u_end, (0, 0, 0), (0, 0, 1)))
+    w.add_load(sk.point_force(rod, rod.u_end, (-1.03 * np.pi**2 / 4, 0, 0)))
+    assert w.relax().stable is False
+    report = w.relax(perturb=1e-3)
+    assert report.stable is True
+    assert abs(abs(rod.position(rod.u_end)[1]) - 0.30112) < 2e-3   # elastica tip deflection / L
+    with pytest.raises(sk.InvalidInputError, match="perturb"):
+        w.relax(perturb=-1.0)

@@ -533,6 +533,25 @@ impl BandLdlt {
         }
     }
 
+    /// A direction of negative curvature of the factored matrix, if it has
+    /// one: x = L⁻ᵀ e_j for the most negative pivot j, so that
+    /// xᵀ A x = D_j < 0.
+    pub fn negative_direction(&self) -> Option<Vec<f64>> {
+        if !self.factored {
+            return None;
+        }
+        let (n, kd, ld) = (self.n, self.kd, self.ld);
+        let j = (0..n).filter(|&j| self.l[j * ld] < 0.0).min_by(|&a, &b| self.l[a * ld].total_cmp(&self.l[b * ld]))?;
+        let mut x = vec![0.0; n];
+        x[j] = 1.0;
+        for i in (0..j).rev() {
+            let km = kd.min(n - 1 - i);
+            let c = &self.l[i * ld + 1..=i * ld + km];
+            x[i] = -c.iter().zip(&x[i + 1..=i + km]).map(|(m, v)| m * v).sum::<f64>();
+        }
+        Some(x)
+    }
+
     /// Overwrites `b` with `A⁻¹ b`: L y = b, y /= D, Lᵀ x = y.
     pub fn solve_in_place(&self, b: &mut [f64]) -> Result<()> {
         if !self.factored {

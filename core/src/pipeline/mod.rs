@@ -106,6 +106,12 @@ impl World {
     pub fn relax(&mut self) -> Result<RelaxReport> {
         statics::relax(self)
     }
+    /// [`World::relax`], leaving an unstable equilibrium by a push of
+    /// `amplitude` (length unit) along a direction of decreasing energy
+    /// ([`statics::relax_perturbed`]).
+    pub fn relax_perturbed(&mut self, amplitude: f64) -> Result<RelaxReport> {
+        statics::relax_perturbed(self, amplitude)
+    }
 }
 
 /// The half-bandwidth the world's system has now (builds the layout).

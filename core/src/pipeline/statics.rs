@@ -167,6 +167,13 @@ pub fn relax(world: &mut World) -> Result<RelaxReport> {
 /// (Factoring the KKT matrix itself meets zero pivots where the layout puts
 /// a row before the last control point it touches.)
 fn unstable_directions(world: &World) -> Option<usize> {
+    stability(world).map(|(k, _)| k)
+}
+
+/// The number of unstable directions and, if there are any, one of them
+/// as a change of the coordinates (flat over the system's unknowns, zero on
+/// the multiplier rows).
+fn stability(world: &World) -> Option<(usize, Option<Vec<f64>>)> {
     use crate::linalg::band::{BandLdlt, BandMatrix};
     let (a, layout) = (&world.ws.sys.band, &world.ws.layout);
     let (n, bw) = (a.n(), a.kl().max(a.ku()));
@@ -225,5 +232,44 @@ fn unstable_directions(world: &World) -> Option<usize> {
         }
         return None;
     }
-    Some(f.negative_pivots())
+    let k = f.negative_pivots();
+    let direction = (k > 0).then(|| f.negative_direction()).flatten().map(|x| {
+        let mut full = vec![0.0; n];
+        // The band is equilibrated (D A D): the physical direction is D x.
+        (0..n).filter(|&g| !is_row[g]).for_each(|g| full[g] = x[pos[g]] * world.ws.sys.scale.get(g).copied().unwrap_or(1.0));
+        full
+    });
+    Some((k, direction))
+}
+
+/// `relax`, then, while the equilibrium found is unstable, a push of
+/// `amplitude` (length unit: the largest control-point move) along a
+/// direction in which the potential energy decreases and `relax` again (at
+/// most 5 times): a column straight above its buckling load ends buckled.
+/// The returned report is the last relax's.
+pub fn relax_perturbed(world: &mut World, amplitude: f64) -> Result<RelaxReport> {
+    crate::error::positive("perturb amplitude", amplitude)?;
+    let mut report = relax(world)?;
+    for _ in 0..5 {
+        if report.stable != Some(false) {
+            break;
+        }
+        let Some((_, Some(dir))) = stability(world) else { break };
+        let peak = world.ws.layout.cp_index.iter().flatten().flat_map(|&g| (0..3).map(move |a| g + a)).fold(0.0f64, |m, g| m.max(dir[g].abs()));
+        if !(peak > 0.0) {
+            break;
+        }
+        let layout = &world.ws.layout;
+        for (r, (_, rod)) in world.rods.iter_mut().enumerate() {
+            let d = rod.dofs();
+            let (q, _) = rod.state_mut();
+            for (i, &g) in layout.cp_index[r].iter().enumerate() {
+                for a in 0..d {
+                    q[i * d + a] += amplitude * dir[g + a] / peak;
+                }
+            }
+        }
+        report = relax(world)?;
+    }
+    Ok(report)
 }

@@ -133,7 +133,7 @@ pub struct KktSystem {
     pub rhs: Vec<f64>,
     pub sol: Vec<f64>,
     work: Vec<f64>,
-    scale: Vec<f64>,
+    pub(crate) scale: Vec<f64>,
     /// Scratch of `equilibrate`: unknown i is a multiplier row.
     is_row: Vec<bool>,
     /// The last assembly had a positive mass coefficient c_m.
