@@ -235,8 +235,14 @@ fn relax_stops_at_a_rupture_and_reports_it() {
     println!("{:?}", ruptures);
     assert_eq!(ruptures.len(), 1);
     assert_eq!(w.rods().count(), 2);
-    // Relaxing again unloads both pieces (the pinned piece keeps its
-    // direction: its swing is neutral once unstressed).
+    // The piece left pinned at the pulled end only can swing freely about
+    // it: relax names that free rotation instead of picking one of the
+    // neutral equilibria. Held at its cut end across the axis, it unloads.
+    let e = w.relax().unwrap_err();
+    assert!(matches!(e, Error::Singular { .. }) && e.to_string().contains("rotation about"), "{e}");
+    let (piece, _) = w.rods().find(|(p, _)| *p != h).unwrap();
+    let cut_end = w.rod(piece).unwrap().domain().0;
+    w.add_constraint(piece, Position { u: cut_end, axes: [false, true, true, false], target: [0.0; 4] }, 0.0).unwrap();
     w.relax().unwrap();
     for (_, r) in w.rods() {
         let max = r.relative_strains().iter().map(|s| s.eps.abs()).fold(0.0, f64::max);

@@ -20,8 +20,9 @@ const NAMES: [&str; 7] = [
     "uniform roll",
 ];
 
-/// A rigid mode of one rod: (rod position, mode id, vector over its coordinates).
-type Mode = (usize, usize, DVector<f64>);
+/// A rigid mode of one rod: (rod position, mode id, vector over its
+/// coordinates, its coefficients on the rod's raw modes of [`NAMES`]).
+type Mode = (usize, usize, DVector<f64>, [f64; 7]);
 
 pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
     let layout = &world.ws.layout;
@@ -41,6 +42,7 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
     // `raw` keeps them unorthogonalised, for naming.
     let mut modes: Vec<Mode> = Vec::new();
     let mut raw: Vec<Mode> = Vec::new();
+    let mut centres = Vec::with_capacity(rods.len());
     for (r, (_, rod)) in rods.iter().enumerate() {
         let d = rod.dofs();
         let nc = rod.n_ctrl();
@@ -49,6 +51,7 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
         // one point shows its free motion as a pure rotation.
         let held = pivot[r].and_then(|u| rod.position(u).ok());
         let centre = held.unwrap_or_else(|| (0..nc).fold(Vector3::zeros(), |c, i| c + point(i)) / nc as f64);
+        centres.push(centre);
         let first = modes.len();
         for m in 0..if d == 4 { 7 } else { 6 } {
             let mut v = DVector::<f64>::zeros(nc * d);
@@ -64,19 +67,23 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
                     _ => v[i * d + 3] = 1.0,
                 }
             }
-            raw.push((r, m, v.clone()));
+            let mut coef = [0.0; 7];
+            coef[m] = 1.0;
+            raw.push((r, m, v.clone(), coef));
             // Degenerate against the mode's natural size (a unit move of
             // every control point; a rotation moves them by up to the rod's
             // length), not against its own norm: a straight 3-DOF rod's spin
             // about itself is round-off (1e-17), not a mode.
             let size = (nc as f64).sqrt() * if (3..=5).contains(&m) { rod.rest_length() } else { 1.0 };
-            for (_, _, q) in &modes[first..] {
+            for (_, _, q, qc) in &modes[first..] {
                 let c = q.dot(&v);
                 v -= q * c;
+                coef.iter_mut().zip(qc).for_each(|(a, b)| *a -= c * b);
             }
             if v.norm() > 1e-8 * size {
                 let nv = v.norm();
-                modes.push((r, m, v / nv));
+                coef.iter_mut().for_each(|a| *a /= nv);
+                modes.push((r, m, v / nv, coef));
             }
         }
     }
@@ -96,7 +103,7 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
             }
             let apply = |set: &[Mode]| -> Vec<f64> {
                 set.iter()
-                    .map(|(r, _, v)| {
+                    .map(|(r, _, v, _)| {
                         row.entries()
                             .iter()
                             .filter(|e| e.0 < 2 && which[e.0 as usize] == Some(*r))
@@ -119,30 +126,52 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
     let kscale = (0..layout.n).map(|g| world.ws.sys.band.get(g, g).abs()).fold(0.0, f64::max);
     let n = layout.n;
     let (mut x, mut y) = (vec![0.0; n], vec![0.0; n]);
-    // A mode is held when the constraints see it. The scale is relative:
-    // with modes of unit norm over n control points, a tangent clamp sees a
-    // rotation at λ ~ 3/n³ of what a position constraint sees of a
-    // translation (λ ~ 1/n), while round-off on a free mode is ~1e-32.
+    // A mode is held when the constraints see it. With modes of unit norm
+    // over n control points, a position constraint sees a translation at
+    // λ ~ 1/n and a tangent clamp sees a rotation at λ ~ 3/n³ (1e-14 at
+    // 40,000 control points), so the scale is relative to the largest λ
+    // (round-off on a free mode: ~1e-32 of it). (A start that does not
+    // meet its constraints yet can show a free mode at λ ~ e², e the
+    // violation; telling that from a weak hold is left to the solve.)
     let lmax = eig.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l));
+    let seen = 1e-14 * lmax;
     for j in 0..k {
-        if eig.eigenvalues[j] > 1e-14 * lmax {
+        if eig.eigenvalues[j] > seen {
             continue;
         }
         // Unconstrained rigid motion: does the stiffness hold it?
         x.iter_mut().for_each(|t| *t = 0.0);
-        for (m, (r, _, v)) in modes.iter().enumerate() {
+        // The motion on each rod's raw modes (translations, rotations, roll).
+        let mut a = vec![[0.0f64; 7]; rods.len()];
+        for (m, (r, _, v, coef)) in modes.iter().enumerate() {
             let c = eig.eigenvectors[(m, j)];
             for i in 0..v.len() {
                 x[layout.dof(*r, i)] += c * v[i];
             }
+            a[*r].iter_mut().zip(coef).for_each(|(s, k)| *s += c * k);
         }
         world.ws.sys.band.matvec(&x, &mut y);
         // Only coordinate rows: the multiplier rows of y are L x ≈ 0.
+        // The second derivative of the potential Π along the rigid motion:
+        // xᵀKx plus ∂Π/∂q · q'' (q'' = ω×(ω×(p − c)) for the rotation part;
+        // ∂Π/∂q = −B, the static right-hand side). For a symmetry of Π — a
+        // spin that no load or constraint resists — it is exactly zero at
+        // any configuration, equilibrium or not, where xᵀKx alone shows the
+        // stresses of a start shape as a holding stiffness.
         let mut curv = 0.0;
         for (r, (_, rod)) in rods.iter().enumerate() {
+            let d = rod.dofs();
+            let w = Vector3::new(a[r][3], a[r][4], a[r][5]);
             for i in 0..rod.q.len() {
                 let g = layout.dof(r, i);
                 curv += x[g] * y[g];
+            }
+            for i in 0..rod.n_ctrl() {
+                let p = Vector3::new(rod.q[i * d], rod.q[i * d + 1], rod.q[i * d + 2]);
+                let q2 = w.cross(&w.cross(&(p - centres[r])));
+                for k in 0..3 {
+                    curv -= world.ws.sys.rhs[layout.dof(r, i * d + k)] * q2[k];
+                }
             }
         }
         // Round-off leaves |mᵀKm| ~ 1e-14 kscale on a free mode (kscale is
@@ -153,15 +182,31 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
         if !(curv > 1e-12 * kscale) {
             // Name a single rigid mode that is free by itself if there is
             // one, else the dominant component of the free motion.
-            let alone = raw.iter().enumerate().find(|(m, (_, _, v))| {
+            let alone = raw.iter().enumerate().find(|(m, (_, _, v, _))| {
                 let nv = v.norm();
                 nv > 0.0 && lraw.iter().all(|row| row[*m].abs() <= 1e-8 * nv)
             });
+            // Else the largest raw component of the free motion (rotations
+            // weighted by the rod's length: what they move a point by).
+            let dominant = || {
+                // (A roll moves material points by the section's radius only:
+                // name the positional part of a motion first.)
+                let weight = |r: usize, m: usize| {
+                    a[r][m].abs()
+                        * match m {
+                            3..=5 => rods[r].1.rest_length(),
+                            6 => 1e-3 * rods[r].1.rest_length(),
+                            _ => 1.0,
+                        }
+                };
+                (0..rods.len())
+                    .flat_map(|r| (0..7).map(move |m| (r, m)))
+                    .max_by(|&(r1, m1), &(r2, m2)| weight(r1, m1).total_cmp(&weight(r2, m2)))
+                    .map_or((0, "rigid motion"), |(r, m)| (r, NAMES[m]))
+            };
             let (r, name) = match alone {
-                Some((_, (r, id, _))) => (*r, NAMES[*id]),
-                None => (0..k)
-                    .max_by(|&a, &b| eig.eigenvectors[(a, j)].abs().total_cmp(&eig.eigenvectors[(b, j)].abs()))
-                    .map_or((0, "rigid motion"), |a| (modes[a].0, NAMES[modes[a].1])),
+                Some((_, (r, id, _, _))) => (*r, NAMES[*id]),
+                None => dominant(),
             };
             return Err(Error::singular(format!(
                 "rod {} is not statically defined: its {name} is held by no constraint (add constraints, or use step() for dynamics)",
