@@ -90,3 +90,39 @@ def test_relax_perturb_leaves_an_unstable_column_buckled():
     assert abs(abs(rod.position(rod.u_end)[1]) - 0.30112) < 2e-3   # elastica tip deflection / L
     with pytest.raises(sk.InvalidInputError, match="perturb"):
         w.relax(perturb=-1.0)
+
+
+def _snapshot_world():
+    w = sk.World()
+    a = w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), n_control_points=8, section=0.01, material="nylon"))
+    b = w.add_rod(sk.curve(lambda s: (1 + 0.3 * s, 0.2 * s, 0), 1.0, n_control_points=10, section=0.01,
+                           material="nylon", with_roll=False))
+    sk.clamp(w, a)
+    w.add_link(a, b, sk.relative_distance(a.u_end, b.u_end, 0.5), break_force=1e3, tension_only=True)
+    w.add_load(sk.point_torque(a, a.u_end, 1e-3))
+    w.step()
+    return w
+
+
+def _rod(d, i=0):
+    return d["world"]["rods"]["slots"][i]["item"]
+
+
+@pytest.mark.parametrize("name, edit", [
+    # repro/snapshot_panics.py and abort_snapshot_n_ctrl.py, on the versioned envelope.
+    ("n_ctrl of 10**15", lambda d: _rod(d)["knots"].update(kind="Clamped", knots=[0.0] * 8, n_ctrl=10**15)),
+    ("3 sections for 8 control points", lambda d: _rod(d).update(sections=_rod(d)["sections"][:3])),
+    ("dofs 5", lambda d: _rod(d).update(dofs=5)),
+    ("velocities one short", lambda d: _rod(d).update(v=_rod(d)["v"][:-1])),
+    ("a link without multipliers", lambda d: next(s["item"] for s in d["world"]["constraints"]["slots"]
+                                                  if s.get("item") and "RelativeDistance" in s["item"]["kind"]).update(multipliers=[])),
+    ("point torque on the 3-DOF rod", lambda d: d["world"]["loads"]["slots"][0]["item"]["PointTorque"].update(
+        rod={"index": 1, "generation": 0}, u=_rod(d, 1)["knots"]["knots"][-1])),
+    ("negative Young's modulus", lambda d: _rod(d)["material"].update(young=-1e9)),
+])
+def test_corrupt_snapshots_are_refused_cleanly(name, edit):
+    import json
+    d = json.loads(_snapshot_world().to_json())
+    edit(d)
+    with pytest.raises(sk.StrandkitError):
+        sk.World.from_json(json.dumps(d))
