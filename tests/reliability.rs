@@ -308,3 +308,26 @@ fn relax_perturbed_leaves_an_unstable_equilibrium() {
     assert!((tip.y.abs() - 0.30112).abs() < 2e-3, "tip deflection {}", tip.y);
     assert_eq!(report.stable, Some(true), "{report:?}");
 }
+
+/// Material coordinates: `u_at_rest_arc_length` inverts
+/// `rest_arc_length` (to 1e-12 L), and on a circular arc of radius R the
+/// point at arc length s is at angle s/R (to the spline's fit error);
+/// s outside [0, L] or NaN is an error.
+#[test]
+fn arc_length_coordinates_round_trip() {
+    let rad = 0.3;
+    let arc = move |s: f64| Vector3::new(rad * (s / rad).sin(), rad * (1.0 - (s / rad).cos()), 0.0);
+    let rod = RodBuilder::curve(1.0, arc).control_points(40).section(Section::circle(0.005).unwrap()).material(Material::preset("nylon").unwrap()).build().unwrap();
+    let len = rod.rest_length();
+    assert!((len - 1.0).abs() < 1e-6, "rest length {len}");
+    for k in 0..=20 {
+        let s = len * k as f64 / 20.0;
+        let u = rod.u_at_rest_arc_length(s).unwrap();
+        assert!((rod.rest_arc_length(u).unwrap() - s).abs() < 1e-12 * len, "s = {s}");
+        let p = rod.position(u).unwrap();
+        assert!((p - arc(s)).norm() < 1e-6, "s = {s}: {} off the arc", (p - arc(s)).norm());
+    }
+    for bad in [-1e-3, 1.01 * len, f64::NAN] {
+        assert!(matches!(rod.u_at_rest_arc_length(bad), Err(Error::InvalidInput { .. })), "{bad}");
+    }
+}

@@ -183,6 +183,22 @@ impl PyRod {
             Ok(points(py, t)?.into_any())
         }
     }
+    /// Rest arc length (length unit) from the start of the domain to u: a
+    /// float for a float u, an array for an array.
+    fn arc_length<'py>(&self, py: Python<'py>, u: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let (us, scalar) = params(u)?;
+        let s = self.with(py, |r| us.iter().map(|&u| guard(|| r.rest_arc_length(u))).collect::<PyResult<Vec<_>>>())?;
+        Ok(if scalar { s[0].into_pyobject(py)?.into_any() } else { PyArray1::from_vec(py, s).into_any() })
+    }
+    /// The abscissa u at rest arc length s (length unit, 0 ≤ s ≤
+    /// rest_length): a material coordinate that deformation does not move,
+    /// e.g. base pair i of a strand. Inverse of `arc_length`, to 1e-12 of
+    /// the rest length.
+    fn u_at_arc_length<'py>(&self, py: Python<'py>, s: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        let (ss, scalar) = params(s)?;
+        let u = self.with(py, |r| ss.iter().map(|&s| guard(|| r.u_at_rest_arc_length(s))).collect::<PyResult<Vec<_>>>())?;
+        Ok(if scalar { u[0].into_pyobject(py)?.into_any() } else { PyArray1::from_vec(py, u).into_any() })
+    }
     /// The `derivative`-th u-derivative of (x, y, z[, θ]) at u: shape
     /// (dofs,) or (m, dofs).
     #[pyo3(signature = (u, derivative = 0))]

@@ -345,6 +345,8 @@ class Rod:
     def __repr__(self, /): ...
     _handle: Any
     """("rod", index, generation) in its world, or None if free: how other calls recognise a rod of a world."""
+    def arc_length(self, u):
+        """Rest arc length (length unit) from the start of the domain to u: a float for a float u, an array for an array."""
     control_points: Any
     """Control points, shape (n, 4) = (x, y, z, θ) or (n, 3) without roll (length unit, radians)."""
     def copy(self):
@@ -408,6 +410,8 @@ class Rod:
         """Unit tangent at u: shape (3,) or (m, 3)."""
     def to_json(self):
         """The rod as JSON (serde; floats round-trip exactly)."""
+    def u_at_arc_length(self, s):
+        """The abscissa u at rest arc length s (length unit, 0 ≤ s ≤ rest_length): a material coordinate that deformation does not move, e.g."""
     u_end: Any
     """Last parameter of the domain (the rod's end)."""
     u_start: Any

@@ -126,3 +126,18 @@ def test_corrupt_snapshots_are_refused_cleanly(name, edit):
     edit(d)
     with pytest.raises(sk.StrandkitError):
         sk.World.from_json(json.dumps(d))
+
+
+def test_arc_length_coordinates():
+    """rod.arc_length(u) (rest) and rod.u_at_arc_length(s) are inverses;
+    on a circular arc the point at s is at angle s/R."""
+    rad = 0.3
+    arc = lambda s: (rad * np.sin(s / rad), rad * (1 - np.cos(s / rad)), 0.0)  # noqa: E731
+    rod = sk.curve(arc, 1.0, section=0.005, material="nylon", n_control_points=40)
+    s = np.linspace(0, rod.rest_length, 11)
+    u = rod.u_at_arc_length(s)
+    np.testing.assert_allclose(rod.arc_length(u), s, atol=1e-12)
+    np.testing.assert_allclose(rod.position(u), np.array([arc(x) for x in s]), atol=1e-6)
+    assert isinstance(rod.u_at_arc_length(0.5), float)
+    with pytest.raises(sk.InvalidInputError, match="arc length"):
+        rod.u_at_arc_length(2.0)

@@ -27,6 +27,38 @@ impl Rod {
         Ok(before + partial)
     }
 
+    /// The abscissa u at rest arc length `s` from the start of the domain
+    /// (length unit, 0 ≤ s ≤ rest length): the inverse of
+    /// [`Rod::rest_arc_length`], a material coordinate that deformation
+    /// does not move (base pair i of a strand, a stitch along a yarn).
+    /// Newton on ds/du = |r0'(u)|, safeguarded by bisection; accurate to
+    /// 1e-12 of the rest length.
+    pub fn u_at_rest_arc_length(&self, s: f64) -> Result<f64> {
+        let total = self.rest_length();
+        crate::error::finite("arc length s", s)?;
+        if !(0.0..=total * (1.0 + 1e-12)).contains(&s) {
+            return Err(crate::error::Error::invalid("arc length s", s, format!("in [0, {total}] (the rod's rest length)")));
+        }
+        let (mut lo, mut hi) = self.domain();
+        let mut u = lo + (hi - lo) * (s / total).min(1.0);
+        for _ in 0..100 {
+            let f = self.rest_arc_length(u)? - s;
+            if f.abs() <= 1e-12 * total {
+                return Ok(u);
+            }
+            if f > 0.0 {
+                hi = u;
+            } else {
+                lo = u;
+            }
+            let seg = self.knots.locate(u)?;
+            let speed = samples::local_state(&self.q_rest, self.dofs, &self.cache.seg_ctrl[seg], &self.knots.basis(seg, u)).r1.norm();
+            let newton = u - f / speed;
+            u = if speed > 0.0 && newton > lo && newton < hi { newton } else { 0.5 * (lo + hi) };
+        }
+        Ok(u)
+    }
+
     /// Longest rest arc between consecutive abscissae of `cuts` (and the
     /// ends of an open rod; cyclically on a ring). `cuts` is sorted in place.
     pub fn longest_free_arc(&self, cuts: &mut [f64]) -> Result<f64> {
