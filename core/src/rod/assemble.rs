@@ -31,7 +31,6 @@ impl Default for SegBlock {
 /// What to compute.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Need {
-    Energy,
     Gradient,
     Hessian,
 }
@@ -94,9 +93,7 @@ impl Rod {
         let dofs = self.dofs;
         let nl = 4 * dofs;
         out.energy = 0.0;
-        if need != Need::Energy {
-            out.grad[..nl].iter_mut().for_each(|g| *g = 0.0);
-        }
+        out.grad[..nl].iter_mut().for_each(|g| *g = 0.0);
         let act = ActiveSlots::of(self.opts.terms, self.opts.model);
         // Roll slots carry nothing without a roll coordinate.
         let (th, th1) = (dofs == 4 && act.theta, dofs == 4 && act.theta1);
@@ -108,11 +105,8 @@ impl Rod {
             let b = &s.basis;
             let ls = local_state(&self.q, dofs, ctrl, b);
             let state = self.frame_state(c.seg_start[seg] + i);
-            let e = density(&ls, &s.consts, state, self.opts.terms, self.opts.model, need != Need::Energy);
+            let e = density(&ls, &s.consts, state, self.opts.terms, self.opts.model, true);
             out.energy += s.w * e.w;
-            if need == Need::Energy {
-                continue;
-            }
             // ∂U/∂q_(k,α) = w Σ_a β_k^a ∂W/∂d_(a,α).
             let g = &e.grad;
             for k in 0..4 {
