@@ -33,7 +33,7 @@ pub use bead::Bead;
 pub use clip::Clip;
 pub use constraint::{BreakPolicy, Breaking, ConstraintKind, ConstraintLaw, Reaction};
 pub use contact::{ContactPair, ContactSet};
-pub use energy::FrameModel;
+pub use energy::{FrameModel, MaterialFrame};
 pub use error::{Error, Result, Unknown};
 pub use force::{ForceField, Load};
 pub use handles::{BeadHandle, ClipHandle, ConstraintHandle, LoadHandle, RodHandle};

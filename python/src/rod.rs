@@ -199,6 +199,67 @@ impl PyRod {
         let u = self.with(py, |r| ss.iter().map(|&s| guard(|| r.u_at_rest_arc_length(s))).collect::<PyResult<Vec<_>>>())?;
         Ok(if scalar { u[0].into_pyobject(py)?.into_any() } else { PyArray1::from_vec(py, u).into_any() })
     }
+    /// The material frame at abscissa `u` — or at rest arc length `s`
+    /// (length unit), not both: an array (3, 3) whose rows are d1, d2, d3
+    /// (d3 the unit tangent; κ1 = κ b·d1 is the curvature about d1), or
+    /// (m, 3, 3) for an array of abscissae. The Frenet model leaves it
+    /// undefined where the rod is straight: SingularError there.
+    #[pyo3(signature = (u = None, *, s = None))]
+    fn material_frame<'py>(&self, py: Python<'py>, u: Option<&Bound<'py, PyAny>>, s: Option<&Bound<'py, PyAny>>) -> PyResult<Bound<'py, PyAny>> {
+        let (xs, scalar, by_arc) = match (u, s) {
+            (Some(u), None) => {
+                let (x, sc) = params(u)?;
+                (x, sc, false)
+            }
+            (None, Some(s)) => {
+                let (x, sc) = params(s)?;
+                (x, sc, true)
+            }
+            _ => return Err(bad("material_frame: give exactly one of u (abscissa) or s= (rest arc length)")),
+        };
+        let frames = self.with(py, |r| {
+            xs.iter()
+                .map(|&x| {
+                    guard(|| {
+                        let u = if by_arc { r.u_at_rest_arc_length(x)? } else { x };
+                        r.material_frame(u)
+                    })
+                    .map(|f| [f.d1, f.d2, f.d3].map(|d| [d.x, d.y, d.z]))
+                })
+                .collect::<PyResult<Vec<_>>>()
+        })?;
+        let flat: Vec<f64> = frames.iter().flat_map(|f| f.iter().flatten().copied()).collect();
+        let arr = PyArray1::from_vec(py, flat);
+        let shape: Vec<usize> = if scalar { vec![3, 3] } else { vec![frames.len(), 3, 3] };
+        Ok(arr.reshape(shape)?.into_any())
+    }
+    /// Excess link ΔLk (turns) imposed on a closed rod with roll: its
+    /// material frame turns ΔLk more times around the ring than at rest (a
+    /// DNA minicircle's ΔLk); the twist stiffness GJ acts on ω − (ω⁰ −
+    /// 2π ΔLk / L). Assignable (rings with roll only); 0 by default.
+    #[getter]
+    fn excess_link(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |r| Ok(r.excess_link()))
+    }
+    #[setter]
+    fn set_excess_link(&mut self, py: Python<'_>, turns: f64) -> PyResult<()> {
+        self.with_mut(py, |r| guard(|| r.set_excess_link(turns)))
+    }
+    /// Twist Tw of a closed rod (turns): (1/2π)∮τ ds with the exact Frenet
+    /// torsion, plus the imposed excess link. SingularError if the ring
+    /// has an inflection.
+    fn twist(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |r| guard(|| r.twist()))
+    }
+    /// Writhe Wr of a closed rod's centreline (turns), the Gauss double
+    /// integral (cost: the square of 8 points per segment).
+    fn writhe(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |r| guard(|| r.writhe()))
+    }
+    /// Link Lk = Tw + Wr of a closed rod (turns; Călugăreanu–White–Fuller).
+    fn link(&self, py: Python<'_>) -> PyResult<f64> {
+        self.with(py, |r| guard(|| r.link()))
+    }
     /// The `derivative`-th u-derivative of (x, y, z[, θ]) at u: shape
     /// (dofs,) or (m, dofs).
     #[pyo3(signature = (u, derivative = 0))]

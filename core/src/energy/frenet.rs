@@ -21,7 +21,7 @@
 //!   exactly: the rest shape has zero energy and zero force. The Huber
 //!   Hessian B/δ_b stays bounded because B ∝ κ⁰.
 use super::invariants::{LocalState, Mat5, Vec5, QA, QC2, QP, QTH, QTH1};
-use super::{ActiveSlots, EnergyTerms, FrameKinematics, FrameState, HoldCrossSection, MaterialAngle, SampleConsts, Strains};
+use super::{ActiveSlots, EnergyTerms, FrameKinematics, FrameState, HoldCrossSection, MaterialAngle, MaterialFrame, SampleConsts, Strains};
 use crate::error::{Error, Result};
 use nalgebra::Vector3;
 use std::f64::consts::PI;
@@ -103,6 +103,25 @@ impl FrameKinematics for Frenet {
         } else {
             HoldCrossSection::RollCoordinate
         }
+    }
+    /// The Frenet frame (t, n, b) rotated by θ about t: d1 = cos θ n +
+    /// sin θ b, d2 = t × d1, so that κ1 = κ b·d1 = κ sin θ and κ2 = κ b·d2 =
+    /// κ cos θ as in the energy (II.57). Undefined where C = r'×r'' = 0 (the
+    /// same test as [`Self::material_angle`]).
+    fn material_frame(s: &LocalState, _state: &FrameState, delta: f64) -> Result<MaterialFrame> {
+        let t = s.r1.normalize();
+        let c = s.cross();
+        let cn = c.norm();
+        if !(cn > 1e-9 * delta) || cn == 0.0 || !t.iter().all(|x| x.is_finite()) {
+            return Err(Error::singular(
+                "material frame: the rod is straight there, so the Frenet frame (and the material frame of the Frenet model) is undefined",
+            ));
+        }
+        let b = c / cn;
+        let n = b.cross(&t);
+        let (sn, cs) = s.th.sin_cos();
+        let d1 = n * cs + b * sn;
+        Ok(MaterialFrame { d1, d2: t.cross(&d1), d3: t })
     }
 }
 

@@ -96,6 +96,19 @@ pub trait FrameKinematics {
     fn material_angle(s: &LocalState, state: &FrameState, reference: &Vector3<f64>, delta: f64) -> crate::error::Result<MaterialAngle>;
     /// How a clamp at this local state holds the cross-section.
     fn hold_cross_section(s: &LocalState, delta: f64) -> HoldCrossSection;
+    /// The material frame (d1, d2, d3) at a local state: d3 the unit
+    /// tangent, d1 the director the bending stiffness EI1 bends about
+    /// (κ1 = κ b·d1), d2 = d3 × d1. Errors where the model leaves it
+    /// undefined.
+    fn material_frame(s: &LocalState, state: &FrameState, delta: f64) -> crate::error::Result<MaterialFrame>;
+}
+
+/// The material frame at a point: orthonormal, right-handed, d3 = tangent.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialFrame {
+    pub d1: Vector3<f64>,
+    pub d2: Vector3<f64>,
+    pub d3: Vector3<f64>,
 }
 
 impl FrameModel {
@@ -122,6 +135,11 @@ impl FrameModel {
     pub fn hold_cross_section(self, s: &LocalState, delta: f64) -> HoldCrossSection {
         match self {
             FrameModel::Frenet => frenet::Frenet::hold_cross_section(s, delta),
+        }
+    }
+    pub fn material_frame(self, s: &LocalState, state: &FrameState, delta: f64) -> crate::error::Result<MaterialFrame> {
+        match self {
+            FrameModel::Frenet => frenet::Frenet::material_frame(s, state, delta),
         }
     }
     /// Model name as used by the Python `model=` keyword.

@@ -24,7 +24,12 @@ const NAMES: [&str; 7] = [
 /// coordinates, its coefficients on the rod's raw modes of [`NAMES`]).
 type Mode = (usize, usize, DVector<f64>, [f64; 7]);
 
-pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
+/// `at_equilibrium`: the iterate is a converged equilibrium; the test is
+/// then the Newton matrix's own curvature xᵀKx along the free motion (what
+/// makes the undamped solve singular), without the second-order term that
+/// a start needs (that term would also need the constraints' curvature
+/// where linked rods turn about different axes).
+pub(crate) fn check_statically_defined(world: &World, at_equilibrium: bool) -> Result<()> {
     let layout = &world.ws.layout;
     let rods: Vec<_> = world.rods.iter().collect();
     let index: std::collections::HashMap<crate::handles::RodHandle, usize> =
@@ -42,7 +47,6 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
     // `raw` keeps them unorthogonalised, for naming.
     let mut modes: Vec<Mode> = Vec::new();
     let mut raw: Vec<Mode> = Vec::new();
-    let mut centres = Vec::with_capacity(rods.len());
     for (r, (_, rod)) in rods.iter().enumerate() {
         let d = rod.dofs();
         let nc = rod.n_ctrl();
@@ -51,7 +55,6 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
         // one point shows its free motion as a pure rotation.
         let held = pivot[r].and_then(|u| rod.position(u).ok());
         let centre = held.unwrap_or_else(|| (0..nc).fold(Vector3::zeros(), |c, i| c + point(i)) / nc as f64);
-        centres.push(centre);
         let first = modes.len();
         for m in 0..if d == 4 { 7 } else { 6 } {
             let mut v = DVector::<f64>::zeros(nc * d);
@@ -136,6 +139,9 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
     let lmax = eig.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l));
     let seen = 1e-14 * lmax;
     for j in 0..k {
+        if std::env::var_os("STRANDKIT_DEBUG").is_some() {
+            eprintln!("definedness: eigen {j} λ {:.3e} (lmax {lmax:.3e})", eig.eigenvalues[j]);
+        }
         if eig.eigenvalues[j] > seen {
             continue;
         }
@@ -153,7 +159,7 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
         world.ws.sys.band.matvec(&x, &mut y);
         // Only coordinate rows: the multiplier rows of y are L x ≈ 0.
         // The second derivative of the potential Π along the rigid motion:
-        // xᵀKx plus ∂Π/∂q · q'' (q'' = ω×(ω×(p − c)) for the rotation part;
+        // xᵀKx plus ∂Π/∂q · q'' (q'' = ω × ṗ, the screw motion's;
         // ∂Π/∂q = −B, the static right-hand side). For a symmetry of Π — a
         // spin that no load or constraint resists — it is exactly zero at
         // any configuration, equilibrium or not, where xᵀKx alone shows the
@@ -167,19 +173,56 @@ pub(crate) fn check_statically_defined(world: &World) -> Result<()> {
                 curv += x[g] * y[g];
             }
             for i in 0..rod.n_ctrl() {
-                let p = Vector3::new(rod.q[i * d], rod.q[i * d + 1], rod.q[i * d + 2]);
-                let q2 = w.cross(&w.cross(&(p - centres[r])));
+                // A screw motion ṗ = ω × p + v has p̈ = ω × ṗ: with ṗ the
+                // mode itself this holds for a rotation about the rod's
+                // own centre combined with translations (a rotation of
+                // linked rods about a common axis).
+                let xi = Vector3::from_fn(|k, _| x[layout.dof(r, i * d + k)]);
+                let q2 = w.cross(&xi);
                 for k in 0..3 {
-                    curv -= world.ws.sys.rhs[layout.dof(r, i * d + k)] * q2[k];
+                    if !at_equilibrium {
+                        curv -= world.ws.sys.rhs[layout.dof(r, i * d + k)] * q2[k];
+                    }
                 }
             }
+        }
+        if std::env::var_os("STRANDKIT_DEBUG").is_some() {
+            let xkx: f64 = (0..n).map(|g| x[g] * y[g]).sum();
+            let xkx_abs: f64 = (0..n).map(|g| (x[g] * y[g]).abs()).sum();
+            let ky: f64 = (0..n).map(|g| y[g] * y[g]).sum::<f64>().sqrt();
+            eprintln!("definedness: xKx {xkx:.4e} Σ|x∘Kx| {xkx_abs:.4e} |Kx| {ky:.4e} curv {curv:.4e} modes {a:?}");
         }
         // Round-off leaves |mᵀKm| ~ 1e-14 kscale on a free mode (kscale is
         // the axial diagonal EA/Δs); real holding stiffness — the bending
         // of a curved rod, or the geometric stiffness of a rod stressed by
         // its load, e.g. a clamped wire bent by its weight held against a
         // rigid spin about the clamp axis — is far above 1e-12 kscale.
-        if !(curv > 1e-12 * kscale) {
+        if std::env::var_os("STRANDKIT_DEBUG").is_some() {
+            eprintln!("definedness: mode {j} λ {:.3e} (lmax {lmax:.3e}) curv {curv:.3e} kscale {kscale:.3e}", eig.eigenvalues[j]);
+        }
+        // At an equilibrium the motion is measured per unit rotation rate
+        // (or per unit translation over the longest rod) against the
+        // bending scale EI/L: a load's geometric stiffness (a clamped wire
+        // sagging under its weight and spun about the clamp axis: ~1e-5
+        // EI/L) does not shrink with refinement, while the round-off of a
+        // symmetry (a clamped ring spinning about its clamp tangent:
+        // ~1e-11 EI/L at 40 control points) is far below 1e-9.
+        let held = if at_equilibrium {
+            let longest = rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
+            let rate = a.iter().fold(0.0f64, |m, c| {
+                let w = (c[3] * c[3] + c[4] * c[4] + c[5] * c[5]).sqrt();
+                let t = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt() / longest;
+                m.max(w).max(t).max(c[6].abs())
+            });
+            let bend = rods
+                .iter()
+                .map(|(_, r)| r.cache().samples.iter().map(|s| s.consts.ei1.max(s.consts.ei2)).fold(0.0, f64::max) / r.rest_length())
+                .fold(0.0, f64::max);
+            rate > 0.0 && curv / (rate * rate) > 1e-9 * bend
+        } else {
+            curv > 1e-12 * kscale
+        };
+        if !held {
             // Name a single rigid mode that is free by itself if there is
             // one, else the dominant component of the free motion.
             let alone = raw.iter().enumerate().find(|(m, (_, _, v, _))| {

@@ -239,7 +239,7 @@ fn static_frame(world: &mut World, dt: f64, fraction: f64, cap: Option<f64>) -> 
     super::beads::static_load(world);
     assemble(world, Regime::Statics { bead_unknowns: false })?;
     definedness::check_anchored(world)?;
-    definedness::check_statically_defined(world)?;
+    definedness::check_statically_defined(world, false)?;
     solve::solve(world)?;
     let full = world.ws.layout.cp_index.iter().zip(world.rods.iter()).fold(0.0f64, |m, (cps, (_, rod))| {
         cps.iter().fold(m, |m, &g| (0..3.min(rod.dofs())).fold(m, |m, a| m.max(world.ws.sys.sol[g + a].abs())))

@@ -211,15 +211,19 @@ fn divergence(world: &World, budget: f64, growth: &mut crate::world::Growth) -> 
         }
     }
     let ratio = after / (budget + floor);
-    // The growth is a leaky product: a dissipating step ends the run and
-    // takes back what it dissipates, never below 1, so a blow-up that
-    // alternates growth and partial dissipation still adds up.
+    // The growth is a leaky product: a dissipating step takes back what it
+    // dissipates, never below 1, and the run ends only when the factor is
+    // back to 1 — so a blow-up that alternates growth and partial
+    // dissipation still adds up. One overshoot (a run of one step) may pass
+    // up to factor², a longer run up to factor.
     if ratio.is_finite() && ratio <= 1.0 + 1e-9 {
-        *growth = crate::world::Growth { steps: 0, factor: (growth.factor * ratio).max(1.0) };
+        let f = (growth.factor * ratio).max(1.0);
+        *growth = crate::world::Growth { steps: if f > 1.0 { growth.steps } else { 0 }, factor: f };
         return None;
     }
     let run = crate::world::Growth { steps: growth.steps + 1, factor: growth.factor.max(1.0) * ratio };
-    if ratio.is_finite() && (run.steps < 2 || run.factor <= factor) {
+    let limit = if run.steps < 2 { factor * factor } else { factor };
+    if ratio.is_finite() && run.factor <= limit {
         *growth = run;
         return None;
     }
@@ -228,7 +232,7 @@ fn divergence(world: &World, budget: f64, growth: &mut crate::world::Growth) -> 
         rod: worst.map(|w| w.0),
         factor: run.factor,
         detail: format!(
-            "{} consecutive steps have created energy, {:.3e} times what the loads and constraints put in (divergence_factor = {factor}); this one would bring the elastic + kinetic energy to {after:.3e}; the world is unchanged (reduce dt, or World(adaptive_dt=True))",
+            "{} steps have created energy (with partial dissipation between), {:.3e} times what the loads and constraints put in (divergence_factor = {factor}); this one would bring the elastic + kinetic energy to {after:.3e}; the world is unchanged (reduce dt, or World(adaptive_dt=True))",
             run.steps, run.factor
         ),
     })

@@ -22,17 +22,29 @@ use crate::world::{Event, World};
 /// clip event or a rupture ends the solve with its events.
 pub fn relax(world: &mut World) -> Result<RelaxReport> {
     world.params.validate()?;
-    let tol = world.params.relax_tolerance;
     if world.rods.is_empty() {
         return Ok(RelaxReport::default()); // nothing to move
     }
+    // A refused or unconverged relax leaves the world as it was (positions,
+    // velocities, constraint kinds, beads, plastic state). The copy costs
+    // less than one iteration's factorisation.
+    let before = world.clone();
+    let out = relax_from(world);
+    if out.is_err() {
+        *world = before;
+    }
+    out
+}
+
+fn relax_from(world: &mut World) -> Result<RelaxReport> {
+    let tol = world.params.relax_tolerance;
     let length = world.rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
     beads::static_load(world);
     // Statically defined? (rigid-body modes not held by constraints nor by
     // stiffness.) Checked before anything changes, so a refusal leaves the
     // world as it was.
     assemble(world, Regime::Statics { bead_unknowns: false })?;
-    definedness::check_statically_defined(world)?;
+    definedness::check_statically_defined(world, false)?;
     for (_, r) in world.rods.iter_mut() {
         r.state_mut().1.iter_mut().for_each(|v| *v = 0.0);
     }
@@ -56,6 +68,13 @@ pub fn relax(world: &mut World) -> Result<RelaxReport> {
         let solved = match solved {
             Ok(s) => s,
             Err(e) => {
+                // A singular Newton system once the constraints are met and
+                // the iterate stands still: a free rigid mode that the
+                // start's violation hid from the first check (a clamped ring
+                // spinning about its clamp tangent). Name it.
+                if newton && violation <= tol * length && report.increment <= tol * length && report.iterations > 1 {
+                    free_mode_check(world)?;
+                }
                 if lambda < 1e6 {
                     lambda = (lambda * 4.0).max(1e-6); // singular K: damp more
                     report.rejected += 1;
@@ -118,6 +137,12 @@ pub fn relax(world: &mut World) -> Result<RelaxReport> {
         report.increment = dx;
         report.violation = violation;
         if newton && dx <= tol * length && dth <= tol && violation <= tol * length && dbead <= tol * 1e3 {
+            // The same rigid-mode check as at the start, now that the
+            // constraints are met: a mode the start's violation made look
+            // weakly held is named instead of returned as an equilibrium
+            // that any spin of it also is.
+            free_mode_check(world)?;
+            assemble(world, statics)?;
             let mut events: Vec<Event> = Vec::new();
             let inelastic = post_solve::run(world, None, &mut events)?;
             let topology_changed = !events.is_empty();
@@ -153,6 +178,12 @@ pub fn relax(world: &mut World) -> Result<RelaxReport> {
         report.violation.max(report.increment),
         format!("relax: last increment {:.3e}, violation {:.3e}", report.increment, report.violation),
     ))
+}
+
+/// The start's statically-defined check at the current iterate.
+fn free_mode_check(world: &mut World) -> Result<()> {
+    assemble(world, Regime::Statics { bead_unknowns: false })?;
+    definedness::check_statically_defined(world, true)
 }
 
 /// Unstable directions of the last assembled static system (the undamped

@@ -11,6 +11,7 @@ mod plastic;
 mod poisson;
 mod samples;
 mod split;
+pub mod topology;
 
 pub use assemble::SegBlock;
 pub use build::{RodBuilder, RodShape};
@@ -18,7 +19,7 @@ pub use plastic::{PlasticUpdate, RuptureSite, StrainMode};
 pub use split::Cut;
 pub(crate) use samples::Cache;
 
-use crate::energy::{self, invariants::LocalState, EnergyTerms, FrameModel, FrameState, HoldCrossSection, MaterialAngle, Strains};
+use crate::energy::{self, invariants::LocalState, EnergyTerms, FrameModel, FrameState, HoldCrossSection, MaterialAngle, MaterialFrame, Strains};
 use crate::error::{Error, Result};
 use crate::material::Material;
 use crate::section::Section;
@@ -84,6 +85,9 @@ pub struct Rod {
     /// model keeps none (Frenet).
     #[serde(default)]
     pub(crate) frames: Vec<FrameState>,
+    /// Excess link ΔLk (turns) imposed on a ring ([`Rod::set_excess_link`]).
+    #[serde(default)]
+    pub(crate) excess_link: f64,
     #[serde(skip)]
     pub(crate) cache: Cache,
 }
@@ -151,6 +155,7 @@ impl Rod {
             plastic: Vec::new(),
             frames: Vec::new(),
             rest_sections: Vec::new(),
+            excess_link: 0.0,
             cache: Cache::default(),
         };
         rod.prepare()?;
@@ -209,6 +214,16 @@ impl Rod {
         self.opts.model.material_angle(&s, self.frame_state(self.nearest_sample(u)), reference, delta)
     }
 
+    /// The material frame (d1, d2, d3) at abscissa u, as the frame model
+    /// defines it ([`crate::energy::FrameKinematics::material_frame`]).
+    pub fn material_frame(&self, u: f64) -> Result<MaterialFrame> {
+        let (ctrl, b) = self.basis_at(u)?;
+        let s = samples::local_state(&self.q, self.dofs, &ctrl, &b);
+        let s0 = samples::local_state(&self.q_rest, self.dofs, &ctrl, &b);
+        let delta = self.curvature_threshold() * s0.r1.norm().powi(3);
+        self.opts.model.material_frame(&s, self.frame_state(self.nearest_sample(u)), delta)
+    }
+
     /// How a clamp at u holds the cross-section, as the frame model says.
     pub fn hold_cross_section(&self, u: f64) -> Result<HoldCrossSection> {
         let (ctrl, b) = self.basis_at(u)?;
@@ -252,6 +267,10 @@ impl Rod {
         self.material.validate()?;
         crate::error::non_negative("curvature_threshold", self.opts.curvature_threshold)?;
         crate::error::non_negative("drag coefficient", self.opts.drag)?;
+        crate::error::finite("excess link", self.excess_link)?;
+        if self.excess_link != 0.0 && (self.dofs != 4 || self.knots.kind() != crate::spline::KnotKind::Periodic) {
+            return Err(Error::invalid("excess link", self.excess_link, "0 unless the rod is a ring with roll coordinate"));
+        }
         if !(1..=8).contains(&self.opts.samples_per_segment) {
             return Err(Error::invalid("samples_per_segment", self.opts.samples_per_segment, "in 1..=8"));
         }

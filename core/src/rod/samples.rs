@@ -134,7 +134,8 @@ impl Cache {
             let delta_bend = if c0 > 1e-8 * delta { delta.min(0.5 * c0) } else { delta };
             let mut consts = SampleConsts { speed0, delta, delta_bend, ..Default::default() };
             set_stiffness(&mut consts, &p, e, g);
-            let rest = [k1, k2, om];
+            // An imposed excess link lowers the rest twist uniformly (topology.rs).
+            let rest = [k1, k2, om - rod.link_twist_shift(c.rest_length)];
             set_plastic(&mut consts, &rest, &rod.plastic.get(idx).copied().unwrap_or_default());
             let mu = rho * p.area;
             let rho_i0 = rho * p.i0;

@@ -36,7 +36,18 @@ impl Rod {
         if self.knots.kind() == KnotKind::Periodic {
             let (k, c) = open_ring_at(&self.knots, &packed, u)?;
             let map = |s: f64| self.knots.wrap(s + u);
-            let rod = self.piece(k, &c, map, &old_u, &old_p)?;
+            let mut rod = self.piece(k, &c, map, &old_u, &old_p)?;
+            if self.excess_link != 0.0 {
+                // The imposed link is a rest-twist shift of the ring (the
+                // Frenet model cannot wind θ around a ring); the opened rod
+                // keeps it as the same shift of its rest twist (a plastic ω
+                // offset), so the cut changes no energy. Its free ends then
+                // let θ relax the twist.
+                let shift = self.link_twist_shift(self.rest_length());
+                let mut p = rod.plastic_offsets();
+                p.iter_mut().for_each(|x| x.omega -= shift);
+                rod.set_plastic_offsets(&p)?;
+            }
             return Ok(Cut::Opened(Box::new(rod)));
         }
         let [(kl, cl), (kr, cr)] = split_at(&self.knots, &packed, u)?;

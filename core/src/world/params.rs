@@ -29,11 +29,12 @@ pub struct IntegrationParameters {
     pub linear_solver: LinearSolver,
     /// Divergence guard of dynamic steps. Implicit Euler never creates
     /// energy; a step that ends with more elastic + kinetic energy than it
-    /// began with plus the work of the loads and constraints extends a run
-    /// of such steps, and a step is refused as `Diverged` (the world
-    /// unchanged) when a run of two or more multiplies the energy by more
-    /// than this factor. (A single overshoot — a linearised step with a
-    /// large dt — is allowed: the next steps dissipate it.) `inf` switches
+    /// began with plus the work of the loads and constraints multiplies a
+    /// running growth factor, which dissipating steps bring back toward 1
+    /// (never below). A step is refused as `Diverged` (the world unchanged)
+    /// when that factor exceeds this value after two or more growing steps,
+    /// or its square after one (a single overshoot of a linearised step
+    /// with a large dt passes: the next steps dissipate it). `inf` switches
     /// the guard off. Dimensionless, > 1.
     #[serde(default = "default_divergence_factor")]
     pub divergence_factor: f64,
