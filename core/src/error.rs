@@ -62,7 +62,7 @@ pub enum Error {
     /// A linear system that cannot be solved (zero pivot, rigid-body mode,
     /// contradictory constraints): the unknown where it failed, if known, and
     /// the constraints involved.
-    #[error("singular system: {detail}{}", unknown_suffix(unknown))]
+    #[error("singular system: {detail}{}{}", unknown_suffix(unknown), constraints_suffix(constraints))]
     Singular { unknown: Option<Unknown>, constraints: Vec<ConstraintHandle>, detail: String },
     /// An iterative solve that did not reach its tolerance.
     #[error("no convergence after {iterations} iterations (residual {residual:.3e}): {detail}")]
@@ -89,6 +89,14 @@ fn input_message(what: &str, value: &str, expected: &str) -> String {
 
 fn unknown_suffix(u: &Option<Unknown>) -> String {
     u.as_ref().map_or(String::new(), |u| format!(": unknown is {u}"))
+}
+
+fn constraints_suffix(c: &[ConstraintHandle]) -> String {
+    if c.is_empty() {
+        return String::new();
+    }
+    let ids: Vec<String> = c.iter().map(|h| h.index.to_string()).collect();
+    format!(" (constraints involved: {})", ids.join(", "))
 }
 
 fn rod_suffix(r: &Option<RodHandle>) -> String {

@@ -361,6 +361,8 @@ class Rod:
     """Elastic + kinetic energy (energy unit)."""
     def eval(self, u, derivative=0):
         """The `derivative`-th u-derivative of (x, y, z[, θ]) at u: shape (dofs,) or (m, dofs)."""
+    excess_link: Any
+    """Excess link ΔLk (turns) imposed on a closed rod with roll: its material frame turns ΔLk more times around the ring than at rest (a DNA minicircle's ΔLk); the twist stiffness GJ acts on ω − (ω⁰ − 2π ΔLk / L)."""
     def frames(self, u=None, *, n=None, reference=None):
         """Rotation-minimising frames (double reflection, Wang et al."""
     handle: Any
@@ -373,9 +375,13 @@ class Rod:
     """Knot vector kind: "uniform", "clamped", "periodic" or "general"."""
     label: Any
     """Its label in the world's groups (e.g."""
+    def link(self):
+        """Link Lk = Tw + Wr of a closed rod (turns; Călugăreanu–White–Fuller)."""
     mass: Any
     """Total mass (mass unit)."""
     material: Any
+    def material_frame(self, u=None, *, s=None):
+        """The material frame at abscissa `u` — or at rest arc length `s` (length unit), not both: an array (3, 3) whose rows are d1, d2, d3 (d3 the unit tangent; κ1 = κ b·d1 is the curvature about d1), or (m, 3, 3) for an array of abscissae."""
     def mesh(self, *, rings_per_segment=6, points_per_ring=12, radius_scale=1.0, caps=True):
         """Tube mesh (generalised cylinder): (vertices (N,3), normals (N,3), triangles (T,3) int)."""
     model: Any
@@ -410,6 +416,8 @@ class Rod:
         """Unit tangent at u: shape (3,) or (m, 3)."""
     def to_json(self):
         """The rod as JSON (serde; floats round-trip exactly)."""
+    def twist(self):
+        """Twist Tw of a closed rod (turns): (1/2π)∮τ ds with the exact Frenet torsion, plus the imposed excess link."""
     def u_at_arc_length(self, s):
         """The abscissa u at rest arc length s (length unit, 0 ≤ s ≤ rest_length): a material coordinate that deformation does not move, e.g."""
     u_end: Any
@@ -422,6 +430,8 @@ class Rod:
     """Velocities of the control points, same shape as `control_points` (length/time, rad/time)."""
     world: Any
     """The world holding this rod, or None."""
+    def writhe(self):
+        """Writhe Wr of a closed rod's centreline (turns), the Gauss double integral (cost: the square of 8 points per segment)."""
 
 @final
 class Section:

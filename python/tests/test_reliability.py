@@ -141,3 +141,92 @@ def test_arc_length_coordinates():
     assert isinstance(rod.u_at_arc_length(0.5), float)
     with pytest.raises(sk.InvalidInputError, match="arc length"):
         rod.u_at_arc_length(2.0)
+
+
+def _squashed_ring(solver, hold):
+    """repro_relax_spin_mode.py: a straight rod bent into a (squashed)
+    circle, closed by relative position + orientation and clamped."""
+    rad = L / (2 * np.pi)
+    mat = sk.Material("m", young=1 / (np.pi * R**4 / 4), poisson=0.3, density=1.0)
+    circ = sk.curve(lambda s: (rad * np.sin(s / rad), 1.15 * rad * (1 - np.cos(s / rad)), 0.0), L, section=R,
+                    material=mat, n_control_points=40, with_roll=False)
+    rod = sk.straight((0, 0, 0), (L, 0, 0), section=R, material=mat, n_control_points=40, with_roll=False)
+    rod.control_points = circ.control_points
+    w = sk.World(relax_max_iterations=2000)
+    w.set_params(linear_solver=solver)
+    rod = w.add_rod(rod)
+    u0, u1 = rod.domain
+    w.add_link(rod, rod, sk.relative_position(u0, u1))
+    w.add_link(rod, rod, sk.relative_orientation(u0, u1))
+    sk.clamp(w, rod)
+    if hold:
+        w.add_constraint(rod, sk.plane(0.5 * (u0 + u1), (0, 0, 0), (0, 0, 1)))
+    return w, rod
+
+
+@pytest.mark.parametrize("solver", ["Auto", "Band", "Sparse"])
+def test_relax_names_a_free_spin_on_every_solver(solver):
+    """The ring's spin about the clamp tangent is free (hidden at the start
+    by the squashed shape's violation): every solver names it, and the
+    world is left as it was; held by a plane, it relaxes to 2π² EI/L."""
+    w, rod = _squashed_ring(solver, hold=False)
+    q = rod.control_points.copy()
+    with pytest.raises(sk.SingularError, match="rotation about x is held by no constraint"):
+        w.relax()
+    assert np.array_equal(rod.control_points, q)
+    w, rod = _squashed_ring(solver, hold=True)
+    rep = w.relax()
+    assert rep.iterations < 50
+    assert rod.elastic_energy == pytest.approx(2 * np.pi**2, rel=5e-4)
+
+
+def test_material_frame_at_u_and_s():
+    """The Frenet model's material frame of a helix (roll 0): d3 = tangent,
+    d1 = principal normal (pointing to the axis), d2 = binormal; rows of a
+    (3, 3) array, (m, 3, 3) for arrays; by abscissa or by rest arc length."""
+    a, pitch = 0.1, 0.05
+    rod = sk.helix(a, pitch, 2.0, section=0.005, material="nylon", n_control_points=60)
+    s = np.linspace(0.1, 0.9, 5) * rod.rest_length
+    f = rod.material_frame(s=s)
+    assert f.shape == (5, 3, 3)
+    np.testing.assert_allclose(np.einsum("mij,mkj->mik", f, f), np.broadcast_to(np.eye(3), (5, 3, 3)), atol=1e-14)
+    u = rod.u_at_arc_length(s)
+    np.testing.assert_allclose(rod.material_frame(u), f, atol=1e-15)
+    np.testing.assert_allclose(f[:, 2], rod.tangent(u), atol=1e-14)
+    p = rod.position(u)
+    to_axis = -p[:, :2] / np.linalg.norm(p[:, :2], axis=1)[:, None]
+    np.testing.assert_allclose(f[:, 0, :2], to_axis, atol=1e-4)
+    assert rod.material_frame(u[0]).shape == (3, 3)
+    with pytest.raises(sk.InvalidInputError, match="exactly one"):
+        rod.material_frame(u[0], s=0.1)
+    straight = sk.straight((0, 0, 0), (1, 0, 0), section=0.005, material="nylon")
+    with pytest.raises(sk.SingularError, match="straight"):
+        straight.material_frame(0.5 * sum(straight.domain))
+
+
+def test_excess_link_on_a_ring():
+    """An imposed excess link ΔLk on a circular ring with roll: twist ΔLk,
+    writhe 0, link ΔLk, twist energy ½ GJ (2π ΔLk / L)² L; kept by a
+    snapshot; refused on open rods and rings without roll."""
+    rad = L / (2 * np.pi)
+    mat = sk.Material("m", young=1 / (np.pi * R**4 / 4), poisson=NU, density=1.0)  # EI = 1, GJ = 1/(1+ν)
+    ring = lambda **kw: sk.curve(lambda s: (rad * np.cos(s / rad), rad * np.sin(s / rad), 0.0), L, section=R,  # noqa: E731
+                                 material=mat, n_control_points=40, knots="periodic", **kw)
+    rod = ring()
+    rod.excess_link = 1.5
+    gj, ls = 1 / (1 + NU), rod.rest_length  # the spline ring's length (L to 1e-6)
+    assert rod.elastic_energy == pytest.approx(0.5 * gj * (2 * np.pi * 1.5 / ls) ** 2 * ls, rel=1e-12)
+    assert rod.twist() == pytest.approx(1.5, abs=1e-12)
+    assert abs(rod.writhe()) < 1e-12
+    assert rod.link() == pytest.approx(1.5, abs=1e-12)
+    w = sk.World()
+    h = w.add_rod(rod)
+    back = sk.World.from_json(w.to_json())
+    assert back.rods()[0].excess_link == 1.5
+    with pytest.raises(sk.InvalidInputError, match="closed rod"):
+        sk.straight((0, 0, 0), (1, 0, 0), section=R, material=mat).excess_link = 1.0
+    with pytest.raises(sk.InvalidInputError, match="roll"):
+        ring(with_roll=False).excess_link = 1.0
+    with pytest.raises(sk.InvalidInputError):
+        h.excess_link = float("nan")
+    assert h.excess_link == 1.5

@@ -139,9 +139,6 @@ pub(crate) fn check_statically_defined(world: &World, at_equilibrium: bool) -> R
     let lmax = eig.eigenvalues.iter().fold(0.0f64, |m, &l| m.max(l));
     let seen = 1e-14 * lmax;
     for j in 0..k {
-        if std::env::var_os("STRANDKIT_DEBUG").is_some() {
-            eprintln!("definedness: eigen {j} λ {:.3e} (lmax {lmax:.3e})", eig.eigenvalues[j]);
-        }
         if eig.eigenvalues[j] > seen {
             continue;
         }

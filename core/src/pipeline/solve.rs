@@ -46,7 +46,49 @@ fn describe(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], contact_ids: 
 pub(crate) fn solve(world: &mut World) -> Result<Solved> {
     let ws = &mut world.ws;
     let (layout, rod_ids, con_ids, contact_ids) = (&ws.layout, &ws.rod_ids, &ws.con_ids, &ws.contact_ids);
-    ws.sys.solve(layout, world.params.linear_solver, |g| describe(layout, rod_ids, con_ids, contact_ids, g))
+    let out = ws.sys.solve(layout, world.params.linear_solver, |g| describe(layout, rod_ids, con_ids, contact_ids, g));
+    match out {
+        Err(Error::Singular { unknown, mut constraints, detail }) => {
+            if let Some(u) = &unknown {
+                involved(world, u, &mut constraints);
+            }
+            Err(Error::Singular { unknown, constraints, detail })
+        }
+        other => other,
+    }
+}
+
+/// The constraints involved in a singular system at `unknown`: those whose
+/// rows act on the coordinates it touches (a multiplier: its constraint's
+/// coordinates; a coordinate: itself). Dependent or contradictory rows
+/// share coordinates, so the culprits are among them.
+fn involved(world: &World, unknown: &Unknown, out: &mut Vec<crate::handles::ConstraintHandle>) {
+    let ws = &world.ws;
+    let (layout, a) = (&ws.layout, &ws.sys.band);
+    let n = layout.n;
+    let bw = layout.bandwidth;
+    let is_coord = |g: usize| layout.cp_index.iter().zip(&layout.dofs).any(|(cps, &d)| cps.iter().any(|&s| g >= s && g < s + d));
+    let rows_of = |c: usize| layout.row_index[c]..layout.row_index[c] + layout.row_count[c];
+    let columns = |i: usize| (i.saturating_sub(bw)..(i + bw + 1).min(n)).filter(move |&j| a.get(i, j) != 0.0);
+    let mut cols: Vec<usize> = match unknown {
+        Unknown::Multiplier { constraint, .. } => match ws.con_ids.iter().position(|&h| crate::handles::ConstraintHandle::from(h) == *constraint) {
+            Some(c) => rows_of(c).flat_map(columns).filter(|&j| is_coord(j)).collect(),
+            None => return,
+        },
+        Unknown::Coordinate { rod, ctrl, axis } => match ws.rod_ids.iter().position(|&h| crate::handles::RodHandle::from(h) == *rod) {
+            Some(r) => vec![layout.cp_index[r][*ctrl] + axis],
+            None => return,
+        },
+        _ => return,
+    };
+    cols.sort_unstable();
+    cols.dedup();
+    for (c, &h) in ws.con_ids.iter().enumerate() {
+        let h = crate::handles::ConstraintHandle::from(h);
+        if !out.contains(&h) && rows_of(c).any(|i| columns(i).any(|j| cols.binary_search(&j).is_ok())) {
+            out.push(h);
+        }
+    }
 }
 
 /// Assembles and solves for `regime`, settling the contact active set: a

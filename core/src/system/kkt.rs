@@ -409,7 +409,14 @@ impl KktSystem {
                 }
             }
             LinearSolver::BandLu => push(BandLu),
-            LinearSolver::Sparse => push(Sparse),
+            LinearSolver::Sparse => {
+                push(Sparse);
+                // Before a failure is called singular, the band LU (exact
+                // zero-pivot test, names the dependent row) where it fits.
+                if band_ok {
+                    push(BandLu);
+                }
+            }
         }
         (c, k)
     }
@@ -439,7 +446,19 @@ impl KktSystem {
                 }
                 Err(e) => {
                     fallbacks += 1;
-                    last = Some(e);
+                    // The most informative diagnosis is reported: a zero
+                    // pivot at a constraint row, then at another unknown
+                    // (the first such), then an overflow (the entries are
+                    // beyond range), then any other verdict (the latest).
+                    let rank = |e: &Error| match e {
+                        Error::Singular { unknown: Some(crate::error::Unknown::Multiplier { .. }), .. } => 4,
+                        Error::Singular { unknown: Some(_), .. } => 3,
+                        Error::NonFinite { .. } => 2,
+                        _ => 1,
+                    };
+                    if last.as_ref().is_none_or(|l| rank(&e) > rank(l) || (rank(&e) == rank(l) && rank(l) < 3)) {
+                        last = Some(e);
+                    }
                 }
             }
         }
@@ -472,6 +491,16 @@ impl KktSystem {
             // The factorisation passed its pivot checks: the magnitudes
             // overflowed (loads or steps beyond the floating-point range).
             let unknown = describe(x);
+            // With moderate entries a non-finite solution is a singular
+            // system that slipped past the pivot checks.
+            let big = |v: f64| !(v.abs() < 1e100);
+            if !self.rhs.iter().any(|&b| big(b)) && !(0..layout.n).any(|i| big(self.band.get(i, i))) {
+                return Err(Error::Singular {
+                    unknown: Some(unknown),
+                    constraints: Vec::new(),
+                    detail: format!("{f:?}: the solution is not finite though the system's entries are moderate: contradictory or dependent constraints, or a free motion"),
+                });
+            }
             let rod = match unknown {
                 crate::error::Unknown::Coordinate { rod, .. } => Some(rod),
                 _ => None,
