@@ -1,6 +1,16 @@
 //! Structure builders on top of strandkit-core (SPEC §9): each builder is a
-//! pure function from parameters (with units) to an
+//! pure function from parameters (SI units) to an
 //! [`strandkit_core::Assembly`], inserted into a world with
-//! `World::insert`. The rope bridge, necklace, spring, cable, DNA and knit
-//! builders are the open issues that follow the engine seams.
+//! `World::insert`; experiments are separate functions.
+//!
+//! - [`rope_bridge`]: floor ropes, handrails, planks, verticals (§9.2).
+//! - [`rope::Rope`]: a rope given by linear density, EA and EI.
+//! - [`curves`]: catenary and loaded-cable shapes (initial shapes and the
+//!   closed forms of the tests).
+pub mod curves;
+pub mod rope;
+pub mod rope_bridge;
+
+pub use rope::Rope;
+pub use rope_bridge::{rope_bridge, BridgeLayout, PlankModel, RopeBridge};
 pub use strandkit_core::Assembly;

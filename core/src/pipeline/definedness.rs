@@ -197,25 +197,36 @@ pub(crate) fn check_statically_defined(world: &World, at_equilibrium: bool) -> R
         if std::env::var_os("STRANDKIT_DEBUG").is_some() {
             eprintln!("definedness: mode {j} λ {:.3e} (lmax {lmax:.3e}) curv {curv:.3e} kscale {kscale:.3e}", eig.eigenvalues[j]);
         }
-        // At an equilibrium the motion is measured per unit rotation rate
-        // (or per unit translation over the longest rod) against the
-        // bending scale EI/L: a load's geometric stiffness (a clamped wire
-        // sagging under its weight and spun about the clamp axis: ~1e-5
-        // EI/L) does not shrink with refinement, while the round-off of a
-        // symmetry (a clamped ring spinning about its clamp tangent:
-        // ~1e-11 EI/L at 40 control points) is far below 1e-9.
-        let held = if at_equilibrium {
-            let longest = rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
-            let rate = a.iter().fold(0.0f64, |m, c| {
-                let w = (c[3] * c[3] + c[4] * c[4] + c[5] * c[5]).sqrt();
-                let t = (c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt() / longest;
-                m.max(w).max(t).max(c[6].abs())
-            });
-            let bend = rods
-                .iter()
-                .map(|(_, r)| r.cache().samples.iter().map(|s| s.consts.ei1.max(s.consts.ei2)).fold(0.0, f64::max) / r.rest_length())
-                .fold(0.0, f64::max);
-            rate > 0.0 && curv / (rate * rate) > 1e-9 * bend
+        // A motion that turns rods is judged physically: its curvature per
+        // unit displacement² (x has unit norm) against the bending scale
+        // EI/L³ of the rods that move, weighted by their share of |x|². A
+        // load's geometric stiffness (a clamped wire sagging under its
+        // weight spun about the clamp axis: ~1e-2 EI/L³; a rope swinging
+        // beside stiff planks; a plank bent by its weight turned about its
+        // pins) does not vanish with refinement, while the round-off of a
+        // symmetry (a clamped ring spinning about its clamp tangent: ~1e-11
+        // EI/L³ at 40 control points) is far below 1e-9. A translation (or
+        // roll) is held only by a force field's stiffness, judged against
+        // the round-off of the stiffest diagonal (1e-12 kscale).
+        let longest = rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
+        let (mut turn, mut other) = (0.0f64, 0.0f64);
+        for c in &a {
+            turn = turn.max((c[3] * c[3] + c[4] * c[4] + c[5] * c[5]).sqrt());
+            other = other.max((c[0] * c[0] + c[1] * c[1] + c[2] * c[2]).sqrt() / longest).max(c[6].abs());
+        }
+        let held = if turn > 0.5 * other {
+            let (mut bend, mut weight) = (0.0, 0.0);
+            for (r, (_, rod)) in rods.iter().enumerate() {
+                let share: f64 = (0..rod.q.len()).map(|i| x[layout.dof(r, i)].powi(2)).sum();
+                let ei = rod.cache().samples.iter().map(|s| s.consts.ei1.max(s.consts.ei2)).fold(0.0, f64::max);
+                bend += share * ei / rod.rest_length().powi(3);
+                weight += share;
+            }
+            let bend = if weight > 0.0 { bend / weight } else { 0.0 };
+            if std::env::var_os("STRANDKIT_DEBUG").is_some() {
+                eprintln!("definedness: turning motion, curvature {curv:.3e} vs 1e-9 EI/L³ {:.3e} (equilibrium {at_equilibrium})", 1e-9 * bend);
+            }
+            curv > 1e-9 * bend
         } else {
             curv > 1e-12 * kscale
         };

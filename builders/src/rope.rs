@@ -1,0 +1,79 @@
+//! A rope as a rod: given by what a rope is measured by — linear density,
+//! axial stiffness EA and bending stiffness EI — rather than by a solid
+//! section (a fibre rope bends far more easily than a solid rod of its
+//! diameter). The rod gets the circular section and material that give
+//! exactly these three numbers: r = 2√(EI/EA), E = EA/(πr²), ρ = μ/(πr²).
+use nalgebra::Vector3;
+use strandkit_core::error::{positive, size};
+use strandkit_core::{Error, Material, Result, Rod, RodBuilder, Section};
+
+/// Largest number of control points a builder gives one rope.
+pub const MAX_ROPE_CONTROL_POINTS: usize = 100_000;
+
+/// A rope's mechanical properties (SI).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Rope {
+    /// Mass per length (kg/m).
+    pub linear_density: f64,
+    /// Axial stiffness EA (N).
+    pub axial_stiffness: f64,
+    /// Bending stiffness EI (N·m²).
+    pub bending_stiffness: f64,
+}
+
+impl Default for Rope {
+    /// A 20 mm polyamide rope: 0.25 kg/m, EA = 2e5 N, EI = 0.05 N·m².
+    fn default() -> Self {
+        Rope { linear_density: 0.25, axial_stiffness: 2e5, bending_stiffness: 0.05 }
+    }
+}
+
+impl Rope {
+    pub fn validate(&self, what: &str) -> Result<()> {
+        positive(&format!("{what} linear_density"), self.linear_density)?;
+        positive(&format!("{what} axial_stiffness"), self.axial_stiffness)?;
+        positive(&format!("{what} bending_stiffness"), self.bending_stiffness)?;
+        Ok(())
+    }
+
+    /// The equivalent circular section's radius (m).
+    pub fn radius(&self) -> f64 {
+        2.0 * (self.bending_stiffness / self.axial_stiffness).sqrt()
+    }
+
+    /// A rope of rest length `length` (straight at rest, no roll), with `n`
+    /// control points placed along `shape(σ)` — the point of material arc
+    /// length σ ∈ [0, length] in the initial configuration.
+    pub fn rod(&self, what: &str, length: f64, n: usize, shape: impl Fn(f64) -> Vector3<f64>) -> Result<Rod> {
+        self.validate(what)?;
+        positive(&format!("{what} length"), length)?;
+        size(&format!("{what} control points"), n, MAX_ROPE_CONTROL_POINTS)?;
+        if n < 4 {
+            return Err(Error::invalid(format!("{what} control points"), n, "at least 4"));
+        }
+        let r = self.radius();
+        let area = std::f64::consts::PI * r * r;
+        let material = Material::new(what, self.axial_stiffness / area, 0.3, self.linear_density / area)?;
+        let mut rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(length, 0.0, 0.0))
+            .control_points(n)
+            .with_roll(false)
+            .section(Section::circle(r)?)
+            .material(material)
+            .build()?;
+        // A straight clamped spline's control points sit at its Greville
+        // abscissae, linear in arc length: control point i carries the
+        // material point at σ_i = its rest x.
+        let rest = rod.rest_coords().to_vec();
+        let q: Vec<f64> = rest.chunks(3).flat_map(|p| {
+            let x = shape(p[0].clamp(0.0, length));
+            [x.x, x.y, x.z]
+        }).collect();
+        rod.set_coords(&q)?;
+        Ok(rod)
+    }
+
+    /// The abscissa u of material arc length σ on a rope built by [`Rope::rod`].
+    pub fn u_at(rod: &Rod, sigma: f64) -> Result<f64> {
+        rod.u_at_rest_arc_length(sigma)
+    }
+}
