@@ -10,6 +10,7 @@ use pyo3::prelude::*;
 use strandkit_core::Error;
 
 mod assembly;
+mod builders;
 mod catalogue;
 mod convert;
 mod events;
@@ -110,6 +111,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     report::register(m)?;
     groups::register(m)?;
     assembly::register(m)?;
+    builders::register(m)?;
     catalogue::register(m)?;
     quasi::register(m)?;
     io::register(m)?;

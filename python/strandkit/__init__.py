@@ -75,6 +75,7 @@ from .errors import (
 from .loads import *  # noqa: F401,F403  (one helper per load kind)
 from .recorder import Recorder
 from .trajectory import TrajectoryWriter, write_trajectory
+from . import builders  # noqa: E402  (strandkit.builders: structure builders)
 
 __version__ = _native.__version__
 

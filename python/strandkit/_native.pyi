@@ -3,10 +3,12 @@
 from typing import Any, Sequence, final
 
 __version__: str
-__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'read_dcd', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
+__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'read_dcd', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
 
 def bead_positions(world):
     """Bead positions of a world (length unit), shape (N, 3): the sample points of every rod in world order (one bead per sample point)."""
+def build_rope_bridge(*, span, n_planks, plank_mass, sag, width, handrail_height, rope=None, plank_depth, plank_thickness, plank_young, plank_model, plank_break_force=None, rope_control_points=None):
+    """Rope bridge (SPEC §9.2); see `strandkit.builders.rope_bridge`."""
 def constraint_catalogue():
     """Every constraint kind the core registers, as a list of dicts: `name` (serde tag), `helper` (Python function name), `rods` (1 or 2), `doc`, `fields` (each: `name`, `ty`, `unit`, `doc`, `default` as JSON text or None, `roll_keyword`)."""
 def curve(f, length, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):

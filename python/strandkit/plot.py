@@ -72,7 +72,7 @@ def plot_world(scene, path: str | None = None, *, size: Sequence[int] = (800, 60
                view: str | None = None, elev: float | None = None, azim: float | None = None,
                colors: Iterable | None = None, rings_per_segment: int = 4, points_per_ring: int = 16,
                radius_scale: float = 1.0, min_radius: float = 0.006, title: str | None = None,
-               show_axes: bool = True, overlay: Sequence | None = None):
+               show_axes: bool = True, overlay: Sequence | None = None, vertical_axis: str = "z"):
     """Draws a World, a Rod or a list of rods as shaded tubes; saves a PNG
     of ``size`` = (width, height) pixels to ``path`` if given; returns the
     matplotlib Figure.
@@ -82,8 +82,11 @@ def plot_world(scene, path: str | None = None, *, size: Sequence[int] = (800, 60
     have the section's bounding radius × ``radius_scale``, thickened to at
     least ``min_radius`` × the scene size so thin ropes stay visible.
     ``overlay``: list of (points (n, 3), matplotlib style dict) drawn as
-    lines or markers, e.g. a reference curve.
+    lines or markers, e.g. a reference curve. ``vertical_axis``: the data
+    axis drawn upwards in 3-D views, "z" or "y" (scenes with y up).
     """
+    if vertical_axis not in ("x", "y", "z"):
+        raise ValueError(f"vertical_axis must be 'x', 'y' or 'z', got {vertical_axis!r}")
     from matplotlib import colormaps
 
     rods = _rods(scene)
@@ -95,7 +98,11 @@ def plot_world(scene, path: str | None = None, *, size: Sequence[int] = (800, 60
         azim = a0 if azim is None else azim
         el, az = np.radians(elev), np.radians(azim)
         eye = np.array([np.cos(el) * np.cos(az), np.cos(el) * np.sin(az), np.sin(el)])
-        up = np.array([0.0, 0.0, 1.0]) if abs(eye[2]) < 0.99 else np.array([0.0, 1.0, 0.0])
+        # Matplotlib rolls the data axes so that `vertical_axis` is up.
+        shift = {"z": 0, "y": 2, "x": 1}[vertical_axis]
+        eye = np.roll(eye, -shift)
+        vert = np.roll(np.array([0.0, 0.0, 1.0]), -shift)
+        up = vert if abs(eye @ vert) < 0.99 else np.roll(np.array([0.0, 1.0, 0.0]), -shift)
         up = up - eye * eye.dot(up)
         up /= np.linalg.norm(up)
     else:
@@ -123,7 +130,7 @@ def plot_world(scene, path: str | None = None, *, size: Sequence[int] = (800, 60
         front = (np.concatenate(normals_all) @ eye > -1e-9) if normals_all else np.zeros(0, bool)
         _draw_planar(fig, faces[front], fcol[front], plane, overlay, show_axes, title)
     else:
-        _draw_3d(fig, faces, fcol, elev, azim, overlay, show_axes)
+        _draw_3d(fig, faces, fcol, elev, azim, overlay, show_axes, vertical_axis)
         if title:
             fig.suptitle(title)
     _save(fig, path)
@@ -157,11 +164,11 @@ def _draw_planar(fig, faces, fcol, plane, overlay, show_axes, title):
     fig.tight_layout()
 
 
-def _draw_3d(fig, faces, fcol, elev, azim, overlay, show_axes):
+def _draw_3d(fig, faces, fcol, elev, azim, overlay, show_axes, vertical_axis="z"):
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 
     ax = fig.add_subplot(projection="3d", computed_zorder=False)
-    ax.view_init(elev=elev, azim=azim)
+    ax.view_init(elev=elev, azim=azim, vertical_axis=vertical_axis)
     if len(faces):
         ax.add_collection3d(Poly3DCollection(faces, facecolors=fcol, edgecolors="none", linewidths=0.0,
                                              antialiased=False))

@@ -97,6 +97,10 @@ pub struct SparseLu {
     symbolic_count: usize,
     /// The regularised LDLᵀ failed its probe on this pattern: use LU until it changes.
     ldlt_rejected: bool,
+    /// The regularised LDLᵀ passed its probe on this pattern: later
+    /// factorisations skip the probe (the caller's refined solve and its
+    /// residual check still judge every solution).
+    ldlt_trusted: bool,
     sym_lu: Option<SymbolicLu<usize>>,
     num_lu: NumericLu<usize, f64>,
     sym_ldlt: Option<SymbolicCholesky<usize>>,
@@ -172,10 +176,12 @@ impl SparseLu {
         if try_ldlt {
             // A failed numeric LDLᵀ (a pivot turned NaN after a regularised
             // tiny one) is not a verdict on the matrix: the LU decides.
-            if self.factor_ldlt().is_ok() && self.probe(REFINE_LDLT, true) {
+            if self.factor_ldlt().is_ok() && (self.ldlt_trusted || self.probe(REFINE_LDLT, true)) {
+                self.ldlt_trusted = true;
                 self.active = Some(SparseFactor::Ldlt);
                 return Ok(());
             }
+            self.ldlt_trusted = false;
             self.ldlt_rejected = true;
         }
         self.factor_lu()?;
@@ -277,24 +283,34 @@ impl SparseLu {
             }
             zero_slots += p1 - p;
         }
-        // Slots zero only by symmetry are counted too: allow a stale quarter.
-        let nnz = self.row_idx.len();
-        if 4 * zero_slots <= nnz {
-            return Ok(false);
-        }
-        let mut sym_only = 0usize;
-        for p in 0..nnz {
-            if self.val[p] == 0.0 && self.val[self.mirror[p]] != 0.0 {
-                sym_only += 1;
-            }
-        }
-        Ok(4 * (zero_slots - sym_only.min(zero_slots)) > nnz)
+        // Slots that are zero now stay in the pattern: the pattern is the
+        // union of every nonzero seen on this shape (entries that vanish
+        // on symmetric configurations, e.g. x–z couplings of a planar
+        // rope, come back when it moves), so it is rebuilt only when an
+        // entry appears outside it.
+        let _ = zero_slots;
+        Ok(false)
     }
 
     /// New pattern from `a`: symmetrised nonzeros plus the diagonal.
     fn rebuild_pattern(&mut self, a: &BandMatrix) -> Result<()> {
+        if std::env::var_os("STRANDKIT_DEBUG_PATTERN").is_some() {
+            eprintln!("sparse: pattern rebuilt (valid {}, n {} vs {})", self.pattern_valid, a.n(), self.n);
+        }
         let (n, kl, ku) = (a.n(), a.kl(), a.ku());
         let w = kl.max(ku);
+        // The previous pattern of the same shape stays in (see `load`).
+        let same = self.pattern_valid && n == self.n && kl == self.kl && ku == self.ku;
+        let mut seen = vec![false; if same { n * (2 * w + 1) } else { 0 }];
+        if same {
+            for j in 0..n {
+                for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                    let i = self.row_idx[p];
+                    seen[j * (2 * w + 1) + (i + w - j)] = true;
+                }
+            }
+        }
+        let was = |i: usize, j: usize| same && seen[j * (2 * w + 1) + (i + w - j)];
         self.n = n;
         self.kl = kl;
         self.ku = ku;
@@ -309,7 +325,7 @@ impl SparseLu {
                     self.pattern_valid = false;
                     return Err(non_finite(i, j, v));
                 }
-                if i == j || v != 0.0 || a.get(j, i) != 0.0 {
+                if i == j || v != 0.0 || a.get(j, i) != 0.0 || was(i, j) {
                     self.row_idx.push(i);
                     self.val.push(v);
                 }
@@ -333,6 +349,7 @@ impl SparseLu {
         }
         self.pattern_valid = true;
         self.ldlt_rejected = false;
+        self.ldlt_trusted = false;
         self.sym_lu = None;
         // faer's numeric LU keeps the previous factor's column pointers:
         // a factor of another size must start from a fresh one.

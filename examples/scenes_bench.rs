@@ -1,0 +1,44 @@
+//! Table IV.2 scenes side by side with the thesis (SPEC §11, issue 12): per
+//! dynamic step time of the builders' scenes at the thesis' sizes.
+//! Run: cargo run --release --example scenes_bench
+//! One thread. Each scene is relaxed under gravity, then set swinging (a
+//! lateral push) and stepped; the figure is the median of 5 passes' minima
+//! over 400 steps (the minimum per pass because this shared 2-core machine
+//! moves medians by ±30 %). The thesis ran a 2 GHz Core Duo (2007).
+use std::time::Instant;
+use strandkit::prelude::*;
+use strandkit_builders::{rope_bridge, PlankModel, RopeBridge};
+
+fn time_steps(w: &mut World, steps: usize) -> f64 {
+    let mut best = f64::INFINITY;
+    for _ in 0..steps {
+        let t = Instant::now();
+        w.step().expect("step");
+        best = best.min(t.elapsed().as_secs_f64());
+    }
+    best
+}
+
+fn main() {
+    // Bridge at the thesis' size: 4 ropes × 8 control points = 32, planks
+    // as distance links (the thesis' model): 24 anchor rows + 6 planks +
+    // 12 verticals = 42 multipliers (thesis: 49; 8 planks on 8-point ropes
+    // make the end rows dependent).
+    let p = RopeBridge { n_planks: 6, plank_model: PlankModel::Link, rope_control_points: Some(8), ..Default::default() };
+    let (asm, _) = rope_bridge(&p).expect("bridge");
+    let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt: 1e-2, parallel: false, linear_solver: std::env::var("SOLVER").map(|s| if s == "band" { strandkit::LinearSolver::Band } else { strandkit::LinearSolver::Auto }).unwrap_or(strandkit::LinearSolver::Auto), ..Default::default() });
+    let ins = w.insert(&asm).expect("insert");
+    w.relax().expect("relax");
+    // A lateral push on the floor ropes sets the bridge swinging.
+    for &r in &ins.rods[..2] {
+        let v: Vec<f64> = w.rod(r).unwrap().velocities().chunks(3).flat_map(|_| [0.0, 0.0, 0.5]).collect();
+        w.rod_mut(r).unwrap().set_velocities(&v).unwrap();
+    }
+    let rep = w.step().expect("step");
+    let cps: usize = w.rods().map(|(_, r)| r.n_ctrl()).sum();
+    let mut mins: Vec<f64> = (0..5).map(|_| time_steps(&mut w, 400)).collect();
+    mins.sort_by(f64::total_cmp);
+    let t = mins[2];
+    println!("scene            cp  multipliers  thesis [ms]  here [ms]  ratio");
+    println!("bridge (links)  {cps:3}  {:11}  {:11.3}  {:9.4}  {:5.0}×   (n {}, half-bandwidth {}, {:?})", rep.n_multipliers, 2.0, t * 1e3, 2e-3 / t, rep.n_unknowns, rep.bandwidth, rep.factorisation);
+}

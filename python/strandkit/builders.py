@@ -1,0 +1,153 @@
+"""Structure builders (SPEC §9): pure functions from parameters in SI units
+to an :class:`~strandkit.Assembly`, and experiments that take a world.
+
+>>> import strandkit as sk
+>>> bridge = sk.builders.rope_bridge(span=10.0, n_planks=12)
+>>> w = sk.World(gravity=(0, -9.81, 0))
+>>> ins = w.insert(bridge.assembly)
+>>> report = w.relax()
+>>> len(w.group("plank").forces)       # two pins per plank
+24
+
+Axes: x along the span, y up, z across.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from . import _native
+
+__all__ = ["RopeBridge", "rope_bridge", "walk_across"]
+
+
+@dataclass(frozen=True)
+class RopeBridge:
+    """A built rope bridge: the assembly to insert, and where its parts are.
+
+    ``ropes``: assembly rod indices of floor[0], floor[1], handrail[0],
+    handrail[1]; ``planks``: rod index of each plank (``plank_model="body"``);
+    ``stations``: each plank's abscissa u on the ropes; ``station_x``: its
+    horizontal position in the design shape (m)."""
+
+    assembly: object
+    ropes: list
+    planks: list
+    stations: np.ndarray
+    station_x: np.ndarray
+    params: dict = field(default_factory=dict)
+
+    def __repr__(self):
+        p = self.params
+        return (f"RopeBridge(span={p['span']} m, n_planks={p['n_planks']}, plank_mass={p['plank_mass']} kg, "
+                f"sag={p['sag']} m, width={p['width']} m, handrail_height={p['handrail_height']} m, "
+                f"plank_model={p['plank_model']!r}, rods={len(self.ropes) + len(self.planks)})")
+
+
+def rope_bridge(*, span: float = 10.0, n_planks: int = 12, plank_mass: float = 4.0, sag: float = 1.0,
+                width: float = 1.0, handrail_height: float = 1.0, rope: Optional[dict] = None,
+                plank_depth: float = 0.2, plank_thickness: float = 0.03, plank_young: float = 1e10,
+                plank_model: str = "body", plank_break_force: Optional[float] = None,
+                rope_control_points: Optional[int] = None) -> RopeBridge:
+    """Rope bridge (SPEC §9.2, thesis III.C.4): two floor ropes and two
+    handrails anchored at both ends, planks held by the floor ropes,
+    verticals from handrails to floor ropes.
+
+    span: m between anchors; n_planks: planks at equal horizontal spacing
+    span/(n_planks+1); plank_mass: kg; sag: m, mid-span sag of the floor
+    ropes' design shape (their rest length is that of the funicular polygon
+    of the planks' weights with this sag, or of the catenary without
+    planks); width: m between the floor ropes (plank length);
+    handrail_height: m above the floor ropes (0: no handrails);
+    rope: {'linear_density': kg/m, 'axial_stiffness': N (EA),
+    'bending_stiffness': N·m² (EI)} (default: 20 mm polyamide rope, 0.25
+    kg/m, 2e5 N, 0.05 N·m²); plank_depth, plank_thickness: m;
+    plank_young: Pa; plank_model: "body" (a wooden rod pinned to both
+    floor ropes) or "link" (the thesis' distance constraint plus its weight
+    as point loads, m·9.81 N along −y); plank_break_force: N above which a
+    plank's pin (link) breaks; rope_control_points: per rope (default 4
+    per plank spacing, at least 8).
+
+    Labels: "floor[0|1]", "handrail[0|1]", "plank[i]" (rod and pins),
+    "vertical[i]", "anchor[k,e]" (rope k, end e). Use gravity (0, −9.81, 0).
+    """
+    params = dict(span=float(span), n_planks=int(n_planks), plank_mass=float(plank_mass), sag=float(sag),
+                  width=float(width), handrail_height=float(handrail_height), rope=rope,
+                  plank_depth=float(plank_depth), plank_thickness=float(plank_thickness),
+                  plank_young=float(plank_young), plank_model=plank_model, plank_break_force=plank_break_force,
+                  rope_control_points=rope_control_points)
+    if int(n_planks) < 0:
+        from .errors import InvalidInputError
+        raise InvalidInputError(f"invalid input: n_planks = {n_planks}, expected >= 0")
+    asm, layout = _native.build_rope_bridge(**params)
+    return RopeBridge(asm, list(layout["ropes"]), list(layout["planks"]), np.asarray(layout["stations"]),
+                      np.asarray(layout["station_x"]), params)
+
+
+def walk_across(world, bridge: RopeBridge, inserted, *, mass: float = 80.0, speed: float = 1.0,
+                dt: float = 2e-3, g: float = 9.81, record_every: int = 10, callback=None):
+    """Experiment: a walker of ``mass`` (kg) crosses the bridge at ``speed``
+    (m/s), its weight shared between the two planks it stands between
+    (linearly in x) as point loads on their middles. Steps ``world`` with
+    time step ``dt`` (s) until the walker is off the far end; a break or a
+    refused step ends the walk early.
+
+    Returns a dict of arrays sampled every ``record_every`` steps: ``time``
+    (s), ``walker_x`` (m), ``deflection`` (m, the floor's height under the
+    walker relative to the design shape, negative down), ``max_pin_force``
+    (N, the largest plank pin reaction), and ``events`` (the list of events
+    of the walk) and ``stopped`` (None, or the error that stopped it).
+    ``callback(step, world)``, if given, runs after every step (e.g. a
+    ``TrajectoryWriter.write``)."""
+    from . import point_force
+    if not bridge.planks:
+        raise ValueError("walk_across needs plank bodies (plank_model='body' and n_planks >= 1)")
+    if not (mass > 0 and speed > 0 and dt > 0):
+        raise ValueError(f"mass, speed and dt must be > 0, got {mass}, {speed}, {dt}")
+    world.set_params(dt=dt)
+    rods = inserted.rods
+    planks = [rods[i] for i in bridge.planks]
+    floor = rods[bridge.ropes[0]]
+    xs = np.asarray(bridge.station_x)
+    span, sag = bridge.params["span"], bridge.params["sag"]
+    n = len(planks)
+    mids = [0.5 * (p.domain[0] + p.domain[1]) for p in planks]
+    loads = [world.add_load(point_force(p, mids[i], (0.0, 0.0, 0.0))) for i, p in enumerate(planks)]
+    out = {k: [] for k in ("time", "walker_x", "deflection", "max_pin_force")}
+    events, stopped = [], None
+    steps = int(np.ceil(span / speed / dt))
+    try:
+        for k in range(steps + 1):
+            x = speed * k * dt
+            weights = np.zeros(n)
+            j = int(np.searchsorted(xs, x))
+            if 0 < j < n:
+                t = (x - xs[j - 1]) / (xs[j] - xs[j - 1])
+                weights[j - 1], weights[j] = 1 - t, t
+            elif j == 0 and n:
+                weights[0] = x / xs[0]
+            elif j >= n and n:
+                weights[-1] = max(0.0, (span - x) / (span - xs[-1]))
+            for i, h in enumerate(loads):
+                world.set_load(h, point_force(planks[i], mids[i], (0.0, -mass * g * weights[i], 0.0)))
+            rep = world.step()
+            events += list(rep.events)
+            if callback is not None:
+                callback(k, world)
+            if k % record_every == 0:
+                u = floor.u_at_arc_length(min(floor.rest_length, max(0.0, x / span * floor.rest_length)))
+                p = floor.position(u)
+                design = -4 * sag * p[0] * (span - p[0]) / span**2
+                forces = world.group("plank").forces
+                out["time"].append(world.time)
+                out["walker_x"].append(x)
+                out["deflection"].append(p[1] - design)
+                out["max_pin_force"].append(float(np.linalg.norm(forces, axis=1).max()) if len(forces) else 0.0)
+    except Exception as e:  # noqa: BLE001  (a refused step ends the walk; it is reported)
+        stopped = e
+    result = {k: np.asarray(v) for k, v in out.items()}
+    result["events"] = events
+    result["stopped"] = stopped
+    return result
