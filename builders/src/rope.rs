@@ -71,9 +71,4 @@ impl Rope {
         rod.set_coords(&q)?;
         Ok(rod)
     }
-
-    /// The abscissa u of material arc length σ on a rope built by [`Rope::rod`].
-    pub fn u_at(rod: &Rod, sigma: f64) -> Result<f64> {
-        rod.u_at_rest_arc_length(sigma)
-    }
 }

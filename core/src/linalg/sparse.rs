@@ -254,7 +254,6 @@ impl SparseLu {
         if !self.pattern_valid || n != self.n || kl != self.kl || ku != self.ku {
             return Ok(true);
         }
-        let mut zero_slots = 0usize;
         for j in 0..n {
             let (p0, p1) = (self.col_ptr[j], self.col_ptr[j + 1]);
             let mut p = p0;
@@ -268,7 +267,6 @@ impl SparseLu {
                 }
                 while p < p1 && self.row_idx[p] < i {
                     self.val[p] = 0.0;
-                    zero_slots += 1;
                     p += 1;
                 }
                 if p < p1 && self.row_idx[p] == i {
@@ -281,22 +279,17 @@ impl SparseLu {
             for v in &mut self.val[p..p1] {
                 *v = 0.0;
             }
-            zero_slots += p1 - p;
         }
         // Slots that are zero now stay in the pattern: the pattern is the
         // union of every nonzero seen on this shape (entries that vanish
         // on symmetric configurations, e.g. x–z couplings of a planar
         // rope, come back when it moves), so it is rebuilt only when an
         // entry appears outside it.
-        let _ = zero_slots;
         Ok(false)
     }
 
     /// New pattern from `a`: symmetrised nonzeros plus the diagonal.
     fn rebuild_pattern(&mut self, a: &BandMatrix) -> Result<()> {
-        if std::env::var_os("STRANDKIT_DEBUG_PATTERN").is_some() {
-            eprintln!("sparse: pattern rebuilt (valid {}, n {} vs {})", self.pattern_valid, a.n(), self.n);
-        }
         let (n, kl, ku) = (a.n(), a.kl(), a.ku());
         let w = kl.max(ku);
         // The previous pattern of the same shape stays in (see `load`).

@@ -185,9 +185,7 @@ pub(crate) fn check_statically_defined(world: &World, at_equilibrium: bool) -> R
         }
         if std::env::var_os("STRANDKIT_DEBUG").is_some() {
             let xkx: f64 = (0..n).map(|g| x[g] * y[g]).sum();
-            let xkx_abs: f64 = (0..n).map(|g| (x[g] * y[g]).abs()).sum();
-            let ky: f64 = (0..n).map(|g| y[g] * y[g]).sum::<f64>().sqrt();
-            eprintln!("definedness: xKx {xkx:.4e} Σ|x∘Kx| {xkx_abs:.4e} |Kx| {ky:.4e} curv {curv:.4e} modes {a:?}");
+            eprintln!("definedness: xKx {xkx:.4e} curv {curv:.4e} modes {a:?}");
         }
         // Round-off leaves |mᵀKm| ~ 1e-14 kscale on a free mode (kscale is
         // the axial diagonal EA/Δs); real holding stiffness — the bending
