@@ -91,3 +91,95 @@ impl LoadedCable {
         self.nodes[k - 1] + (self.nodes[k] - self.nodes[k - 1]) * t
     }
 }
+
+/// A circular arc (or whole circle) in a vertical plane, parametrised by
+/// arc length from `start`, turning downwards first (y up).
+#[derive(Clone, Copy, Debug)]
+pub struct CircleArc {
+    pub center: Vector3<f64>,
+    pub radius: f64,
+    /// Unit vectors of the circle's plane: p(φ) = c + R (cos φ e1 + sin φ e2).
+    e1: Vector3<f64>,
+    e2: Vector3<f64>,
+}
+
+/// The in-plane "down" direction of a chord: −y without its part along
+/// the chord (x when the chord is vertical).
+fn down_across(chord: Vector3<f64>) -> Vector3<f64> {
+    let e = chord.normalize();
+    let d = -Vector3::y() + e * e.y;
+    if d.norm() < 1e-9 {
+        Vector3::x()
+    } else {
+        d.normalize()
+    }
+}
+
+impl CircleArc {
+    /// The arc of length `length` from `a` to `b` hanging below the chord
+    /// (sin α / α = |ab| / length, α the half angle); needs |ab| < length.
+    pub fn hanging(a: Vector3<f64>, b: Vector3<f64>, length: f64) -> Result<CircleArc> {
+        let c = (b - a).norm();
+        if !(c > 0.0 && c < length) {
+            return Err(Error::invalid("support distance", c, format!("in (0, the string length {length}) m")));
+        }
+        // sin α/α decreases from 1 to 0 on (0, π): bisection.
+        let (mut lo, mut hi) = (0.0f64, std::f64::consts::PI);
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if mid.sin() / mid > c / length {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let alpha = 0.5 * (lo + hi);
+        let radius = length / (2.0 * alpha);
+        let d = down_across(b - a);
+        let center = 0.5 * (a + b) - d * (radius * alpha.cos());
+        Ok(Self::through(center, radius, a, d))
+    }
+
+    /// The circle of circumference `length` through `a` and `b`, both on its
+    /// upper part (chord |ab| ≤ length/π), starting at `a` downwards; the
+    /// arc from `a` to `b` the long way round is [`CircleArc::long_arc`].
+    pub fn loop_through(a: Vector3<f64>, b: Vector3<f64>, length: f64) -> Result<CircleArc> {
+        let radius = length / (2.0 * std::f64::consts::PI);
+        let c = (b - a).norm();
+        if !(c > 0.0 && c <= 2.0 * radius) {
+            return Err(Error::invalid("support distance", c, format!("in (0, length/π = {}] m for a closed necklace", 2.0 * radius)));
+        }
+        let d = down_across(b - a);
+        let center = 0.5 * (a + b) + d * (radius * radius - 0.25 * c * c).max(0.0).sqrt();
+        Ok(Self::through(center, radius, a, d))
+    }
+
+    /// The circle of circumference `length` hanging from its top point `top`.
+    pub fn hanging_loop(top: Vector3<f64>, length: f64) -> CircleArc {
+        let radius = length / (2.0 * std::f64::consts::PI);
+        Self::through(top - Vector3::y() * radius, radius, top, Vector3::x())
+    }
+
+    /// Circle of centre `center` through `a`, heading from `a` towards `down`.
+    fn through(center: Vector3<f64>, radius: f64, a: Vector3<f64>, down: Vector3<f64>) -> CircleArc {
+        let e1 = (a - center) / radius;
+        let mut e2 = down - e1 * e1.dot(&down);
+        if e2.norm() < 1e-12 {
+            e2 = Vector3::y().cross(&e1);
+        }
+        CircleArc { center, radius, e1, e2: e2.normalize() }
+    }
+
+    /// Arc length from the start to `b` going round the long way (for
+    /// `loop_through`).
+    pub fn long_arc(&self, b: Vector3<f64>) -> f64 {
+        let v = (b - self.center) / self.radius;
+        let phi = v.dot(&self.e2).atan2(v.dot(&self.e1));
+        self.radius * phi.rem_euclid(2.0 * std::f64::consts::PI)
+    }
+
+    pub fn at_arc_length(&self, s: f64) -> Vector3<f64> {
+        let phi = s / self.radius;
+        self.center + (self.e1 * phi.cos() + self.e2 * phi.sin()) * self.radius
+    }
+}

@@ -4,13 +4,16 @@
 //! `World::insert`; experiments are separate functions.
 //!
 //! - [`rope_bridge`]: floor ropes, handrails, planks, verticals (§9.2).
+//! - [`necklace`]: beads on a string, over a peg or from two points (§9.4).
 //! - [`rope::Rope`]: a rope given by linear density, EA and EI.
 //! - [`curves`]: catenary and loaded-cable shapes (initial shapes and the
 //!   closed forms of the tests).
 pub mod curves;
+pub mod necklace;
 pub mod rope;
 pub mod rope_bridge;
 
+pub use necklace::{necklace, Hang, Necklace, NecklaceLayout};
 pub use rope::Rope;
 pub use rope_bridge::{rope_bridge, BridgeLayout, PlankModel, RopeBridge};
 pub use strandkit_core::Assembly;

@@ -5,6 +5,8 @@
 //! exactly these three numbers: r = 2√(EI/EA), E = EA/(πr²), ρ = μ/(πr²).
 use nalgebra::Vector3;
 use strandkit_core::error::{positive, size};
+use strandkit_core::energy::Strains;
+use strandkit_core::spline::KnotKind;
 use strandkit_core::{Error, Material, Result, Rod, RodBuilder, Section};
 
 /// Largest number of control points a builder gives one rope.
@@ -41,6 +43,13 @@ impl Rope {
         2.0 * (self.bending_stiffness / self.axial_stiffness).sqrt()
     }
 
+    /// The circular section and material giving exactly μ, EA and EI.
+    fn section_and_material(&self, what: &str) -> Result<(Section, Material)> {
+        let r = self.radius();
+        let area = std::f64::consts::PI * r * r;
+        Ok((Section::circle(r)?, Material::new(what, self.axial_stiffness / area, 0.3, self.linear_density / area)?))
+    }
+
     /// A rope of rest length `length` (straight at rest, no roll), with `n`
     /// control points placed along `shape(σ)` — the point of material arc
     /// length σ ∈ [0, length] in the initial configuration.
@@ -51,13 +60,11 @@ impl Rope {
         if n < 4 {
             return Err(Error::invalid(format!("{what} control points"), n, "at least 4"));
         }
-        let r = self.radius();
-        let area = std::f64::consts::PI * r * r;
-        let material = Material::new(what, self.axial_stiffness / area, 0.3, self.linear_density / area)?;
+        let (section, material) = self.section_and_material(what)?;
         let mut rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(length, 0.0, 0.0))
             .control_points(n)
             .with_roll(false)
-            .section(Section::circle(r)?)
+            .section(section)
             .material(material)
             .build()?;
         // A straight clamped spline's control points sit at its Greville
@@ -69,6 +76,33 @@ impl Rope {
             [x.x, x.y, x.z]
         }).collect();
         rod.set_coords(&q)?;
+        Ok(rod)
+    }
+
+    /// A closed rope (a ring) of rest length `length` with `n` control
+    /// points, built on the closed curve `shape(σ)` (σ ∈ [0, length],
+    /// shape(0) = shape(length)). Straight at rest — a rope tied into a
+    /// loop, not a bent ring: the curvature of the built shape is cancelled
+    /// by the rod's rest-strain offsets (the same mechanism that stores
+    /// plastic curvature, SPEC §6).
+    pub fn ring(&self, what: &str, length: f64, n: usize, shape: impl Fn(f64) -> Vector3<f64> + Send + Sync + 'static) -> Result<Rod> {
+        self.validate(what)?;
+        positive(&format!("{what} length"), length)?;
+        size(&format!("{what} control points"), n, MAX_ROPE_CONTROL_POINTS)?;
+        if n < 6 {
+            return Err(Error::invalid(format!("{what} control points"), n, "at least 6 for a closed rope"));
+        }
+        let (section, material) = self.section_and_material(what)?;
+        let mut rod = RodBuilder::curve(length, shape)
+            .control_points(n)
+            .knots(KnotKind::Periodic)
+            .with_roll(false)
+            .section(section)
+            .material(material)
+            .build()?;
+        let bent = rod.strains();
+        let offsets: Vec<Strains> = bent.iter().map(|s| Strains { eps: 0.0, kappa1: -s.kappa1, kappa2: -s.kappa2, omega: 0.0 }).collect();
+        rod.set_plastic_offsets(&offsets)?;
         Ok(rod)
     }
 }

@@ -1,17 +1,24 @@
 //! Beads: particles sliding along a rod (sliding-abscissa particles,
 //! III.50–III.54 in arc-length form, SPEC §4). Loosely coupled to the rod:
+//! the bead's motion along the tangent t is its own unknown, its absolute
+//! tangential speed w = ṡ + t·v_rod following
 //!
-//!   (c/h + m/h²) Δs_{n+1} = t·F_p + m Δs_n / h²
+//!   (m/h + c) w_{n+1} = m w_n / h + t·F_p + c t·v_rod
 //!
-//! (t the unit tangent at the bead, F_p its weight plus user force, c the
-//! viscous friction); the force applied back to the rod at the bead is
-//! F_p − m a_t t with a_t = (Δs_{n+1} − Δs_n)/h² (momentum-consistent: a
-//! free bead loads the string with the normal part of its weight only, a
-//! stuck one with all of it), and the bead's mass is added to the rod's mass
-//! matrix at its abscissa (transverse inertia). In statics the bead's
-//! abscissa is an unknown of the Newton system (it minimises −F·r(u): the
-//! bead sits where its load is normal to the rod). Beads on one rod do not pass each
-//! other: |s_a − s_b| ≥ r_a + r_b, enforced by an inelastic contact.
+//! (F_p its weight plus user force, c the viscous friction on the sliding
+//! speed ṡ), while the rod carries its transverse inertia m (I − t tᵀ) and
+//! the force F_p⊥ + c ṡ t − m (ṡ² κn + 2ṡ ∂v_rod/∂s⊥) (x = r(s(t), t)).
+//! A free bead thus loads a resting string with the normal part of its
+//! weight only, a stuck one with all of it; the thesis' form, which moved
+//! the bead relative to the string and gave the rod its whole mass, let a
+//! string that moves along itself drag its beads and created energy.
+//! In statics the bead's abscissa is an unknown of the Newton system (it
+//! minimises −F·r(u): the bead sits where its load is normal to the rod).
+//! Beads on one rod do not pass each other: |s_a − s_b| ≥ r_a + r_b, by
+//! an inelastic projection of the step's increments (and after the step,
+//! of the positions, for what the rod's deformation changed).
+//! A `fixed` bead (knotted on the string) keeps its abscissa: a point mass
+//! riding with the rod, whole load and mass, never an unknown of the statics.
 use crate::handles::RodHandle;
 use serde::{Deserialize, Serialize};
 
@@ -28,11 +35,17 @@ pub struct Bead {
     pub radius: f64,
     /// External force besides gravity (force unit).
     pub force: [f64; 3],
+    /// Held at its abscissa (knotted): it does not slide.
+    #[serde(default)]
+    pub fixed: bool,
     /// This step's arc-length increment and the force it puts on the rod.
     #[serde(default)]
     pub(crate) step_ds: f64,
     #[serde(default)]
     pub(crate) rod_force: [f64; 3],
+    /// This step's absolute speed along the tangent (length/time).
+    #[serde(default)]
+    pub(crate) step_w: f64,
     /// Abscissa at which `rod_force` was last assembled (statics).
     #[serde(default)]
     pub(crate) u_assembled: f64,
@@ -42,7 +55,7 @@ impl Bead {
     /// A bead at rest at abscissa `u`: mass (> 0), viscous friction (force
     /// per unit sliding speed, ≥ 0), radius (length, ≥ 0).
     pub fn new(rod: RodHandle, u: f64, mass: f64, friction: f64, radius: f64) -> crate::error::Result<Bead> {
-        let b = Bead { rod, u, velocity: 0.0, mass, friction, radius, force: [0.0; 3], step_ds: 0.0, rod_force: [0.0; 3], u_assembled: u };
+        let b = Bead { rod, u, velocity: 0.0, mass, friction, radius, force: [0.0; 3], fixed: false, step_ds: 0.0, rod_force: [0.0; 3], step_w: 0.0, u_assembled: u };
         b.check_values()?;
         Ok(b)
     }

@@ -10,7 +10,8 @@ use crate::bead::Bead;
 use crate::constraint::{BreakPolicy, Breaking, ConstraintKind};
 use crate::error::{Error, Result};
 use crate::force::Load;
-use crate::handles::{BeadHandle, ConstraintHandle, LoadHandle, RodHandle};
+use crate::clip::Clip;
+use crate::handles::{BeadHandle, ClipHandle, ConstraintHandle, LoadHandle, RodHandle};
 use crate::rod::Rod;
 use crate::world::{Constraint, Item, World};
 use serde::{Deserialize, Serialize};
@@ -85,6 +86,23 @@ pub struct AssemblyBead {
     pub friction: f64,
     #[serde(default)]
     pub radius: f64,
+    /// Knotted at `u`: it does not slide.
+    #[serde(default)]
+    pub fixed: bool,
+    #[serde(default)]
+    pub label: Option<String>,
+}
+
+/// A clip (capture sphere with an exit axis, see [`crate::Clip`]); it
+/// captures whichever rod enters it after the first solve.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AssemblyClip {
+    /// Centre (length), capture radius (length), exit axis, pull-out resistance (force).
+    pub center: [f64; 3],
+    pub radius: f64,
+    pub axis: [f64; 3],
+    pub resistance: f64,
     #[serde(default)]
     pub label: Option<String>,
 }
@@ -99,6 +117,8 @@ pub struct Assembly {
     pub loads: Vec<AssemblyLoad>,
     #[serde(default)]
     pub beads: Vec<AssemblyBead>,
+    #[serde(default)]
+    pub clips: Vec<AssemblyClip>,
 }
 
 /// Handles of what `World::insert` added, in the assembly's order, and the
@@ -109,6 +129,8 @@ pub struct Inserted {
     pub constraints: Vec<ConstraintHandle>,
     pub loads: Vec<LoadHandle>,
     pub beads: Vec<BeadHandle>,
+    #[serde(default)]
+    pub clips: Vec<ClipHandle>,
     pub bandwidth: usize,
 }
 
@@ -138,8 +160,13 @@ impl Assembly {
         self.loads.len() - 1
     }
     pub fn add_bead(&mut self, rod: usize, u: f64, mass: f64, friction: f64, radius: f64, label: Option<&str>) -> usize {
-        self.beads.push(AssemblyBead { rod, u, mass, friction, radius, label: label.map(str::to_string) });
+        self.beads.push(AssemblyBead { rod, u, mass, friction, radius, fixed: false, label: label.map(str::to_string) });
         self.beads.len() - 1
+    }
+    /// Adds a clip (centre, capture radius, exit axis, resistance); returns its index.
+    pub fn add_clip(&mut self, center: [f64; 3], radius: f64, axis: [f64; 3], resistance: f64, label: Option<&str>) -> usize {
+        self.clips.push(AssemblyClip { center, radius, axis, resistance, label: label.map(str::to_string) });
+        self.clips.len() - 1
     }
     /// Every label of the assembly (for a quick look at its groups).
     pub fn labels(&self) -> impl Iterator<Item = &str> {
@@ -147,7 +174,8 @@ impl Assembly {
         let c = self.constraints.iter().filter_map(|x| x.label.as_deref());
         let l = self.loads.iter().filter_map(|x| x.label.as_deref());
         let b = self.beads.iter().filter_map(|x| x.label.as_deref());
-        r.chain(c).chain(l).chain(b)
+        let k = self.clips.iter().filter_map(|x| x.label.as_deref());
+        r.chain(c).chain(l).chain(b).chain(k)
     }
     pub fn to_json(&self) -> Result<String> {
         serde_json::to_string(self).map_err(|e| Error::io("", format!("assembly: {e}")))
@@ -209,6 +237,13 @@ impl World {
                 crate::world::groups::check_label(x)?;
             }
         }
+        let mut clips = Vec::with_capacity(asm.clips.len());
+        for (i, c) in asm.clips.iter().enumerate() {
+            clips.push(Clip::new(c.center, c.radius, c.axis, c.resistance).map_err(|e| e.context(format_args!("assembly clip {i}")))?);
+            if let Some(x) = &c.label {
+                crate::world::groups::check_label(x)?;
+            }
+        }
         // 2. Duplicates and linear dependence, once for the batch, against
         // the assembly's own rods (local handles: index = position, generation 0).
         let local = |i: usize| RodHandle { index: i as u32, generation: 0 };
@@ -243,7 +278,7 @@ impl World {
         let mut beads = Vec::with_capacity(asm.beads.len());
         for b in &asm.beads {
             // Checked in step 1, so `new` succeeds; the error path is unreachable.
-            let bead = Bead::new(rods[b.rod], b.u, b.mass, b.friction, b.radius)?;
+            let bead = Bead { fixed: b.fixed, ..Bead::new(rods[b.rod], b.u, b.mass, b.friction, b.radius)? };
             beads.push(BeadHandle::from(self.beads.insert(bead)));
         }
         for (r, h) in asm.rods.iter().zip(&rods) {
@@ -256,12 +291,18 @@ impl World {
                 self.groups.add(x, Item::Load(*h))?;
             }
         }
+        let clips: Vec<ClipHandle> = clips.into_iter().map(|c| ClipHandle::from(self.clips.insert(c))).collect();
+        for (c, h) in asm.clips.iter().zip(&clips) {
+            if let Some(x) = &c.label {
+                self.groups.add(x, Item::Clip(*h))?;
+            }
+        }
         for (b, h) in asm.beads.iter().zip(&beads) {
             if let Some(x) = &b.label {
                 self.groups.add(x, Item::Bead(*h))?;
             }
         }
         let bandwidth = crate::pipeline::bandwidth(self)?;
-        Ok(Inserted { rods, constraints, loads, beads, bandwidth })
+        Ok(Inserted { rods, constraints, loads, beads, clips, bandwidth })
     }
 }

@@ -295,7 +295,8 @@ pub(crate) fn unit(v: &[f64; 3], what: &str) -> Result<Vector3<f64>> {
     Ok(x / n)
 }
 
-pub(crate) fn finite3(v: &[f64; 3], what: &str) -> Result<()> {
+/// Error naming `what` unless all three values are finite.
+pub fn finite3(v: &[f64; 3], what: &str) -> Result<()> {
     for x in v {
         crate::error::finite(what, *x)?;
     }

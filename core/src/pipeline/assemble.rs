@@ -8,7 +8,7 @@ use crate::error::Result;
 use crate::force::{gravity::Gravity, ForceField, Load};
 use crate::handles::{Arena, RodHandle};
 use crate::rod::Rod;
-use crate::system::kkt::{BeadRef, Coefficients, ConstraintRef};
+use crate::system::kkt::{BeadRef, Coefficients, ConstraintRef, PointMass};
 use crate::system::layout::ConstraintSlot;
 use crate::system::ordering::{control_point_order_with, Link, RodGraph, Strategy};
 use crate::system::workspace::recycle;
@@ -38,6 +38,10 @@ impl Regime {
             Regime::Dynamic { h } => now + h,
             Regime::Statics { .. } => now,
         }
+    }
+    /// Dynamics: a sliding bead's tangential motion is its own.
+    fn bead_slides(self) -> bool {
+        matches!(self, Regime::Dynamic { .. })
     }
     fn bead_unknowns(self) -> bool {
         matches!(self, Regime::Statics { bead_unknowns: true })
@@ -76,7 +80,7 @@ fn place(
         ws.contact_ids.push(i);
     }
     if bead_unknowns {
-        for (_, b) in beads.iter() {
+        for (_, b) in beads.iter().filter(|(_, b)| !b.fixed) {
             let r = position_of(pos, b.rod)?;
             let ctrl = rods[r].basis_at(b.u)?.0;
             let mut touched = [(0u8, 0usize); MAX_TOUCHED];
@@ -235,7 +239,9 @@ fn gather_and_assemble(
         let r = position_of(pos, b.rod)?;
         let (ctrl, bs) = rods[r].basis_at(b.u)?;
         crate::force::spread(&mut ws.ext[r], rods[r].dofs(), &ctrl, &bs[0], &b.rod_force);
-        ws.masses.push((r, b.u, b.mass));
+        // A sliding bead's tangential motion is its own (see beads::predict).
+        let slide = if b.fixed || !regime.bead_slides() { [0.0; 3] } else { rods[r].tangent(b.u)?.into() };
+        ws.masses.push(PointMass { rod: r, u: b.u, mass: b.mass, slide });
     }
     let mut crefs: Vec<ConstraintRef<'_>> = recycle(std::mem::take(&mut ws.con_refs));
     for (_, c) in constraints.iter() {
@@ -252,6 +258,7 @@ fn gather_and_assemble(
     if energy.is_ok() && regime.bead_unknowns() {
         let static_beads: Vec<BeadRef> = beads
             .iter()
+            .filter(|(_, b)| !b.fixed)
             .map(|(_, b)| Ok(BeadRef { rod: position_of(pos, b.rod)?, u: b.u, load: b.rod_force, mass: b.mass }))
             .collect::<Result<_>>()?;
         energy = energy.and_then(|e| ws.sys.assemble_beads(&ws.layout, rods, crefs.len(), &static_beads, k).map(|_| e));

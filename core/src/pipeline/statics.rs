@@ -88,8 +88,9 @@ fn relax_from(world: &mut World) -> Result<RelaxReport> {
         }
         report.factorisation = solved.factorisation;
         let (dx, dth) = solve::apply(world, 1.0, None);
-        let n_cons = world.ws.layout.row_index.len() - world.beads.len();
-        let du: Vec<f64> = (0..world.beads.len()).map(|j| world.ws.sys.sol[world.ws.layout.extra_index[n_cons + j]]).collect();
+        let n_sliding = beads::n_sliding(world);
+        let n_cons = world.ws.layout.row_index.len() - n_sliding;
+        let du: Vec<f64> = (0..n_sliding).map(|j| world.ws.sys.sol[world.ws.layout.extra_index[n_cons + j]]).collect();
         let dbead = beads::apply(world, &du)?;
         if !world.ws.left.is_empty() {
             // A slider left its rod: the configuration changed, start anew.

@@ -412,11 +412,15 @@ impl Rod {
     }
     /// Velocity of the centreline point at u (length/time).
     pub fn eval_velocity(&self, u: f64) -> Result<Vector3<f64>> {
+        self.velocity_derivative(u, 0)
+    }
+    /// `deriv`-th derivative in u (0..=3) of the centreline velocity at u.
+    pub fn velocity_derivative(&self, u: f64, deriv: usize) -> Result<Vector3<f64>> {
         let (ctrl, b) = self.basis_at(u)?;
         let mut v = Vector3::zeros();
         for (k, &i) in ctrl.iter().enumerate() {
             for a in 0..3 {
-                v[a] += b[0][k] * self.v[i * self.dofs + a];
+                v[a] += b[deriv.min(3)][k] * self.v[i * self.dofs + a];
             }
         }
         Ok(v)

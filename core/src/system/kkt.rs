@@ -12,6 +12,7 @@ use crate::constraint::{ConstraintKind, Row, SlidingBlocks};
 use crate::error::{Error, Result};
 use crate::linalg::band::{solve_refined, BandLdlt, BandLu, BandMatrix};
 use crate::linalg::sparse::{prefer_sparse, SparseLu};
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 /// Which factorisation solves the KKT system (SPEC §5).
@@ -149,6 +150,17 @@ pub struct KktSystem {
     mv: Vec<f64>,
 }
 
+/// A point mass (bead) on a rod: `mass` at abscissa `u` of the rod at
+/// position `rod` in the layout; `slide` the unit direction along which
+/// it is free (its own unknown), or zero for a mass riding with the rod.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PointMass {
+    pub rod: usize,
+    pub u: f64,
+    pub mass: f64,
+    pub slide: [f64; 3],
+}
+
 impl KktSystem {
     /// Assembles A and B for `rods` (in layout order) with external
     /// generalised forces `ext[r]`. Returns the total elastic energy.
@@ -158,7 +170,7 @@ impl KktSystem {
         rods: &[&Rod],
         ext: &[Vec<f64>],
         cons: &[ConstraintRef],
-        point_masses: &[(usize, f64, f64)],
+        point_masses: &[PointMass],
         field_stiffness: &[(usize, usize, usize, f64)],
         k: Coefficients,
         parallel: bool,
@@ -213,16 +225,25 @@ impl KktSystem {
                 first += m;
             }
         }
-        // Point masses (beads) on x, y, z: c_m m b_i b_j and c_v m b_i v(u).
-        for &(r, u, m) in point_masses {
-            let (ctrl, b) = rods[r].basis_at(u)?;
-            let v = rods[r].eval_velocity(u)?;
+        // Point masses (beads): c_m m b_i b_j P and c_v m b_i P v(u), with
+        // P = I − s sᵀ (s the unit sliding direction of a sliding bead, whose
+        // motion along the rod is its own unknown; s = 0 for a fixed one).
+        for pm in point_masses {
+            let (ctrl, b) = rods[pm.rod].basis_at(pm.u)?;
+            let v = rods[pm.rod].eval_velocity(pm.u)?;
+            let s = Vector3::from(pm.slide);
+            let p = nalgebra::Matrix3::identity() - s * s.transpose();
+            let pv = p * v;
             for kk in 0..4 {
                 for a in 0..3 {
-                    let gi = layout.cp_index[r][ctrl[kk]] + a;
-                    self.rhs[gi] += k.momentum * m * b[0][kk] * v[a];
+                    let gi = layout.cp_index[pm.rod][ctrl[kk]] + a;
+                    self.rhs[gi] += k.momentum * pm.mass * b[0][kk] * pv[a];
                     for l in 0..4 {
-                        self.band.add(gi, layout.cp_index[r][ctrl[l]] + a, k.mass * m * b[0][kk] * b[0][l]);
+                        for c in 0..3 {
+                            if p[(a, c)] != 0.0 {
+                                self.band.add(gi, layout.cp_index[pm.rod][ctrl[l]] + c, k.mass * pm.mass * b[0][kk] * b[0][l] * p[(a, c)]);
+                            }
+                        }
                     }
                 }
             }

@@ -20,7 +20,7 @@ pub struct Workspace {
     /// empty between steps, see [`recycle`]).
     pub(crate) rod_refs: Vec<&'static crate::rod::Rod>,
     pub(crate) con_refs: Vec<ConstraintRef<'static>>,
-    pub(crate) masses: Vec<(usize, f64, f64)>,
+    pub(crate) masses: Vec<crate::system::kkt::PointMass>,
     pub(crate) field_k: Vec<(usize, usize, usize, f64)>,
     pub(crate) ext: Vec<Vec<f64>>,
     pub(crate) rod_ids: Vec<Index>,

@@ -5,12 +5,14 @@
 //! are one-line conveniences defined there). Snapshots (serde, versioned)
 //! reload bit-for-bit.
 mod constraints;
+mod energy;
 pub(crate) mod independence;
 pub mod events;
 pub mod groups;
 pub mod params;
 
 pub use constraints::Constraint;
+pub use energy::Energy;
 pub use events::Event;
 pub use groups::{Broken, ConstraintState, Groups, Item, Member, ObjectState};
 pub use params::IntegrationParameters;
@@ -238,6 +240,15 @@ impl World {
     pub fn set_bead_force(&mut self, h: BeadHandle, force: [f64; 3]) -> Result<()> {
         crate::constraint::finite3(&force, "bead force")?;
         self.beads.get_mut(h.into()).ok_or_else(|| Error::handle(format!("bead {}", h.index)))?.force = force;
+        Ok(())
+    }
+    /// Knots a bead at its abscissa (`true`) or lets it slide again.
+    pub fn set_bead_fixed(&mut self, h: BeadHandle, fixed: bool) -> Result<()> {
+        let b = self.beads.get_mut(h.into()).ok_or_else(|| Error::handle(format!("bead {}", h.index)))?;
+        b.fixed = fixed;
+        if fixed {
+            b.velocity = 0.0;
+        }
         Ok(())
     }
     /// Position of a bead (length unit).

@@ -95,9 +95,14 @@ pub(crate) fn slider_blocks(rod: &Rod, u: f64, friction: f64, lambda: &[f64], fr
     Ok(())
 }
 
-/// u += Δu; false when u left the rod's domain.
+/// u += Δu; false when u left an open rod's domain (on a closed rod it
+/// wraps round and never leaves).
 pub(crate) fn slide(u: &mut f64, rod: &Rod, du: f64) -> bool {
     *u += du;
     let (a, b) = rod.domain();
+    if rod.knots().kind() == crate::spline::KnotKind::Periodic {
+        *u = a + (*u - a).rem_euclid(b - a);
+        return true;
+    }
     *u >= a && *u <= b
 }
