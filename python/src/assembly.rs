@@ -241,12 +241,15 @@ impl PyAssembly {
     }
     /// A bead on the assembly's rod `rod` at abscissa `u`: `mass` (mass
     /// unit, > 0), viscous `friction` (force per speed), `radius` (length).
-    /// Returns its index.
-    #[pyo3(signature = (rod, u, *, mass, friction = 0.0, radius = 0.0, label = None))]
-    fn add_bead(&mut self, rod: usize, u: f64, mass: f64, friction: f64, radius: f64, label: Option<String>) -> PyResult<usize> {
+    /// `fixed`: knotted at `u` (it does not slide). Returns its index.
+    #[pyo3(signature = (rod, u, *, mass, friction = 0.0, radius = 0.0, fixed = false, label = None))]
+    #[allow(clippy::too_many_arguments)]
+    fn add_bead(&mut self, rod: usize, u: f64, mass: f64, friction: f64, radius: f64, fixed: bool, label: Option<String>) -> PyResult<usize> {
         self.rod_index("bead rod", rod)?;
         let label = label_arg(label)?;
-        Ok(self.inner.add_bead(rod, u, mass, friction, radius, label.as_deref()))
+        let i = self.inner.add_bead(rod, u, mass, friction, radius, label.as_deref());
+        self.inner.beads[i].fixed = fixed;
+        Ok(i)
     }
     /// A free copy of the assembly's rod `i`.
     fn rod(&self, i: usize) -> PyResult<PyRod> {

@@ -4,13 +4,20 @@ use crate::assembly::PyAssembly;
 use crate::{bad, guard};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use strandkit_builders::{rope_bridge, PlankModel, Rope, RopeBridge};
+use strandkit_builders::{necklace, rope_bridge, Hang, Necklace, PlankModel, Rope, RopeBridge};
 
 /// A rope from a dict {'linear_density': kg/m, 'axial_stiffness': N,
 /// 'bending_stiffness': N·m²} (missing keys: the default rope's).
 fn rope(d: Option<&Bound<'_, PyDict>>) -> PyResult<Rope> {
-    let mut r = Rope::default();
-    let Some(d) = d else { return Ok(r) };
+    match d {
+        Some(d) => rope_from(d, Rope::default(), "rope"),
+        None => Ok(Rope::default()),
+    }
+}
+
+/// `base` with the dict's entries replacing its values.
+fn rope_from(d: &Bound<'_, PyDict>, base: Rope, what: &str) -> PyResult<Rope> {
+    let mut r = base;
     for (k, v) in d.iter() {
         let key: String = k.extract()?;
         let x: f64 = v.extract()?;
@@ -18,7 +25,7 @@ fn rope(d: Option<&Bound<'_, PyDict>>) -> PyResult<Rope> {
             "linear_density" => r.linear_density = x,
             "axial_stiffness" => r.axial_stiffness = x,
             "bending_stiffness" => r.bending_stiffness = x,
-            _ => return Err(bad(format!("rope: unknown key {key:?} (accepted: linear_density, axial_stiffness, bending_stiffness)"))),
+            _ => return Err(bad(format!("{what}: unknown key {key:?} (accepted: linear_density, axial_stiffness, bending_stiffness)"))),
         }
     }
     Ok(r)
@@ -73,6 +80,46 @@ fn build_rope_bridge<'py>(
     Ok((PyAssembly { inner: asm }, d))
 }
 
+/// Bead necklace (SPEC §9.4); see `strandkit.builders.necklace`.
+#[pyfunction]
+#[pyo3(signature = (*, n_beads, bead_mass, bead_radius, string = None, length, closed, hang, peg, supports, friction, peg_friction, knotted, control_points))]
+#[allow(clippy::too_many_arguments)]
+fn build_necklace<'py>(
+    py: Python<'py>,
+    n_beads: usize,
+    bead_mass: f64,
+    bead_radius: f64,
+    string: Option<&Bound<'py, PyDict>>,
+    length: f64,
+    closed: bool,
+    hang: &str,
+    peg: [f64; 3],
+    supports: [[f64; 3]; 2],
+    friction: f64,
+    peg_friction: f64,
+    knotted: bool,
+    control_points: usize,
+) -> PyResult<(PyAssembly, Bound<'py, PyDict>)> {
+    let hang = match hang {
+        "peg" => Hang::Peg(peg),
+        "two_points" => Hang::TwoPoints(supports[0], supports[1]),
+        other => return Err(bad(format!("hang: {other:?} is not 'peg' or 'two_points'"))),
+    };
+    let mut s = Necklace::default().string;
+    if let Some(d) = string {
+        s = rope_from(d, s, "string")?;
+    }
+    let p = Necklace { n_beads, bead_mass, bead_radius, string: s, length, closed, hang, friction, peg_friction, knotted, control_points };
+    let (asm, layout) = guard(|| necklace(&p))?;
+    let d = PyDict::new(py);
+    d.set_item("string", layout.string)?;
+    d.set_item("beads", layout.beads)?;
+    d.set_item("supports", layout.supports)?;
+    d.set_item("bead_arc_lengths", layout.bead_arc_lengths)?;
+    Ok((PyAssembly { inner: asm }, d))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
-    m.add_function(wrap_pyfunction!(build_rope_bridge, m)?)
+    m.add_function(wrap_pyfunction!(build_rope_bridge, m)?)?;
+    m.add_function(wrap_pyfunction!(build_necklace, m)?)
 }

@@ -242,7 +242,7 @@ handle_class!(
     fields = |w, h| Ok(tagged(w.bead(h)?)),
     describe = |w, h| {
         let b = w.bead(h)?;
-        Ok(format!("on rod {} at u={:.6}, mass={}, friction={}, radius={}", b.rod.index, b.u, b.mass, b.friction, b.radius))
+        Ok(format!("on rod {} at u={:.6}, mass={}, friction={}, radius={}{}", b.rod.index, b.u, b.mass, b.friction, b.radius, if b.fixed { ", fixed" } else { "" }))
     },
     {
         /// External force besides gravity (force unit), shape (3,).

@@ -393,8 +393,9 @@ impl PyWorld {
     /// Threads a bead (sliding-abscissa particle) on `rod` at abscissa `u`:
     /// `mass` (mass unit, > 0), viscous `friction` (force per sliding speed,
     /// ≥ 0), `radius` (length, ≥ 0: beads on one rod keep their centres
-    /// r_a + r_b apart), `label`. Gravity acts on it; see set_bead_force.
-    #[pyo3(signature = (rod, u, *, mass, friction = 0.0, radius = 0.0, label = None))]
+    /// r_a + r_b apart), `fixed` (knotted at `u`: it does not slide),
+    /// `label`. Gravity acts on it; see set_bead_force.
+    #[pyo3(signature = (rod, u, *, mass, friction = 0.0, radius = 0.0, fixed = false, label = None))]
     #[allow(clippy::too_many_arguments)]
     fn add_bead(
         slf: &Bound<'_, Self>,
@@ -403,6 +404,7 @@ impl PyWorld {
         mass: f64,
         friction: f64,
         radius: f64,
+        fixed: bool,
         label: Option<String>,
     ) -> PyResult<PyBeadHandle> {
         let h = Self::rod_handle(slf, rod)?;
@@ -411,12 +413,31 @@ impl PyWorld {
                 strandkit_core::world::groups::check_label(x)?;
             }
             let b = w.add_bead(h, u, mass, friction, radius)?;
+            w.set_bead_fixed(b, fixed)?;
             if let Some(x) = &label {
                 w.set_label(strandkit_core::Item::Bead(b), x)?;
             }
             Ok(b)
         })?;
         Ok(PyBeadHandle::new(slf.clone().unbind(), b))
+    }
+    /// Knots a bead at its abscissa (`True`) or lets it slide again.
+    fn set_bead_fixed(slf: &Bound<'_, Self>, bead: &Bound<'_, PyBeadHandle>, fixed: bool) -> PyResult<()> {
+        let b = bead.get().owned_by(slf)?;
+        Self::with_mut(slf, |w| w.set_bead_fixed(b, fixed))
+    }
+    /// Mechanical energy now (energy unit), beads included: a dict with
+    /// `kinetic` (rods ½VᵀMV + beads ½m|v|²), `elastic`, `external`
+    /// (potential of gravity, loads and bead forces) and `total`.
+    fn energy<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+        let w = read(slf)?;
+        let e = guard(|| w.inner.energy())?;
+        let d = pyo3::types::PyDict::new(slf.py());
+        d.set_item("kinetic", e.kinetic)?;
+        d.set_item("elastic", e.elastic)?;
+        d.set_item("external", e.external)?;
+        d.set_item("total", e.total())?;
+        Ok(d)
     }
     /// Takes a bead off its rod.
     fn remove_bead(slf: &Bound<'_, Self>, bead: &Bound<'_, PyBeadHandle>) -> PyResult<()> {

@@ -3,10 +3,12 @@
 from typing import Any, Sequence, final
 
 __version__: str
-__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'read_dcd', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
+__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_necklace', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'read_dcd', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
 
 def bead_positions(world):
     """Bead positions of a world (length unit), shape (N, 3): the sample points of every rod in world order (one bead per sample point)."""
+def build_necklace(*, n_beads, bead_mass, bead_radius, string=None, length, closed, hang, peg, supports, friction, peg_friction, knotted, control_points):
+    """Bead necklace (SPEC §9.4); see `strandkit.builders.necklace`."""
 def build_rope_bridge(*, span, n_planks, plank_mass, sag, width, handrail_height, rope=None, plank_depth, plank_thickness, plank_young, plank_model, plank_break_force=None, rope_control_points=None):
     """Rope bridge (SPEC §9.2); see `strandkit.builders.rope_bridge`."""
 def constraint_catalogue():
@@ -47,7 +49,7 @@ class Assembly:
     def __copy__(self): ...
     def __deepcopy__(self, _memo): ...
     def __repr__(self, /): ...
-    def add_bead(self, rod, u, *, mass, friction=0.0, radius=0.0, label=None):
+    def add_bead(self, rod, u, *, mass, friction=0.0, radius=0.0, fixed=False, label=None):
         """A bead on the assembly's rod `rod` at abscissa `u`: `mass` (mass unit, > 0), viscous `friction` (force per speed), `radius` (length)."""
     def add_load(self, rod, load, label=None):
         """A load (strandkit.point_force, distributed, trap, …) on the assembly's rod `rod`; the load's own `rod` field is ignored (give None)."""
@@ -513,8 +515,8 @@ class World:
     def __repr__(self, /): ...
     def _time_steps(self, n):
         """Benchmark helper: seconds taken by `n` steps run in a Rust loop (no Python in between), to measure the binding overhead."""
-    def add_bead(self, rod, u, *, mass, friction=0.0, radius=0.0, label=None):
-        """Threads a bead (sliding-abscissa particle) on `rod` at abscissa `u`: `mass` (mass unit, > 0), viscous `friction` (force per sliding speed, ≥ 0), `radius` (length, ≥ 0: beads on one rod keep their centres r_a + r_b apart), `label`."""
+    def add_bead(self, rod, u, *, mass, friction=0.0, radius=0.0, fixed=False, label=None):
+        """Threads a bead (sliding-abscissa particle) on `rod` at abscissa `u`: `mass` (mass unit, > 0), viscous `friction` (force per sliding speed, ≥ 0), `radius` (length, ≥ 0: beads on one rod keep their centres r_a + r_b apart), `fixed` (knotted at `u`: it does not slide), `label`."""
     def add_clip(self, center, radius, axis, resistance):
         """Adds a clip (thesis algorithms 4–5): capture sphere `center` (length, 3 values) and `radius` (length, > 0), exit `axis` (3 values, non-zero), pull-out `resistance` (force, > 0)."""
     def add_constraint(self, rod, kind, *, compliance=0.0, break_force=None, policy="magnitude", tension_only=False, label=None):
@@ -539,6 +541,8 @@ class World:
         """An independent deep copy."""
     dt: Any
     """Time step h (time unit)."""
+    def energy(self):
+        """Mechanical energy now (energy unit), beads included: a dict with `kinetic` (rods ½VᵀMV + beads ½m|v|²), `elastic`, `external` (potential of gravity, loads and bead forces) and `total`."""
     @staticmethod
     def from_json(text):
         """A world from `to_json()` text; other formats or versions raise FileError."""
@@ -581,6 +585,8 @@ class World:
         """The rods, in world order."""
     def save(self, path):
         """Writes a snapshot (JSON) atomically; `World.load` reads it back and continues bit-for-bit."""
+    def set_bead_fixed(self, bead, fixed):
+        """Knots a bead at its abscissa (`True`) or lets it slide again."""
     def set_bead_force(self, bead, force):
         """External force on a bead besides gravity (force unit, 3 values)."""
     def set_breaking(self, constraint, force=None, *, policy="magnitude", tension_only=False):

@@ -38,3 +38,52 @@ def test_rope_bridge_bad_input_names_the_argument():
         sk.builders.rope_bridge(rope={"bending_stifness": 1.0})
     with pytest.raises(sk.InvalidInputError, match="plank_model"):
         sk.builders.rope_bridge(plank_model="steel")
+
+
+def test_necklace_one_bead_matches_the_reference():
+    """SPEC §9.4 from Python: one frictionless 0.1 kg bead on a light 1.2 m
+    string between level supports 1 m apart: 56.44° from the vertical,
+    tension 0.8874 N, sag 0.3317 m, within 0.5 %."""
+    one = sk.builders.necklace(n_beads=1, bead_mass=0.1, bead_radius=0.01, length=1.2, closed=False,
+                               hang="two_points", supports=((0, 0, 0), (1, 0, 0)), friction=0.0,
+                               string=dict(linear_density=1e-7, axial_stiffness=1e4, bending_stiffness=5.5e-6),
+                               control_points=1001)
+    w = sk.World(gravity=(0, -G, 0), relax_max_iterations=3000)
+    ins = w.insert(one.assembly)
+    w.relax()
+    f = w.group("support").forces
+    theta = np.degrees(np.arctan2(np.abs(f[:, 0]), np.abs(f[:, 1])))
+    np.testing.assert_allclose(theta, 56.44, rtol=5e-3)
+    np.testing.assert_allclose(np.linalg.norm(f, axis=1), 0.8874, rtol=5e-3)
+    assert -ins.beads[0].position[1] == pytest.approx(0.3317, rel=5e-3)
+
+
+def test_necklace_over_a_peg_swings_down_and_keeps_its_beads():
+    n = sk.builders.necklace()
+    assert "n_beads=12" in repr(n) and "hang='peg'" in repr(n)
+    w = sk.World(gravity=(0, -G, 0), dt=8e-4)
+    ins = w.insert(n.assembly)
+    e0 = w.energy()["total"]
+    for _ in range(400):
+        w.step()
+    e = w.energy()
+    assert e["total"] < e0 and set(e) == {"kinetic", "elastic", "external", "total"}
+    assert len(w.beads()) == 12 and len(w.group("bead").beads) == 12
+    # Knotted beads do not slide.
+    k = sk.builders.necklace(knotted=True, hang="two_points", supports=((-0.05, 0, 0), (0.05, 0, 0)))
+    w2 = sk.World(gravity=(0, -G, 0), dt=8e-4)
+    ins2 = w2.insert(k.assembly)
+    u0 = [repr(b) for b in ins2.beads]
+    for _ in range(50):
+        w2.step()
+    assert [repr(b) for b in ins2.beads] == u0 and "fixed" in u0[0]
+
+
+@pytest.mark.parametrize("bad,name", [
+    (dict(n_beads=60), "n_beads"), (dict(n_beads=-1), "n_beads"), (dict(bead_mass=float("nan")), "bead_mass"),
+    (dict(hang="nail"), "hang"), (dict(closed=False), "hang"), (dict(string=dict(colour=1)), "colour"),
+    (dict(hang="two_points", supports=((0, 0, 0), (1, 0, 0))), "support distance"),
+])
+def test_necklace_bad_input_names_the_argument(bad, name):
+    with pytest.raises(sk.InvalidInputError, match=name):
+        sk.builders.necklace(**bad)
