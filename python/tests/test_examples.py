@@ -14,6 +14,7 @@ OUTPUTS = {
     "bead_on_string.py": ["bead_on_string.png"],
     "cantilever.py": ["cantilever.png"],
     "catenary.py": ["catenary.png"],
+    "necklace.py": ["necklace.dcd", "necklace.pdb", "necklace.png", "necklace.psf", "necklace_energy.png"],
     "rope_bridge.py": ["rope_bridge.dcd", "rope_bridge.pdb", "rope_bridge.png", "rope_bridge.psf", "rope_bridge_walk.png"],
     "pendulum.py": ["pendulum.csv", "pendulum.dcd", "pendulum.pdb", "pendulum.png", "pendulum.psf", "pendulum_tip.png"],
     "plastic_rupture.py": ["plastic_rupture.png"],
