@@ -43,8 +43,16 @@ impl Rope {
         2.0 * (self.bending_stiffness / self.axial_stiffness).sqrt()
     }
 
-    /// The circular section and material giving exactly μ, EA and EI.
-    fn section_and_material(&self, what: &str) -> Result<(Section, Material)> {
+    /// Checks a rope of `length` with `n` control points (at least
+    /// `min_n`) and returns the circular section and material giving
+    /// exactly μ, EA and EI.
+    fn section_and_material(&self, what: &str, length: f64, n: usize, min_n: usize) -> Result<(Section, Material)> {
+        self.validate(what)?;
+        positive(&format!("{what} length"), length)?;
+        size(&format!("{what} control points"), n, MAX_ROPE_CONTROL_POINTS)?;
+        if n < min_n {
+            return Err(Error::invalid(format!("{what} control points"), n, format!("at least {min_n}")));
+        }
         let r = self.radius();
         let area = std::f64::consts::PI * r * r;
         Ok((Section::circle(r)?, Material::new(what, self.axial_stiffness / area, 0.3, self.linear_density / area)?))
@@ -54,13 +62,7 @@ impl Rope {
     /// control points placed along `shape(σ)` — the point of material arc
     /// length σ ∈ [0, length] in the initial configuration.
     pub fn rod(&self, what: &str, length: f64, n: usize, shape: impl Fn(f64) -> Vector3<f64>) -> Result<Rod> {
-        self.validate(what)?;
-        positive(&format!("{what} length"), length)?;
-        size(&format!("{what} control points"), n, MAX_ROPE_CONTROL_POINTS)?;
-        if n < 4 {
-            return Err(Error::invalid(format!("{what} control points"), n, "at least 4"));
-        }
-        let (section, material) = self.section_and_material(what)?;
+        let (section, material) = self.section_and_material(what, length, n, 4)?;
         let mut rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(length, 0.0, 0.0))
             .control_points(n)
             .with_roll(false)
@@ -86,13 +88,7 @@ impl Rope {
     /// by the rod's rest-strain offsets (the same mechanism that stores
     /// plastic curvature, SPEC §6).
     pub fn ring(&self, what: &str, length: f64, n: usize, shape: impl Fn(f64) -> Vector3<f64> + Send + Sync + 'static) -> Result<Rod> {
-        self.validate(what)?;
-        positive(&format!("{what} length"), length)?;
-        size(&format!("{what} control points"), n, MAX_ROPE_CONTROL_POINTS)?;
-        if n < 6 {
-            return Err(Error::invalid(format!("{what} control points"), n, "at least 6 for a closed rope"));
-        }
-        let (section, material) = self.section_and_material(what)?;
+        let (section, material) = self.section_and_material(what, length, n, 6)?;
         let mut rod = RodBuilder::curve(length, shape)
             .control_points(n)
             .knots(KnotKind::Periodic)

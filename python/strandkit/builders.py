@@ -204,14 +204,13 @@ def necklace(*, n_beads: int = 12, bead_mass: float = 0.002, bead_radius: float 
     params = dict(n_beads=int(n_beads), bead_mass=float(bead_mass), bead_radius=float(bead_radius), string=string,
                   length=float(length), closed=bool(closed), hang=hang, friction=float(friction),
                   peg_friction=float(peg_friction), knotted=bool(knotted), control_points=int(control_points))
+    from .errors import InvalidInputError
     for k in ("n_beads", "control_points"):
         if params[k] < 0:
-            from .errors import InvalidInputError
             raise InvalidInputError(f"invalid input: {k} = {params[k]}, expected >= 0")
     peg3 = tuple(float(x) for x in peg)
     sup = tuple(tuple(float(x) for x in p) for p in supports)
     if len(peg3) != 3 or len(sup) != 2 or any(len(p) != 3 for p in sup):
-        from .errors import InvalidInputError
         raise InvalidInputError("invalid input: peg is one point (x, y, z) and supports two points, in m")
     asm, layout = _native.build_necklace(peg=peg3, supports=sup, **params)
     params.update(peg=peg3, supports=sup)

@@ -23,10 +23,10 @@ pub(crate) fn bead_load(world: &World, b: &crate::bead::Bead) -> Vector3<f64> {
 /// the rod: whole load, whole mass.
 pub(crate) fn predict(world: &mut World, h: f64) -> Result<()> {
     let ids: Vec<Index> = world.beads.iter().map(|(i, _)| i).collect();
-    let beads: Vec<crate::bead::Bead> = world.beads.iter().map(|(_, b)| b.clone()).collect();
+    let beads: Vec<&crate::bead::Bead> = world.beads.iter().map(|(_, b)| b).collect();
     let mut ds = Vec::with_capacity(ids.len());
     let mut rod_speed = Vec::with_capacity(ids.len());
-    for b in &beads {
+    for &b in &beads {
         let rod = world.rod(b.rod)?;
         let t = rod.tangent(b.u)?;
         let v_r = t.dot(&rod.eval_velocity(b.u)?);
@@ -43,7 +43,7 @@ pub(crate) fn predict(world: &mut World, h: f64) -> Result<()> {
     let pairs = neighbours(world, &ids, &u_now)?;
     let mut gaps = Vec::with_capacity(pairs.len());
     for &(a, b, period) in &pairs {
-        let (ba, bb) = (&beads[a], &beads[b]);
+        let (ba, bb) = (beads[a], beads[b]);
         gaps.push(arc(world.rod(ba.rod)?, ba.u, bb.u + period)? - ba.radius - bb.radius);
     }
     // Gauss–Seidel on the increments (a chain of touching beads needs a
@@ -69,7 +69,7 @@ pub(crate) fn predict(world: &mut World, h: f64) -> Result<()> {
         }
     }
     let mut out = Vec::with_capacity(ids.len());
-    for (k, (b, i)) in beads.iter().zip(&ids).enumerate() {
+    for (k, (&b, i)) in beads.iter().zip(&ids).enumerate() {
         let fp = bead_load(world, b);
         let f = if b.fixed {
             fp
