@@ -5,6 +5,7 @@
 //!
 //! - [`rope_bridge`]: floor ropes, handrails, planks, verticals (§9.2).
 //! - [`necklace`]: beads on a string, over a peg or from two points (§9.4).
+//! - [`beads_on_spring`]: beads sliding down a hanging helical spring (§9.4).
 //! - [`rope::Rope`]: a rope given by linear density, EA and EI.
 //! - [`curves`]: catenary and loaded-cable shapes (initial shapes and the
 //!   closed forms of the tests).
@@ -12,8 +13,10 @@ pub mod curves;
 pub mod necklace;
 pub mod rope;
 pub mod rope_bridge;
+pub mod spring;
 
 pub use necklace::{necklace, Hang, Necklace, NecklaceLayout};
 pub use rope::Rope;
 pub use rope_bridge::{rope_bridge, BridgeLayout, PlankModel, RopeBridge};
+pub use spring::{beads_on_spring, BeadsOnSpring, SpringLayout};
 pub use strandkit_core::Assembly;

@@ -155,6 +155,18 @@ impl Assembly {
         let n = self.constraints.len() - 1;
         &mut self.constraints[n]
     }
+    /// Clamps rod `rod` at `u` where it now is (see
+    /// [`crate::constraint::clamp_kinds`]), every constraint labelled
+    /// `label`; returns their indices.
+    pub fn clamp(&mut self, rod: usize, u: f64, label: Option<&str>) -> Result<Vec<usize>> {
+        let r = &self.rods.get(rod).ok_or_else(|| Error::invalid("assembly clamp rod", rod, format!("< {} (the assembly's rods)", self.rods.len())))?.rod;
+        let kinds = crate::constraint::clamp_kinds(r, u)?;
+        Ok(kinds.into_iter().map(|k| {
+            let c = self.constrain(rod, k);
+            c.label = label.map(str::to_string);
+            self.constraints.len() - 1
+        }).collect())
+    }
     pub fn add_load(&mut self, rod: usize, load: impl Into<Load>, label: Option<&str>) -> usize {
         self.loads.push(AssemblyLoad { rod, load: load.into(), label: label.map(str::to_string) });
         self.loads.len() - 1

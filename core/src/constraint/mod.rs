@@ -303,6 +303,30 @@ pub fn finite3(v: &[f64; 3], what: &str) -> Result<()> {
     Ok(())
 }
 
+/// The constraints clamping `rod` at `u` where it now is: position
+/// (x, y, z) and tangent at their current values, and the cross-section
+/// held as the rod's frame model says (`Rod::hold_cross_section`): the
+/// roll coordinate where θ is the section's angle, else an absolute
+/// `MaterialRoll` (Frenet model on a curved stretch). A rod without roll
+/// gets position and tangent only. Used by `World::clamp` and
+/// `Assembly::clamp`.
+pub fn clamp_kinds(rod: &Rod, u: f64) -> Result<Vec<ConstraintKind>> {
+    use crate::energy::HoldCrossSection;
+    use kinds::{MaterialRoll, Position, Tangent};
+    let p = rod.eval(u, 0)?;
+    let t = rod.tangent(u)?;
+    let hold = if rod.dofs() == 4 { Some(rod.hold_cross_section(u)?) } else { None };
+    let axes = [true, true, true, hold == Some(HoldCrossSection::RollCoordinate)];
+    let mut kinds = vec![Position { u, axes, target: p }.into(), Tangent { u, direction: t.into() }.into()];
+    if hold == Some(HoldCrossSection::MaterialAngle) {
+        // Measure the angle from a fixed axis ⟂ t: the current d1 is at 0.
+        let (e1, _) = perpendicular_pair(&t);
+        let angle = rod.material_angle(u, &e1)?.angle;
+        kinds.push(MaterialRoll { u, reference: e1.into(), angle }.into());
+    }
+    Ok(kinds)
+}
+
 /// Two unit vectors completing `t` to an orthonormal frame, and the helper
 /// axis they were built from (needed to differentiate them).
 pub(crate) fn perpendicular_frame(t: &Vector3<f64>) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {

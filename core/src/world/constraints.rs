@@ -212,24 +212,8 @@ impl World {
     /// curved stretch). Rods without roll get position and tangent only.
     /// Returns the handles [position, tangent, (material roll)].
     pub fn clamp(&mut self, rod: RodHandle, u: f64, compliance: f64) -> Result<Vec<ConstraintHandle>> {
-        use crate::constraint::kinds::{MaterialRoll, Position, Tangent};
-        use crate::energy::HoldCrossSection;
-        let r = self.rod(rod)?;
-        let p = r.eval(u, 0)?;
-        let t = r.tangent(u)?;
-        let mut batch = Vec::with_capacity(3);
-        let hold = if r.dofs() == 4 { Some(r.hold_cross_section(u)?) } else { None };
-        let roll_coordinate = hold == Some(HoldCrossSection::RollCoordinate);
-        let axes = [true, true, true, roll_coordinate];
-        batch.push(Constraint::new(rod, None, Position { u, axes, target: p }.into(), compliance));
-        batch.push(Constraint::new(rod, None, Tangent { u, direction: t.into() }.into(), compliance));
-        if hold == Some(HoldCrossSection::MaterialAngle) {
-            // Measure the angle from a fixed axis ⟂ t: the current d1 is at 0.
-            let (e1, _) = crate::constraint::perpendicular_pair(&t);
-            let angle = r.material_angle(u, &e1)?.angle;
-            batch.push(Constraint::new(rod, None, MaterialRoll { u, reference: e1.into(), angle }.into(), compliance));
-        }
-        self.insert_constraints(batch)
+        let kinds = crate::constraint::clamp_kinds(self.rod(rod)?, u)?;
+        self.insert_constraints(kinds.into_iter().map(|k| Constraint::new(rod, None, k, compliance)).collect())
     }
 
     pub fn remove_constraint(&mut self, h: ConstraintHandle) -> Result<Constraint> {
