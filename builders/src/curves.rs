@@ -1,5 +1,6 @@
-//! Hanging-cable shapes parametrised by arc length (the initial shapes of
-//! ropes, and the closed forms the tests compare with).
+//! Shapes parametrised by arc length: hanging cables, polylines, circles
+//! (the initial shapes of ropes and cables, and the closed forms the tests
+//! compare with).
 use nalgebra::Vector3;
 use strandkit_core::{Error, Result};
 
@@ -58,32 +59,78 @@ impl Catenary {
     }
 }
 
-/// The funicular polygon of N equal loads at equal horizontal spacing
-/// Δ = S/(N+1): nodes on the parabola y = −4d x(S−x)/S² (y up).
+/// A polyline parametrised by arc length: the funicular polygon of a
+/// loaded cable, or a cable's route given as points.
 #[derive(Clone, Debug)]
-pub struct LoadedCable {
+pub struct Polyline {
     pub nodes: Vec<Vector3<f64>>,
     /// Arc length at each node.
     pub at: Vec<f64>,
 }
 
-impl LoadedCable {
-    pub fn new(span: f64, sag: f64, n_loads: usize) -> LoadedCable {
-        let dx = span / (n_loads + 1) as f64;
-        let nodes: Vec<Vector3<f64>> = (0..n_loads + 2).map(|k| {
-            let x = k as f64 * dx;
-            Vector3::new(x, -4.0 * sag * x * (span - x) / (span * span), 0.0)
-        }).collect();
+impl Polyline {
+    /// Through `nodes` (at least 2, finite, no two consecutive equal);
+    /// `what` names the argument in errors.
+    pub fn new(nodes: Vec<Vector3<f64>>, what: &str) -> Result<Polyline> {
+        if nodes.len() < 2 {
+            return Err(Error::invalid(what, format!("{} points", nodes.len()), "at least 2 points"));
+        }
+        for (k, x) in nodes.iter().enumerate() {
+            strandkit_core::constraint::finite3(&[x.x, x.y, x.z], &format!("{what}[{k}]"))?;
+        }
+        if let Some(k) = nodes.windows(2).position(|w| (w[1] - w[0]).norm() == 0.0) {
+            return Err(Error::invalid(format!("{what}[{}]", k + 1), format!("{:?}", nodes[k + 1].as_slice()), "a point distinct from the one before it"));
+        }
+        Ok(Self::through(nodes))
+    }
+    fn through(nodes: Vec<Vector3<f64>>) -> Polyline {
         let mut at = vec![0.0];
         for w in nodes.windows(2) {
             at.push(at.last().copied().unwrap_or(0.0) + (w[1] - w[0]).norm());
         }
-        LoadedCable { nodes, at }
+        Polyline { nodes, at }
+    }
+    /// The funicular polygon of N equal loads at equal horizontal spacing
+    /// Δ = S/(N+1): nodes on the parabola y = −4d x(S−x)/S² (y up).
+    pub fn funicular(span: f64, sag: f64, n_loads: usize) -> Polyline {
+        let dx = span / (n_loads + 1) as f64;
+        Self::through((0..n_loads + 2).map(|k| {
+            let x = k as f64 * dx;
+            Vector3::new(x, -4.0 * sag * x * (span - x) / (span * span), 0.0)
+        }).collect())
+    }
+    /// The same route with every corner rounded by a circular arc of
+    /// radius `radius` (m; smaller where the neighbouring segments are
+    /// too short: the arc takes at most half of each), drawn as 24 chords
+    /// per arc. A cable laid along it bends as a cable can.
+    pub fn rounded(&self, radius: f64) -> Polyline {
+        let n = self.nodes.len();
+        let mut out = vec![self.nodes[0]];
+        for k in 1..n - 1 {
+            let (a, p, b) = (self.nodes[k - 1], self.nodes[k], self.nodes[k + 1]);
+            let (d1, d2) = ((p - a).normalize(), (b - p).normalize());
+            let phi = d1.dot(&d2).clamp(-1.0, 1.0).acos();
+            if phi < 1e-9 || phi > std::f64::consts::PI - 1e-9 {
+                out.push(p); // straight on, or a U-turn (kept as a corner)
+                continue;
+            }
+            let t = (radius * (0.5 * phi).tan()).min(0.5 * (p - a).norm()).min(0.5 * (b - p).norm());
+            let rho = t / (0.5 * phi).tan();
+            let inward = (d2 - d1 * d1.dot(&d2)).normalize();
+            let centre = p - d1 * t + inward * rho;
+            for j in 0..=24 {
+                let alpha = phi * j as f64 / 24.0;
+                out.push(centre + (-inward * alpha.cos() + d1 * alpha.sin()) * rho);
+            }
+        }
+        out.push(self.nodes[n - 1]);
+        out.dedup_by(|x, y| (*x - *y).norm() == 0.0);
+        Self::through(out)
     }
     pub fn length(&self) -> f64 {
         self.at.last().copied().unwrap_or(0.0)
     }
-    /// The point at arc length s along the polygon.
+    /// The point at arc length s along the polyline (clamped to its ends).
     pub fn at_arc_length(&self, s: f64) -> Vector3<f64> {
         let k = self.at.partition_point(|&a| a <= s).clamp(1, self.at.len() - 1);
         let (s0, s1) = (self.at[k - 1], self.at[k]);

@@ -6,15 +6,21 @@
 //! - [`rope_bridge`]: floor ropes, handrails, planks, verticals (§9.2).
 //! - [`necklace`]: beads on a string, over a peg or from two points (§9.4).
 //! - [`beads_on_spring`]: beads sliding down a hanging helical spring (§9.4).
+//! - [`cable_on_clips`]: a cable on a structure, held by clips (§9.5).
+//! - [`harness`]: cables of several radii joined at junctions (§9.5).
 //! - [`rope::Rope`]: a rope given by linear density, EA and EI.
 //! - [`curves`]: catenary and loaded-cable shapes (initial shapes and the
 //!   closed forms of the tests).
+pub mod cable;
 pub mod curves;
+pub mod harness;
 pub mod necklace;
 pub mod rope;
 pub mod rope_bridge;
 pub mod spring;
 
+pub use cable::{cable_on_clips, CableLayout, CableOnClips};
+pub use harness::{harness, BranchEnd, Harness, HarnessLayout, JunctionLink};
 pub use necklace::{necklace, Hang, Necklace, NecklaceLayout};
 pub use rope::Rope;
 pub use rope_bridge::{rope_bridge, BridgeLayout, PlankModel, RopeBridge};

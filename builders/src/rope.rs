@@ -31,6 +31,14 @@ impl Default for Rope {
 }
 
 impl Rope {
+    /// A solid cable of circular section: radius (m), Young's modulus (Pa),
+    /// density (kg/m³) — μ = ρπr², EA = Eπr², EI = Eπr⁴/4 (its equivalent
+    /// radius is then `radius`). Checked by `validate` like any rope.
+    pub fn solid(radius: f64, young_modulus: f64, density: f64) -> Rope {
+        let area = std::f64::consts::PI * radius * radius;
+        Rope { linear_density: density * area, axial_stiffness: young_modulus * area, bending_stiffness: young_modulus * area * radius * radius / 4.0 }
+    }
+
     pub fn validate(&self, what: &str) -> Result<()> {
         positive(&format!("{what} linear_density"), self.linear_density)?;
         positive(&format!("{what} axial_stiffness"), self.axial_stiffness)?;

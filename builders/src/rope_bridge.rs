@@ -11,7 +11,7 @@
 //! polygon under the planks (the closed form the tests check), and the
 //! ropes start on it. Handrails have the floor ropes' length and shape,
 //! `handrail_height` higher.
-use crate::curves::{Catenary, LoadedCable};
+use crate::curves::{Catenary, Polyline};
 use crate::rope::Rope;
 use nalgebra::Vector3;
 use strandkit_core::constraint::kinds::{Position, RelativeDistance, RelativePosition};
@@ -144,11 +144,11 @@ pub fn rope_bridge(p: &RopeBridge) -> Result<(Assembly, BridgeLayout)> {
         let c = Catenary::with_sag(p.span, p.sag)?;
         (c.length(), Box::new(move |s| c.at_arc_length(s)))
     } else {
-        let c = LoadedCable::new(p.span, p.sag, n);
+        let c = Polyline::funicular(p.span, p.sag, n);
         let c2 = c.clone();
         (c.length(), Box::new(move |s| c2.at_arc_length(s)))
     };
-    let stations_at: Vec<f64> = if n == 0 { Vec::new() } else { LoadedCable::new(p.span, p.sag, n).at[1..=n].to_vec() };
+    let stations_at: Vec<f64> = if n == 0 { Vec::new() } else { Polyline::funicular(p.span, p.sag, n).at[1..=n].to_vec() };
     let station_x: Vec<f64> = (1..=n).map(|k| k as f64 * p.span / (n + 1) as f64).collect();
     let ncp = p.rope_control_points.unwrap_or(((n + 1) * 4).max(8));
     let mut asm = Assembly::new();

@@ -94,7 +94,8 @@ pub struct AssemblyBead {
 }
 
 /// A clip (capture sphere with an exit axis, see [`crate::Clip`]); it
-/// captures whichever rod enters it after the first solve.
+/// captures whichever rod enters it after the first solve, or is inserted
+/// already holding one (`holds`, see [`Assembly::hold_in_clip`]).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct AssemblyClip {
@@ -105,6 +106,10 @@ pub struct AssemblyClip {
     pub resistance: f64,
     #[serde(default)]
     pub label: Option<String>,
+    /// The assembly constraint (a one-rod `Position`) by which the clip
+    /// holds its rod from the start.
+    #[serde(default)]
+    pub holds: Option<usize>,
 }
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
@@ -177,8 +182,21 @@ impl Assembly {
     }
     /// Adds a clip (centre, capture radius, exit axis, resistance); returns its index.
     pub fn add_clip(&mut self, center: [f64; 3], radius: f64, axis: [f64; 3], resistance: f64, label: Option<&str>) -> usize {
-        self.clips.push(AssemblyClip { center, radius, axis, resistance, label: label.map(str::to_string) });
+        self.clips.push(AssemblyClip { center, radius, axis, resistance, label: label.map(str::to_string), holds: None });
         self.clips.len() - 1
+    }
+    /// Clip `clip` holds rod `rod` at `u` from the start: a `Position`
+    /// constraint pulling r(u) to the clip's centre (labelled as the clip),
+    /// released by the clip like a captured rod. Returns its index.
+    pub fn hold_in_clip(&mut self, clip: usize, rod: usize, u: f64) -> Result<usize> {
+        let c = self.clips.get(clip).ok_or_else(|| Error::invalid("clip", clip, format!("< {} (the assembly's clips)", self.clips.len())))?;
+        let (x, label) = (c.center, c.label.clone());
+        let kind = crate::constraint::kinds::Position { u, axes: [true, true, true, false], target: [x[0], x[1], x[2], 0.0] };
+        let con = self.constrain(rod, kind);
+        con.label = label;
+        let k = self.constraints.len() - 1;
+        self.clips[clip].holds = Some(k);
+        Ok(k)
     }
     /// Every label of the assembly (for a quick look at its groups).
     pub fn labels(&self) -> impl Iterator<Item = &str> {
@@ -250,8 +268,15 @@ impl World {
             }
         }
         let mut clips = Vec::with_capacity(asm.clips.len());
+        let mut held_by = std::collections::HashSet::new();
         for (i, c) in asm.clips.iter().enumerate() {
             clips.push(Clip::new(c.center, c.radius, c.axis, c.resistance).map_err(|e| e.context(format_args!("assembly clip {i}")))?);
+            if let Some(k) = c.holds {
+                let ok = asm.constraints.get(k).is_some_and(|x| x.other.is_none() && matches!(x.kind, ConstraintKind::Position(_)));
+                if !ok || !held_by.insert(k) {
+                    return Err(Error::invalid(format!("assembly clip {i} holds"), k, "a one-rod Position constraint of the assembly, held by one clip only"));
+                }
+            }
             if let Some(x) = &c.label {
                 crate::world::groups::check_label(x)?;
             }
@@ -303,7 +328,14 @@ impl World {
                 self.groups.add(x, Item::Load(*h))?;
             }
         }
-        let clips: Vec<ClipHandle> = clips.into_iter().map(|c| ClipHandle::from(self.clips.insert(c))).collect();
+        let clips: Vec<ClipHandle> = clips
+            .into_iter()
+            .zip(&asm.clips)
+            .map(|(mut c, a)| {
+                c.held = a.holds.map(|k| (rods[asm.constraints[k].rod], constraints[k]));
+                ClipHandle::from(self.clips.insert(c))
+            })
+            .collect();
         for (c, h) in asm.clips.iter().zip(&clips) {
             if let Some(x) = &c.label {
                 self.groups.add(x, Item::Clip(*h))?;

@@ -286,7 +286,7 @@ pub(crate) fn touched_by<K: ConstraintLaw>(k: &K, rods: &[&Rod]) -> Result<Touch
 }
 
 /// Normalised copy of a direction; error on zero / non-finite.
-pub(crate) fn unit(v: &[f64; 3], what: &str) -> Result<Vector3<f64>> {
+pub fn unit(v: &[f64; 3], what: &str) -> Result<Vector3<f64>> {
     let x = Vector3::from(*v);
     let n = x.norm();
     if !n.is_finite() || n == 0.0 {

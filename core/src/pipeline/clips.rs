@@ -30,15 +30,18 @@ pub(crate) fn update(world: &mut World) -> Result<Vec<Event>> {
             }
             continue;
         }
-        // Closest sample of every rod to the centre.
+        // Closest point of every rod to the centre: from its nearest
+        // sample, by Newton (samples alone miss a rod passing between two
+        // of them within the radius).
         let centre = Vector3::from(clip.center);
         let mut best: Option<(RodHandle, f64, f64)> = None;
         for (h, rod) in world.rods() {
-            for (u, p) in rod.sample_params().into_iter().zip(rod.sample_points()) {
-                let d = (p - centre).norm();
-                if d <= clip.radius && best.is_none_or(|b| d < b.2) {
-                    best = Some((h, u, d));
-                }
+            let near = rod.sample_params().into_iter().zip(rod.sample_points()).min_by(|a, b| (a.1 - centre).norm_squared().total_cmp(&(b.1 - centre).norm_squared()));
+            let Some((u, _)) = near else { continue };
+            let u = closest_abscissa(rod, centre, u)?;
+            let d = (rod.position(u)? - centre).norm();
+            if d <= clip.radius && best.is_none_or(|b| d < b.2) {
+                best = Some((h, u, d));
             }
         }
         match best {
@@ -48,7 +51,6 @@ pub(crate) fn update(world: &mut World) -> Result<Vec<Event>> {
                 }
             }
             Some((rod, u, _)) if !clip.disarmed => {
-                let u = closest_abscissa(world.rod(rod)?, centre, u)?;
                 let kind = Position { u, axes: [true, true, true, false], target: [clip.center[0], clip.center[1], clip.center[2], 0.0] };
                 if let Ok(con) = world.add_constraint(rod, kind, 0.0) {
                     if let Some(c) = world.clips.get_mut(i) {
