@@ -323,7 +323,7 @@ impl PyAssembly {
 }
 
 /// What `World.insert` added: `rods` (Rod views), `constraints`, `loads`,
-/// `beads` (handles), in the assembly's order, and `bandwidth` (the
+/// `beads`, `clips` (handles), in the assembly's order, and `bandwidth` (the
 /// half-bandwidth of the world's system afterwards).
 #[pyclass(name = "Inserted", module = "strandkit._native", frozen)]
 pub struct PyInserted {
@@ -331,6 +331,7 @@ pub struct PyInserted {
     pub(crate) constraints: Vec<Py<PyAny>>,
     pub(crate) loads: Vec<Py<PyAny>>,
     pub(crate) beads: Vec<Py<PyAny>>,
+    pub(crate) clips: Vec<Py<PyAny>>,
     #[pyo3(get)]
     pub(crate) bandwidth: usize,
 }
@@ -357,13 +358,19 @@ impl PyInserted {
     fn beads(&self, py: Python<'_>) -> Vec<Py<PyAny>> {
         self.beads.iter().map(|x| x.clone_ref(py)).collect()
     }
+    /// ClipHandles, by assembly index.
+    #[getter]
+    fn clips(&self, py: Python<'_>) -> Vec<Py<PyAny>> {
+        self.clips.iter().map(|x| x.clone_ref(py)).collect()
+    }
     fn __repr__(&self) -> String {
         format!(
-            "Inserted(rods={}, constraints={}, loads={}, beads={}, bandwidth={})",
+            "Inserted(rods={}, constraints={}, loads={}, beads={}, clips={}, bandwidth={})",
             self.rods.len(),
             self.constraints.len(),
             self.loads.len(),
             self.beads.len(),
+            self.clips.len(),
             self.bandwidth
         )
     }

@@ -4,7 +4,9 @@ use crate::assembly::PyAssembly;
 use crate::{bad, guard};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
-use strandkit_builders::{necklace, rope_bridge, Hang, Necklace, PlankModel, Rope, RopeBridge};
+use strandkit_builders::{
+    beads_on_spring, cable_on_clips, harness, necklace, rope_bridge, BeadsOnSpring, BranchEnd, CableOnClips, Hang, Harness, Necklace, PlankModel, Rope, RopeBridge,
+};
 
 /// A rope from a dict {'linear_density': kg/m, 'axial_stiffness': N,
 /// 'bending_stiffness': N·m²} (missing keys: the default rope's).
@@ -119,7 +121,118 @@ fn build_necklace<'py>(
     Ok((PyAssembly { inner: asm }, d))
 }
 
+/// Particles on a spring (SPEC §9.4); see `strandkit.builders.beads_on_spring`.
+#[pyfunction]
+#[pyo3(signature = (*, coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points))]
+#[allow(clippy::too_many_arguments)]
+fn build_beads_on_spring<'py>(
+    py: Python<'py>,
+    coil_radius: f64,
+    pitch: f64,
+    turns: f64,
+    wire_radius: f64,
+    young_modulus: f64,
+    poisson_ratio: f64,
+    density: f64,
+    n_beads: usize,
+    bead_mass: f64,
+    bead_radius: f64,
+    bead_spacing: f64,
+    friction: f64,
+    top: [f64; 3],
+    control_points: usize,
+) -> PyResult<(PyAssembly, Bound<'py, PyDict>)> {
+    let p = BeadsOnSpring {
+        coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points,
+    };
+    let (asm, l) = guard(|| beads_on_spring(&p))?;
+    let d = PyDict::new(py);
+    d.set_item("spring", l.spring)?;
+    d.set_item("clamp", l.clamp)?;
+    d.set_item("beads", l.beads)?;
+    d.set_item("bead_arc_lengths", l.bead_arc_lengths)?;
+    d.set_item("wire_length", l.wire_length)?;
+    d.set_item("helix_angle", l.helix_angle)?;
+    d.set_item("close_coiled_rate", l.close_coiled_rate)?;
+    Ok((PyAssembly { inner: asm }, d))
+}
+
+/// A cable on clips (SPEC §9.5); see `strandkit.builders.cable_on_clips`.
+#[pyfunction]
+#[pyo3(signature = (*, path, clip_positions, clip_radius, clip_axis, clip_resistance, cable_radius, young_modulus, density, bend_radius, clamp_start, clamp_end, control_points))]
+#[allow(clippy::too_many_arguments)]
+fn build_cable_on_clips<'py>(
+    py: Python<'py>,
+    path: Vec<[f64; 3]>,
+    clip_positions: Vec<[f64; 3]>,
+    clip_radius: f64,
+    clip_axis: [f64; 3],
+    clip_resistance: f64,
+    cable_radius: f64,
+    young_modulus: f64,
+    density: f64,
+    bend_radius: f64,
+    clamp_start: bool,
+    clamp_end: bool,
+    control_points: usize,
+) -> PyResult<(PyAssembly, Bound<'py, PyDict>)> {
+    let p = CableOnClips { path, clip_positions, clip_radius, clip_axis, clip_resistance, cable_radius, young_modulus, density, bend_radius, clamp_start, clamp_end, control_points };
+    let (asm, l) = guard(|| cable_on_clips(&p))?;
+    let d = PyDict::new(py);
+    d.set_item("cable", l.cable)?;
+    d.set_item("clips", l.clips)?;
+    d.set_item("clamps", l.clamps)?;
+    d.set_item("clip_abscissae", l.clip_abscissae)?;
+    d.set_item("clip_distances", l.clip_distances)?;
+    d.set_item("length", l.length)?;
+    Ok((PyAssembly { inner: asm }, d))
+}
+
+fn branch_end((b, e): (usize, String), what: &str) -> PyResult<(usize, BranchEnd)> {
+    match e.as_str() {
+        "start" => Ok((b, BranchEnd::Start)),
+        "end" => Ok((b, BranchEnd::End)),
+        other => Err(bad(format!("{what}: end {other:?} is not 'start' or 'end'"))),
+    }
+}
+
+/// A wiring harness (SPEC §9.5); see `strandkit.builders.harness`.
+#[pyfunction]
+#[pyo3(signature = (*, branches, radii, junctions, connectors, bend_radius, young_modulus, density, control_points_per_metre))]
+#[allow(clippy::too_many_arguments)]
+fn build_harness<'py>(
+    py: Python<'py>,
+    branches: Vec<Vec<[f64; 3]>>,
+    radii: Vec<f64>,
+    junctions: Vec<Vec<(usize, String)>>,
+    connectors: Vec<(usize, String)>,
+    bend_radius: f64,
+    young_modulus: f64,
+    density: f64,
+    control_points_per_metre: f64,
+) -> PyResult<(PyAssembly, Bound<'py, PyDict>)> {
+    let junctions = junctions
+        .into_iter()
+        .enumerate()
+        .map(|(j, ends)| ends.into_iter().map(|e| branch_end(e, &format!("junctions[{j}]"))).collect::<PyResult<Vec<_>>>())
+        .collect::<PyResult<Vec<_>>>()?;
+    let connectors = connectors.into_iter().enumerate().map(|(c, e)| branch_end(e, &format!("connectors[{c}]"))).collect::<PyResult<Vec<_>>>()?;
+    let p = Harness { branches, radii, junctions, connectors, bend_radius, young_modulus, density, control_points_per_metre };
+    let (asm, l) = guard(|| harness(&p))?;
+    let d = PyDict::new(py);
+    d.set_item("branches", l.branches)?;
+    let links: Vec<Vec<(usize, usize, usize, usize)>> =
+        l.junctions.iter().map(|js| js.iter().map(|j| (j.main.0, j.other.0, j.position, j.orientation)).collect()).collect();
+    d.set_item("junctions", links)?;
+    d.set_item("connectors", l.connectors)?;
+    d.set_item("lengths", l.lengths)?;
+    Ok((PyAssembly { inner: asm }, d))
+}
+
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(build_rope_bridge, m)?)?;
-    m.add_function(wrap_pyfunction!(build_necklace, m)?)
+    m.add_function(wrap_pyfunction!(build_necklace, m)?)?;
+    m.add_function(wrap_pyfunction!(build_beads_on_spring, m)?)?;
+    m.add_function(wrap_pyfunction!(build_cable_on_clips, m)?)?;
+    m.add_function(wrap_pyfunction!(build_harness, m)?)
 }

@@ -475,7 +475,7 @@ impl PyWorld {
     }
     /// Adds an Assembly in one checked batch (atomic: on any error the
     /// world is unchanged); returns what was added (`rods`, `constraints`,
-    /// `loads`, `beads`, `bandwidth`).
+    /// `loads`, `beads`, `clips`, `bandwidth`).
     fn insert(slf: &Bound<'_, Self>, assembly: &Bound<'_, PyAssembly>) -> PyResult<PyInserted> {
         let py = slf.py();
         let ins = {
@@ -489,6 +489,7 @@ impl PyWorld {
             constraints: objs(ins.constraints.iter().map(|h| Ok(Bound::new(py, Self::constraint(slf, *h))?.into_any().unbind())).collect())?,
             loads: objs(ins.loads.iter().map(|h| Ok(Bound::new(py, PyLoadHandle::new(w.clone_ref(py), *h))?.into_any().unbind())).collect())?,
             beads: objs(ins.beads.iter().map(|h| Ok(Bound::new(py, PyBeadHandle::new(w.clone_ref(py), *h))?.into_any().unbind())).collect())?,
+            clips: objs(ins.clips.iter().map(|h| Ok(Bound::new(py, PyClipHandle::new(w.clone_ref(py), *h))?.into_any().unbind())).collect())?,
             bandwidth: ins.bandwidth,
         })
     }

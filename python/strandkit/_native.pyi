@@ -3,10 +3,16 @@
 from typing import Any, Sequence, final
 
 __version__: str
-__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_necklace', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'read_dcd', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
+__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_beads_on_spring', 'build_cable_on_clips', 'build_harness', 'build_necklace', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'read_dcd', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
 
 def bead_positions(world):
     """Bead positions of a world (length unit), shape (N, 3): the sample points of every rod in world order (one bead per sample point)."""
+def build_beads_on_spring(*, coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points):
+    """Particles on a spring (SPEC §9.4); see `strandkit.builders.beads_on_spring`."""
+def build_cable_on_clips(*, path, clip_positions, clip_radius, clip_axis, clip_resistance, cable_radius, young_modulus, density, bend_radius, clamp_start, clamp_end, control_points):
+    """A cable on clips (SPEC §9.5); see `strandkit.builders.cable_on_clips`."""
+def build_harness(*, branches, radii, junctions, connectors, bend_radius, young_modulus, density, control_points_per_metre):
+    """A wiring harness (SPEC §9.5); see `strandkit.builders.harness`."""
 def build_necklace(*, n_beads, bead_mass, bead_radius, string=None, length, closed, hang, peg, supports, friction, peg_friction, knotted, control_points):
     """Bead necklace (SPEC §9.4); see `strandkit.builders.necklace`."""
 def build_rope_bridge(*, span, n_planks, plank_mass, sag, width, handrail_height, rope=None, plank_depth, plank_thickness, plank_young, plank_model, plank_break_force=None, rope_control_points=None):
@@ -247,11 +253,13 @@ class Group:
 
 @final
 class Inserted:
-    """What `World.insert` added: `rods` (Rod views), `constraints`, `loads`, `beads` (handles), in the assembly's order, and `bandwidth` (the half-bandwidth of the world's system afterwards)."""
+    """What `World.insert` added: `rods` (Rod views), `constraints`, `loads`, `beads`, `clips` (handles), in the assembly's order, and `bandwidth` (the half-bandwidth of the world's system afterwards)."""
     def __repr__(self, /): ...
     bandwidth: Any
     beads: Any
     """BeadHandles, by assembly index."""
+    clips: Any
+    """ClipHandles, by assembly index."""
     constraints: Any
     """ConstraintHandles, by assembly index."""
     loads: Any
@@ -553,7 +561,7 @@ class World:
     groups: Any
     """Names of the groups (base names of the labels), sorted."""
     def insert(self, assembly):
-        """Adds an Assembly in one checked batch (atomic: on any error the world is unchanged); returns what was added (`rods`, `constraints`, `loads`, `beads`, `bandwidth`)."""
+        """Adds an Assembly in one checked batch (atomic: on any error the world is unchanged); returns what was added (`rods`, `constraints`, `loads`, `beads`, `clips`, `bandwidth`)."""
     def interleave(self, rods):
         """Interleaves the control points of these rods in the band by their relative position along each rod (an override of the computed ordering)."""
     @staticmethod

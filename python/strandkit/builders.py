@@ -20,7 +20,8 @@ import numpy as np
 
 from . import _native
 
-__all__ = ["RopeBridge", "rope_bridge", "walk_across", "Necklace", "necklace"]
+__all__ = ["RopeBridge", "rope_bridge", "walk_across", "Necklace", "necklace", "BeadsOnSpring", "beads_on_spring",
+           "CableOnClips", "cable_on_clips", "Harness", "harness"]
 
 
 @dataclass(frozen=True)
@@ -216,3 +217,220 @@ def necklace(*, n_beads: int = 12, bead_mass: float = 0.002, bead_radius: float 
     params.update(peg=peg3, supports=sup)
     return Necklace(asm, int(layout["string"]), list(layout["beads"]), list(layout["supports"]),
                     np.asarray(layout["bead_arc_lengths"]), params)
+
+
+def _non_negative_ints(**kw):
+    from .errors import InvalidInputError
+    for k, x in kw.items():
+        if int(x) < 0:
+            raise InvalidInputError(f"invalid input: {k} = {x}, expected >= 0")
+
+
+def _points(value, what):
+    """A list of (x, y, z) points in m, or InvalidInputError naming `what`."""
+    from .errors import InvalidInputError
+    try:
+        pts = [tuple(float(c) for c in p) for p in value]
+    except (TypeError, ValueError) as e:
+        raise InvalidInputError(f"invalid input: {what} must be a list of (x, y, z) points in m ({e})") from None
+    if any(len(p) != 3 for p in pts):
+        raise InvalidInputError(f"invalid input: {what} must be a list of (x, y, z) points in m")
+    return pts
+
+
+@dataclass(frozen=True)
+class BeadsOnSpring:
+    """A built spring with beads: the assembly, and where its parts are.
+
+    ``spring``: assembly rod index; ``clamp``: constraint indices of the
+    clamp at the top; ``beads``: bead indices (bead[0] lowest);
+    ``bead_arc_lengths``: m of wire from the clamp; ``wire_length``: m;
+    ``helix_angle``: rad above the horizontal; ``close_coiled_rate``: N/m,
+    the textbook G d⁴/(8 D³ N)."""
+
+    assembly: object
+    spring: int
+    clamp: list
+    beads: list
+    bead_arc_lengths: np.ndarray
+    wire_length: float
+    helix_angle: float
+    close_coiled_rate: float
+    params: dict = field(default_factory=dict)
+
+    def __repr__(self):
+        p = self.params
+        return (f"BeadsOnSpring(coil_radius={p['coil_radius']} m, pitch={p['pitch']} m, turns={p['turns']}, "
+                f"wire_radius={p['wire_radius']} m, n_beads={p['n_beads']}, bead_mass={p['bead_mass']} kg, "
+                f"wire_length={self.wire_length:.4g} m, close_coiled_rate={self.close_coiled_rate:.4g} N/m)")
+
+
+def beads_on_spring(*, coil_radius: float = 0.03, pitch: float = 0.02, turns: float = 4.0,
+                    wire_radius: float = 5e-4, young_modulus: float = 2e11, poisson_ratio: float = 0.3,
+                    density: float = 7800.0, n_beads: int = 4, bead_mass: float = 0.01, bead_radius: float = 0.004,
+                    bead_spacing: float = 0.012, friction: float = 0.0, top=(0.0, 0.0, 0.0),
+                    control_points: int = 61) -> BeadsOnSpring:
+    """Particles on a spring (SPEC §9.4, thesis fig. III.17): a helical steel
+    spring hanging from a clamp (rest curvature and twist: it keeps its
+    shape), beads threaded on its wire near the top. Stepped, the beads
+    slide down the coils, stretch the spring, and leave it at its free end
+    (``BeadLeft`` events); the spring springs back.
+
+    coil_radius: m (axis to wire centre); pitch: m per turn (> 0,
+    right-handed); turns; wire_radius: m; young_modulus: Pa; poisson_ratio;
+    density: kg/m³; n_beads; bead_mass: kg; bead_radius: m (centres stay 2r
+    apart along the wire); bead_spacing: m of wire between beads at the
+    start; friction: N·s/m of a bead sliding on the wire; top: m, the top
+    of the coil's vertical axis (the clamp is at top + (0, 0, R));
+    control_points: of the wire (61 = 15 per turn: compliance within 2 %
+    of Castigliano's; the thesis' 31 is 5–28 % too stiff).
+
+    Labels: "spring", "clamp", "bead[i]". Use gravity (0, −9.81, 0)."""
+    _non_negative_ints(n_beads=n_beads, control_points=control_points)
+    top3 = tuple(_points([top], "top")[0])
+    params = dict(coil_radius=float(coil_radius), pitch=float(pitch), turns=float(turns),
+                  wire_radius=float(wire_radius), young_modulus=float(young_modulus),
+                  poisson_ratio=float(poisson_ratio), density=float(density), n_beads=int(n_beads),
+                  bead_mass=float(bead_mass), bead_radius=float(bead_radius), bead_spacing=float(bead_spacing),
+                  friction=float(friction), top=top3, control_points=int(control_points))
+    asm, l = _native.build_beads_on_spring(**params)
+    return BeadsOnSpring(asm, int(l["spring"]), list(l["clamp"]), list(l["beads"]), np.asarray(l["bead_arc_lengths"]),
+                         float(l["wire_length"]), float(l["helix_angle"]), float(l["close_coiled_rate"]), params)
+
+
+_DOOR_PATH = ((0.0, 1.0, 0.0), (0.6, 1.0, 0.0), (0.9, 0.7, 0.0), (0.9, 0.2, 0.0), (1.2, 0.0, 0.0))
+_DOOR_CLIPS = ((0.25, 1.0, 0.0), (0.9, 0.55, 0.0), (0.9, 0.35, 0.0), (1.14, 0.04, 0.0))
+
+
+@dataclass(frozen=True)
+class CableOnClips:
+    """A built cable on clips: the assembly, and where its parts are.
+
+    ``cable``: assembly rod index; ``clips``: assembly clip indices;
+    ``clamps``: constraint indices of the connectors' clamps;
+    ``clip_abscissae``: u of the cable point each clip holds;
+    ``clip_distances``: m from the laid cable to each clip's centre;
+    ``length``: m of cable."""
+
+    assembly: object
+    cable: int
+    clips: list
+    clamps: list
+    clip_abscissae: np.ndarray
+    clip_distances: np.ndarray
+    length: float
+    params: dict = field(default_factory=dict)
+
+    def __repr__(self):
+        p = self.params
+        return (f"CableOnClips(length={self.length:.4g} m, clips={len(self.clips)}, "
+                f"clip_resistance={p['clip_resistance']} N, cable_radius={p['cable_radius']} m, "
+                f"clamp_start={p['clamp_start']}, clamp_end={p['clamp_end']})")
+
+
+def cable_on_clips(*, path=_DOOR_PATH, clip_positions=_DOOR_CLIPS, clip_radius: float = 0.01,
+                   clip_axis=(0.0, 0.0, 1.0), clip_resistance: float = 20.0, cable_radius: float = 0.003,
+                   young_modulus: float = 1e8, density: float = 2000.0, bend_radius: float = 0.15,
+                   clamp_start: bool = True, clamp_end: bool = False, control_points: int = 18) -> CableOnClips:
+    """A cable on clips (SPEC §9.5, thesis III.C.1): a cable laid along
+    ``path`` (points in m; its corners rounded to ``bend_radius``, m),
+    inserted clipped: every clip holds the cable's point nearest its centre
+    and lets go when the cable pulls out along ``clip_axis`` harder than
+    ``clip_resistance`` (N; ``ClipReleased`` event); a released clip
+    catches whatever cable enters its sphere (``clip_radius``, m) again.
+
+    clip_positions: points in m, each within clip_radius of the laid cable
+    (else an error naming it); cable_radius: m; young_modulus: Pa;
+    density: kg/m³ (default a 6 mm PVC-insulated cable, EI = 6.4e-3 N·m²,
+    0.057 kg/m); clamp_start / clamp_end: connectors at the ends;
+    control_points: 18, the thesis' door scene. The cable is straight at
+    rest and has no torsion here.
+
+    Labels: "cable", "clip[k]" (the clip and its hold), "connector[0|1]".
+    Use gravity (0, −9.81, 0); the default door is the plane z = 0."""
+    _non_negative_ints(control_points=control_points)
+    params = dict(path=_points(path, "path"), clip_positions=_points(clip_positions, "clip_positions"),
+                  clip_radius=float(clip_radius), clip_axis=tuple(_points([clip_axis], "clip_axis")[0]),
+                  clip_resistance=float(clip_resistance), cable_radius=float(cable_radius),
+                  young_modulus=float(young_modulus), density=float(density), bend_radius=float(bend_radius),
+                  clamp_start=bool(clamp_start), clamp_end=bool(clamp_end), control_points=int(control_points))
+    asm, l = _native.build_cable_on_clips(**params)
+    return CableOnClips(asm, int(l["cable"]), list(l["clips"]), list(l["clamps"]), np.asarray(l["clip_abscissae"]),
+                        np.asarray(l["clip_distances"]), float(l["length"]), params)
+
+
+_HARNESS_BRANCHES = (
+    ((0.0, 0.0, 0.0), (0.5, 0.0, 0.0)),
+    ((-0.4, 0.15, 0.0), (-0.1, 0.0, 0.0), (0.0, 0.0, 0.0)),
+    ((-0.4, -0.15, 0.0), (-0.1, 0.0, 0.0), (0.0, 0.0, 0.0)),
+    ((0.5, 0.0, 0.0), (0.6, 0.0, 0.0), (0.9, 0.2, 0.0)),
+    ((0.5, 0.0, 0.0), (0.6, 0.0, 0.0), (0.9, 0.0, 0.0)),
+    ((0.5, 0.0, 0.0), (0.6, 0.0, 0.0), (0.9, -0.2, 0.0)),
+)
+_HARNESS_RADII = (0.006, 0.0035, 0.0035, 0.004, 0.003, 0.0025)
+_HARNESS_JUNCTIONS = (((0, "start"), (1, "end"), (2, "end")), ((0, "end"), (3, "start"), (4, "start"), (5, "start")))
+_HARNESS_CONNECTORS = ((1, "start"), (2, "start"), (3, "end"), (4, "end"), (5, "end"))
+
+
+@dataclass(frozen=True)
+class Harness:
+    """A built harness: the assembly, and where its parts are.
+
+    ``branches``: assembly rod index of each branch; ``junctions``: per
+    junction, its links (main branch, other branch, RelativePosition
+    constraint index, RelativeOrientation constraint index);
+    ``connectors``: constraint indices of each connector's clamp;
+    ``lengths``: m of each branch."""
+
+    assembly: object
+    branches: list
+    junctions: list
+    connectors: list
+    lengths: np.ndarray
+    params: dict = field(default_factory=dict)
+
+    def __repr__(self):
+        p = self.params
+        return (f"Harness(branches={len(self.branches)}, junctions={len(self.junctions)}, "
+                f"connectors={len(self.connectors)}, radii={list(p['radii'])} m, length={self.lengths.sum():.4g} m)")
+
+
+def harness(*, branches=_HARNESS_BRANCHES, radii=_HARNESS_RADII, junctions=_HARNESS_JUNCTIONS,
+            connectors=_HARNESS_CONNECTORS, bend_radius: float = 0.1, young_modulus: float = 1e8,
+            density: float = 2000.0, control_points_per_metre: float = 12.0) -> Harness:
+    """A wiring harness (SPEC §9.5, thesis III.C.2, fig. III.13): cables
+    ("branches", each a route of points in m, with its own radius in m)
+    joined at junctions — taped breakouts where branch ends share a point
+    and a direction (relative position + relative orientation) — and
+    connectors clamping ends.
+
+    junctions: per junction, the (branch, "start"|"end") ends meeting
+    there: at one point, tangents the same way (else an error naming the
+    junction), every branch joined to the others (else an error naming
+    ``junctions``); connectors: (branch, "start"|"end") ends clamped;
+    bend_radius: m, corners of the routes rounded to it; young_modulus: Pa;
+    density: kg/m³; control_points_per_metre (at least 4 per branch).
+    Branches have no torsion: give every leaf a connector for ``relax``.
+
+    Labels: "branch[k]", "junction[j]", "connector[c]". Use gravity
+    (0, −9.81, 0)."""
+    from .errors import InvalidInputError
+
+    def ends(value, what):
+        try:
+            out = [(int(b), str(e)) for b, e in value]
+        except (TypeError, ValueError):
+            raise InvalidInputError(f"invalid input: {what} must be (branch, 'start'|'end') pairs") from None
+        if any(b < 0 for b, _ in out):
+            raise InvalidInputError(f"invalid input: {what}: branch indices must be >= 0")
+        return out
+
+    params = dict(branches=[_points(b, f"branches[{k}]") for k, b in enumerate(branches)],
+                  radii=[float(r) for r in radii],
+                  junctions=[ends(j, f"junctions[{k}]") for k, j in enumerate(junctions)],
+                  connectors=ends(connectors, "connectors"), bend_radius=float(bend_radius),
+                  young_modulus=float(young_modulus), density=float(density),
+                  control_points_per_metre=float(control_points_per_metre))
+    asm, l = _native.build_harness(**params)
+    return Harness(asm, list(l["branches"]), [list(j) for j in l["junctions"]], list(l["connectors"]),
+                   np.asarray(l["lengths"]), params)

@@ -87,3 +87,69 @@ def test_necklace_over_a_peg_swings_down_and_keeps_its_beads():
 def test_necklace_bad_input_names_the_argument(bad, name):
     with pytest.raises(sk.InvalidInputError, match=name):
         sk.builders.necklace(**bad)
+
+
+def test_beads_on_spring_slide_off_and_a_bead_on_a_rigid_helix_reaches_its_terminal_speed():
+    spring = sk.builders.beads_on_spring()
+    assert "close_coiled_rate" in repr(spring) and len(spring.beads) == 4
+    w = sk.World(gravity=(0, -G, 0), dt=1e-3)
+    ins = w.insert(spring.assembly)
+    left = []
+    for _ in range(2000):
+        left += [e for e in w.step().events if e.kind == "BeadLeft"]
+    assert [e.bead for e in left] == ins.beads  # all leave, bead[0] first
+    # A thick wire (rigid track), viscous friction c: speed m g sin α / c.
+    stiff = sk.builders.beads_on_spring(wire_radius=4e-3, pitch=0.03, n_beads=1, bead_mass=1e-3, friction=0.05)
+    w = sk.World(gravity=(0, -G, 0), dt=1e-3)
+    ins = w.insert(stiff.assembly)
+    for _ in range(300):
+        w.step()
+    terminal = 1e-3 * G * np.sin(stiff.helix_angle) / 0.05
+    assert ins.beads[0].velocity == pytest.approx(terminal, rel=0.02)
+
+
+def test_cable_on_clips_is_inserted_clipped_and_pulls_out_above_the_resistance():
+    cable = sk.builders.cable_on_clips()
+    w = sk.World(gravity=(0, -G, 0))
+    ins = w.insert(cable.assembly)
+    assert all(c.held is not None for c in ins.clips) and len(ins.clips) == 4
+    w.relax()
+    weight = sum(r.mass for r in w.rods()) * G
+    carried = w.group("clip").forces[:, 1].sum() + w.group("connector[0]").forces[:, 1].sum()
+    assert carried == pytest.approx(weight, rel=1e-6)
+    # Pull the free end out of the door (+z) well past what the last clip holds.
+    rod = ins.rods[cable.cable]
+    w.add_load(sk.point_force(rod, rod.u_end, (0, 0, 30.0)))
+    released = w.relax().events
+    assert [e.kind for e in released] == ["ClipReleased"] and released[0].force > 20.0
+    assert released[0].clip == ins.clips[3]
+
+
+def test_harness_branches_balance_and_bad_input():
+    h = sk.builders.harness()
+    w = sk.World(gravity=(0, -G, 0))
+    ins = w.insert(h.assembly)
+    w.relax()
+    # A leaf branch: its junction and its connector carry its weight.
+    leaf = ins.rods[h.branches[4]]
+    (main, other, pos, _orient) = h.junctions[1][1]
+    assert other == 4
+    junction = -np.asarray(ins.constraints[pos].reaction().force)  # rod b gets −Λ
+    connector = w.group("connector[3]").forces.sum(axis=0)
+    np.testing.assert_allclose(junction + connector, [0, leaf.mass * G, 0], atol=1e-9 * leaf.mass * G + 1e-15)
+    with pytest.raises(sk.InvalidInputError, match="junctions"):
+        sk.builders.harness(junctions=[[(0, "start"), (1, "end"), (2, "end")], [(0, "end"), (3, "start")]])
+    with pytest.raises(sk.InvalidInputError, match='"middle"'):
+        sk.builders.harness(connectors=[(1, "middle")])
+
+
+@pytest.mark.parametrize("builder, bad, name", [
+    ("beads_on_spring", dict(pitch=1e-4), "pitch"),
+    ("beads_on_spring", dict(n_beads=-1), "n_beads"),
+    ("cable_on_clips", dict(clip_positions=[(5.0, 5.0, 5.0)]), r"clip_positions\[0\]"),
+    ("cable_on_clips", dict(path=[(0, 0, 0)]), "path"),
+    ("harness", dict(radii=[0.003]), "radii"),
+])
+def test_cable_and_spring_bad_input_names_the_argument(builder, bad, name):
+    with pytest.raises(sk.InvalidInputError, match=name):
+        getattr(sk.builders, builder)(**bad)
