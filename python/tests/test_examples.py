@@ -12,6 +12,7 @@ EXAMPLES_DIR = pathlib.Path(__file__).resolve().parents[2] / "examples"
 # Scripts (not the helper module _common.py) and the files each writes.
 OUTPUTS = {
     "bead_on_string.py": ["bead_on_string.png"],
+    "cables.py": ["cables.glb", "cables.png", "harness.glb"],
     "cantilever.py": ["cantilever.png"],
     "catenary.py": ["catenary.png"],
     "necklace.py": ["necklace.dcd", "necklace.pdb", "necklace.png", "necklace.psf", "necklace_energy.png"],
@@ -20,6 +21,7 @@ OUTPUTS = {
     "plastic_rupture.py": ["plastic_rupture.png"],
     "quasi_dynamic.py": ["quasi_dynamic.png"],
     "sliding_points.py": ["sliding_points.png"],
+    "spring.py": ["spring.dcd", "spring.glb", "spring.pdb", "spring.png", "spring.psf", "spring_end.png"],
 }
 
 
