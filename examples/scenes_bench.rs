@@ -19,6 +19,21 @@ fn time_steps(w: &mut World, steps: usize) -> f64 {
     best
 }
 
+/// Median over 5 passes of each pass's fastest step (s).
+fn median_step(w: &mut World, steps: usize) -> f64 {
+    let mut mins: Vec<f64> = (0..5).map(|_| time_steps(w, steps)).collect();
+    mins.sort_by(f64::total_cmp);
+    mins[2]
+}
+
+/// Sets `rods` moving at `vz` (m/s) along z: the push that starts a scene.
+fn push(w: &mut World, rods: &[RodHandle], vz: f64) {
+    for &r in rods {
+        let v: Vec<f64> = w.rod(r).unwrap().velocities().chunks(3).flat_map(|_| [0.0, 0.0, vz]).collect();
+        w.rod_mut(r).unwrap().set_velocities(&v).unwrap();
+    }
+}
+
 fn main() {
     // Bridge at the thesis' size: 4 ropes × 8 control points = 32, planks
     // as distance links (the thesis' model): 24 anchor rows + 6 planks +
@@ -30,15 +45,10 @@ fn main() {
     let ins = w.insert(&asm).expect("insert");
     w.relax().expect("relax");
     // A lateral push on the floor ropes sets the bridge swinging.
-    for &r in &ins.rods[..2] {
-        let v: Vec<f64> = w.rod(r).unwrap().velocities().chunks(3).flat_map(|_| [0.0, 0.0, 0.5]).collect();
-        w.rod_mut(r).unwrap().set_velocities(&v).unwrap();
-    }
+    push(&mut w, &ins.rods[..2], 0.5);
     let rep = w.step().expect("step");
     let cps: usize = w.rods().map(|(_, r)| r.n_ctrl()).sum();
-    let mut mins: Vec<f64> = (0..5).map(|_| time_steps(&mut w, 400)).collect();
-    mins.sort_by(f64::total_cmp);
-    let t = mins[2];
+    let t = median_step(&mut w, 400);
     println!("scene              cp  multipliers  thesis [ms]  here [ms]  ratio");
     println!("bridge (links)    {cps:3}  {:11}  {:>11}  {:9.4}  {:5.0}×   (n {}, half-bandwidth {}, {:?})", rep.n_multipliers, "2", t * 1e3, 2e-3 / t, rep.n_unknowns, rep.bandwidth, rep.factorisation);
     // Necklace at the thesis' size: 16 control points, 12 beads, dt 0.8 ms;
@@ -51,9 +61,7 @@ fn main() {
         let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt: 8e-4, parallel: false, ..Default::default() });
         w.insert(&asm).expect("insert");
         let rep = w.step().expect("step");
-        let mut mins: Vec<f64> = (0..5).map(|_| time_steps(&mut w, 400)).collect();
-        mins.sort_by(f64::total_cmp);
-        let t = mins[2];
+        let t = median_step(&mut w, 400);
         println!("{name:17} {:3}  {:11}  {:>11}  {:9.4}  {:5.0}×   (n {}, 12 beads, {:?})", 16, rep.n_multipliers, "0.4–0.8", t * 1e3, 0.4e-3 / t, rep.n_unknowns, rep.factorisation);
     }
     // Particles on a spring at the thesis' size: 31 control points (the
@@ -63,9 +71,7 @@ fn main() {
     let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt: 1e-3, parallel: false, ..Default::default() });
     w.insert(&asm).expect("insert");
     let rep = w.step().expect("step");
-    let mut mins: Vec<f64> = (0..5).map(|_| time_steps(&mut w, 200)).collect();
-    mins.sort_by(f64::total_cmp);
-    let t = mins[2];
+    let t = median_step(&mut w, 200);
     println!("{:17} {:3}  {:11}  {:>11}  {:9.4}  {:5.0}×   (n {}, 4 beads, {:?})", "beads on spring", 31, rep.n_multipliers, "0.7", t * 1e3, 0.7e-3 / t, rep.n_unknowns, rep.factorisation);
     // Cable on a door (18 control points, 4 clips, a connector; dt 3 ms),
     // and the harness (the thesis' harness had 40 control points and 42–87
@@ -77,15 +83,10 @@ fn main() {
         let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt: 3e-3, parallel: false, ..Default::default() });
         let ins = w.insert(&asm).expect("insert");
         w.relax().expect("relax");
-        for &r in &ins.rods {
-            let v: Vec<f64> = w.rod(r).unwrap().velocities().chunks(3).flat_map(|_| [0.0, 0.0, 0.2]).collect();
-            w.rod_mut(r).unwrap().set_velocities(&v).unwrap();
-        }
+        push(&mut w, &ins.rods, 0.2);
         let rep = w.step().expect("step");
         let cps: usize = w.rods().map(|(_, r)| r.n_ctrl()).sum();
-        let mut mins: Vec<f64> = (0..5).map(|_| time_steps(&mut w, 400)).collect();
-        mins.sort_by(f64::total_cmp);
-        let t = mins[2];
+        let t = median_step(&mut w, 400);
         println!("{name:17} {cps:3}  {:11}  {:>11}  {:9.4}  {:5.0}×   (n {}, {:?})", rep.n_multipliers, thesis, t * 1e3, fastest / t, rep.n_unknowns, rep.factorisation);
     }
 }

@@ -122,7 +122,7 @@ pub fn cable_on_clips(p: &CableOnClips) -> Result<(Assembly, CableLayout)> {
     let mut clip_abscissae = Vec::with_capacity(p.clip_positions.len());
     let mut clip_distances = Vec::with_capacity(p.clip_positions.len());
     for (k, c) in p.clip_positions.iter().enumerate() {
-        let (u, d) = closest_point(&rod, Vector3::from(*c))?;
+        let (u, d) = rod.closest_point(&Vector3::from(*c))?;
         if d > p.clip_radius {
             return Err(Error::invalid(
                 format!("clip_positions[{k}]"),
@@ -168,33 +168,4 @@ pub(crate) fn lay(rope: &Rope, what: &str, route: &Polyline, n: usize) -> Result
         prev = x;
     }
     rope.rod(what, laid, n, |s| route.at_arc_length(s * l / laid))
-}
-
-/// The abscissa of `rod`'s point nearest `x`, and the distance (m): a scan
-/// of 32 points per knot span, then golden-section search around the best.
-pub(crate) fn closest_point(rod: &Rod, x: Vector3<f64>) -> Result<(f64, f64)> {
-    let (a, b) = rod.domain();
-    let n = 32 * rod.n_ctrl().max(1);
-    let dist = |u: f64| rod.position(u).map(|p| (p - x).norm());
-    let mut best = (a, dist(a)?);
-    for k in 1..=n {
-        let u = a + (b - a) * k as f64 / n as f64;
-        let d = dist(u)?;
-        if d < best.1 {
-            best = (u, d);
-        }
-    }
-    let h = (b - a) / n as f64;
-    let (mut lo, mut hi) = ((best.0 - h).max(a), (best.0 + h).min(b));
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..60 {
-        let (c, d) = (hi - g * (hi - lo), lo + g * (hi - lo));
-        if dist(c)? < dist(d)? {
-            hi = d;
-        } else {
-            lo = c;
-        }
-    }
-    let u = 0.5 * (lo + hi);
-    Ok((u, dist(u)?))
 }

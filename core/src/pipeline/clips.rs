@@ -4,7 +4,6 @@
 use crate::constraint::kinds::Position;
 use crate::error::Result;
 use crate::handles::RodHandle;
-use crate::rod::Rod;
 use crate::world::{Event, World};
 use nalgebra::Vector3;
 
@@ -30,16 +29,11 @@ pub(crate) fn update(world: &mut World) -> Result<Vec<Event>> {
             }
             continue;
         }
-        // Closest point of every rod to the centre: from its nearest
-        // sample, by Newton (samples alone miss a rod passing between two
-        // of them within the radius).
+        // Closest point of every rod to the centre.
         let centre = Vector3::from(clip.center);
         let mut best: Option<(RodHandle, f64, f64)> = None;
         for (h, rod) in world.rods() {
-            let near = rod.sample_params().into_iter().zip(rod.sample_points()).min_by(|a, b| (a.1 - centre).norm_squared().total_cmp(&(b.1 - centre).norm_squared()));
-            let Some((u, _)) = near else { continue };
-            let u = closest_abscissa(rod, centre, u)?;
-            let d = (rod.position(u)? - centre).norm();
+            let (u, d) = rod.closest_point(&centre)?;
             if d <= clip.radius && best.is_none_or(|b| d < b.2) {
                 best = Some((h, u, d));
             }
@@ -63,24 +57,4 @@ pub(crate) fn update(world: &mut World) -> Result<Vec<Event>> {
         }
     }
     Ok(events)
-}
-
-/// Abscissa of the point of `rod` closest to `p`, by Newton from `u`.
-fn closest_abscissa(rod: &Rod, p: Vector3<f64>, mut u: f64) -> Result<f64> {
-    let (lo, hi) = rod.domain();
-    for _ in 0..20 {
-        let (r, d1, d2) = (rod.eval(u, 0)?, rod.eval(u, 1)?, rod.eval(u, 2)?);
-        let v = Vector3::new(r[0], r[1], r[2]) - p;
-        let (t, c) = (Vector3::new(d1[0], d1[1], d1[2]), Vector3::new(d2[0], d2[1], d2[2]));
-        let h = t.dot(&t) + v.dot(&c);
-        if !(h > 0.0) {
-            break;
-        }
-        let du = v.dot(&t) / h;
-        u = (u - du).clamp(lo, hi);
-        if du.abs() < 1e-14 * (1.0 + u.abs()) {
-            break;
-        }
-    }
-    Ok(u)
 }

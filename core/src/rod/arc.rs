@@ -1,10 +1,43 @@
-//! Rest arc length along a rod (for the free length of IV.15).
+//! Rest arc length along a rod (for the free length of IV.15), and the
+//! rod's point nearest a given point.
 use super::{samples, Rod};
 use crate::error::Result;
 use crate::quadrature::gauss_legendre;
 use crate::spline::KnotKind;
 
 impl Rod {
+    /// The abscissa of the rod's point nearest `x`, and its distance
+    /// (length unit): from the nearest sample, by Newton on
+    /// (r(u) − x)·r'(u) = 0 (samples alone miss a point between two).
+    pub fn closest_point(&self, x: &nalgebra::Vector3<f64>) -> Result<(f64, f64)> {
+        let c = &self.cache;
+        let mut u = self.domain().0;
+        let mut best = f64::INFINITY;
+        for s in &c.samples {
+            let p = samples::point(&self.q, self.dofs, &c.seg_ctrl[s.seg], &s.basis[0]);
+            let d = (nalgebra::Vector3::new(p[0], p[1], p[2]) - x).norm_squared();
+            if d < best {
+                (best, u) = (d, s.u);
+            }
+        }
+        let (lo, hi) = self.domain();
+        for _ in 0..20 {
+            let (r, d1, d2) = (self.eval(u, 0)?, self.eval(u, 1)?, self.eval(u, 2)?);
+            let v = nalgebra::Vector3::new(r[0], r[1], r[2]) - x;
+            let (t, k) = (nalgebra::Vector3::new(d1[0], d1[1], d1[2]), nalgebra::Vector3::new(d2[0], d2[1], d2[2]));
+            let h = t.dot(&t) + v.dot(&k);
+            if !(h > 0.0) {
+                break;
+            }
+            let du = v.dot(&t) / h;
+            u = (u - du).clamp(lo, hi);
+            if du.abs() < 1e-14 * (1.0 + u.abs()) {
+                break;
+            }
+        }
+        Ok((u, (self.position(u)? - x).norm()))
+    }
+
     /// Rest arc length from the start of the domain to abscissa `u`
     /// (length unit; 8-point Gauss–Legendre on the partial segment).
     pub fn rest_arc_length(&self, u: f64) -> Result<f64> {
