@@ -19,11 +19,18 @@ fn time_steps(w: &mut World, steps: usize) -> f64 {
     best
 }
 
-/// Median over 5 passes of each pass's fastest step (s).
+/// Median over 5 passes of each pass's fastest step (s); `PASSES=n` in the
+/// environment runs n passes instead (e.g. many, under a profiler).
 fn median_step(w: &mut World, steps: usize) -> f64 {
-    let mut mins: Vec<f64> = (0..5).map(|_| time_steps(w, steps)).collect();
+    let passes = std::env::var("PASSES").ok().and_then(|s| s.parse().ok()).unwrap_or(5usize).max(1);
+    let mut mins: Vec<f64> = (0..passes).map(|_| time_steps(w, steps)).collect();
     mins.sort_by(f64::total_cmp);
-    mins[2]
+    mins[passes / 2]
+}
+
+/// `SCENE=word` in the environment runs only the scenes whose name holds it.
+fn wanted(name: &str) -> bool {
+    std::env::var("SCENE").map(|s| name.contains(s.as_str())).unwrap_or(true)
 }
 
 /// Sets `rods` moving at `vz` (m/s) along z: the push that starts a scene.
@@ -35,28 +42,33 @@ fn push(w: &mut World, rods: &[RodHandle], vz: f64) {
 }
 
 fn main() {
+    println!("scene              cp  multipliers  thesis [ms]  here [ms]  ratio");
     // Bridge at the thesis' size: 4 ropes × 8 control points = 32, planks
     // as distance links (the thesis' model): 24 anchor rows + 6 planks +
     // 12 verticals = 42 multipliers (thesis: 49; 8 planks on 8-point ropes
     // make the end rows dependent).
-    let p = RopeBridge { n_planks: 6, plank_model: PlankModel::Link, rope_control_points: Some(8), ..Default::default() };
-    let (asm, _) = rope_bridge(&p).expect("bridge");
-    let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt: 1e-2, parallel: false, linear_solver: std::env::var("SOLVER").map(|s| if s == "band" { strandkit::LinearSolver::Band } else { strandkit::LinearSolver::Auto }).unwrap_or(strandkit::LinearSolver::Auto), ..Default::default() });
-    let ins = w.insert(&asm).expect("insert");
-    w.relax().expect("relax");
-    // A lateral push on the floor ropes sets the bridge swinging.
-    push(&mut w, &ins.rods[..2], 0.5);
-    let rep = w.step().expect("step");
-    let cps: usize = w.rods().map(|(_, r)| r.n_ctrl()).sum();
-    let t = median_step(&mut w, 400);
-    println!("scene              cp  multipliers  thesis [ms]  here [ms]  ratio");
-    println!("bridge (links)    {cps:3}  {:11}  {:>11}  {:9.4}  {:5.0}×   (n {}, half-bandwidth {}, {:?})", rep.n_multipliers, "2", t * 1e3, 2e-3 / t, rep.n_unknowns, rep.bandwidth, rep.factorisation);
+    if wanted("bridge") {
+        let p = RopeBridge { n_planks: 6, plank_model: PlankModel::Link, rope_control_points: Some(8), ..Default::default() };
+        let (asm, _) = rope_bridge(&p).expect("bridge");
+        let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt: 1e-2, parallel: false, linear_solver: std::env::var("SOLVER").map(|s| if s == "band" { strandkit::LinearSolver::Band } else { strandkit::LinearSolver::Auto }).unwrap_or(strandkit::LinearSolver::Auto), ..Default::default() });
+        let ins = w.insert(&asm).expect("insert");
+        w.relax().expect("relax");
+        // A lateral push on the floor ropes sets the bridge swinging.
+        push(&mut w, &ins.rods[..2], 0.5);
+        let rep = w.step().expect("step");
+        let cps: usize = w.rods().map(|(_, r)| r.n_ctrl()).sum();
+        let t = median_step(&mut w, 400);
+        println!("bridge (links)    {cps:3}  {:11}  {:>11}  {:9.4}  {:5.0}×   (n {}, half-bandwidth {}, {:?})", rep.n_multipliers, "2", t * 1e3, 2e-3 / t, rep.n_unknowns, rep.bandwidth, rep.factorisation);
+    }
     // Necklace at the thesis' size: 16 control points, 12 beads, dt 0.8 ms;
     // the ratio is taken against the thesis' fastest figure (0.4 ms).
     for (name, p) in [
         ("necklace (2 pts)", Necklace { closed: false, hang: Hang::TwoPoints([-0.15, 0.0, 0.0], [0.15, 0.0, 0.0]), ..Default::default() }),
         ("necklace (peg)", Necklace::default()),
     ] {
+        if !wanted(name) {
+            continue;
+        }
         let (asm, _) = necklace(&p).expect("necklace");
         let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt: 8e-4, parallel: false, ..Default::default() });
         w.insert(&asm).expect("insert");
@@ -67,12 +79,14 @@ fn main() {
     // Particles on a spring at the thesis' size: 31 control points (the
     // builder's default has 61 for accuracy), 4 beads, dt 1 ms; 5 passes
     // of 200 steps (the beads leave the spring after ~1.6 s).
-    let (asm, _) = beads_on_spring(&BeadsOnSpring { control_points: 31, ..Default::default() }).expect("spring");
-    let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt: 1e-3, parallel: false, ..Default::default() });
-    w.insert(&asm).expect("insert");
-    let rep = w.step().expect("step");
-    let t = median_step(&mut w, 200);
-    println!("{:17} {:3}  {:11}  {:>11}  {:9.4}  {:5.0}×   (n {}, 4 beads, {:?})", "beads on spring", 31, rep.n_multipliers, "0.7", t * 1e3, 0.7e-3 / t, rep.n_unknowns, rep.factorisation);
+    if wanted("beads on spring") {
+        let (asm, _) = beads_on_spring(&BeadsOnSpring { control_points: 31, ..Default::default() }).expect("spring");
+        let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt: 1e-3, parallel: false, ..Default::default() });
+        w.insert(&asm).expect("insert");
+        let rep = w.step().expect("step");
+        let t = median_step(&mut w, 200);
+        println!("{:17} {:3}  {:11}  {:>11}  {:9.4}  {:5.0}×   (n {}, 4 beads, {:?})", "beads on spring", 31, rep.n_multipliers, "0.7", t * 1e3, 0.7e-3 / t, rep.n_unknowns, rep.factorisation);
+    }
     // Cable on a door (18 control points, 4 clips, a connector; dt 3 ms),
     // and the harness (the thesis' harness had 40 control points and 42–87
     // multipliers); both relaxed, then pushed out of their plane.
@@ -80,6 +94,9 @@ fn main() {
         ("cable on door", cable_on_clips(&CableOnClips::default()).expect("cable").0, "0.72–1", 0.72e-3),
         ("harness", harness(&Harness::default()).expect("harness").0, "1–1.2", 1e-3),
     ] {
+        if !wanted(name) {
+            continue;
+        }
         let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt: 3e-3, parallel: false, ..Default::default() });
         let ins = w.insert(&asm).expect("insert");
         w.relax().expect("relax");

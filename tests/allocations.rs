@@ -71,3 +71,28 @@ fn plastic_steps_do_not_allocate() {
     assert!(yielded > 0);
     assert_eq!(n, 0.0);
 }
+
+/// The builders' scenes with beads (a necklace whose beads press on each
+/// other over a peg, beads sliding down a spring) and with clips (the
+/// door cable) step without allocating once warmed up.
+#[test]
+fn bead_and_clip_scenes_do_not_allocate() {
+    use strandkit::prelude::*;
+    use strandkit_builders::{beads_on_spring, cable_on_clips, necklace, BeadsOnSpring, CableOnClips, Necklace};
+    let scenes = [
+        ("necklace over a peg", necklace(&Necklace::default()).unwrap().0, 8e-4),
+        ("beads on a spring", beads_on_spring(&BeadsOnSpring::default()).unwrap().0, 1e-3),
+        ("cable on a door", cable_on_clips(&CableOnClips::default()).unwrap().0, 3e-3),
+    ];
+    for (name, asm, dt) in scenes {
+        let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt, parallel: false, ..Default::default() });
+        w.insert(&asm).unwrap();
+        // Long enough a warm-up for the necklace's beads to gather.
+        for _ in 0..200 {
+            w.step().unwrap();
+        }
+        let n = allocations_per_step(&mut w);
+        println!("{name}: {n} heap allocations per step");
+        assert_eq!(n, 0.0, "{name}");
+    }
+}

@@ -40,7 +40,7 @@ pub use handles::{BeadHandle, ClipHandle, ConstraintHandle, LoadHandle, RodHandl
 pub use material::Material;
 pub use pipeline::quasi_dynamic::{Clock, FrameReport, Mode, QuasiDynamic, QuasiDynamicParameters, WallClock};
 pub use pipeline::{RelaxReport, StepReport};
-pub use rod::{Cut, Rod, RodBuilder, RodOptions, StrainMode};
+pub use rod::{Cut, Jet, Rod, RodBuilder, RodOptions, StrainMode};
 pub use section::Section;
 pub use system::{Factorisation, LinearSolver};
 pub use world::{Constraint, Energy, Event, IntegrationParameters, Item, World};

@@ -22,82 +22,246 @@ pub(crate) fn bead_load(world: &World, b: &crate::bead::Bead) -> Vector3<f64> {
 /// rod's curvature and turning (x = r(s(t), t)). A fixed bead rides with
 /// the rod: whole load, whole mass.
 pub(crate) fn predict(world: &mut World, h: f64) -> Result<()> {
-    let ids: Vec<Index> = world.beads.iter().map(|(i, _)| i).collect();
-    let beads: Vec<&crate::bead::Bead> = world.beads.iter().map(|(_, b)| b).collect();
-    let mut ds = Vec::with_capacity(ids.len());
-    let mut rod_speed = Vec::with_capacity(ids.len());
-    for &b in &beads {
-        let rod = world.rod(b.rod)?;
-        let t = rod.tangent(b.u)?;
-        let v_r = t.dot(&rod.eval_velocity(b.u)?);
-        rod_speed.push(v_r);
+    // The scratch leaves the world for the pass (the world is borrowed).
+    let mut s = std::mem::take(&mut world.ws.beads);
+    let out = predict_with(world, h, &mut s);
+    world.ws.beads = s;
+    out
+}
+
+/// One bead as the passes see it (per-step scratch).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Row {
+    id: Index,
+    rod: crate::handles::RodHandle,
+    u: f64,
+    fixed: bool,
+    mass: f64,
+    radius: f64,
+    /// Position on the rod (length unit), for the chord bound on gaps.
+    x: Vector3<f64>,
+}
+
+impl Row {
+    fn inv_mass(&self) -> f64 {
+        if self.fixed {
+            0.0
+        } else {
+            1.0 / self.mass
+        }
+    }
+}
+
+/// Buffers of the bead passes, kept in the workspace so that a step
+/// allocates nothing once warmed up.
+#[derive(Debug, Default)]
+pub(crate) struct Scratch {
+    rows: Vec<Row>,
+    ds: Vec<f64>,
+    /// Rod speed along the tangent, then the bead's absolute speed w.
+    w: Vec<f64>,
+    jets: Vec<crate::rod::Jet>,
+    force: Vec<Vector3<f64>>,
+    order: Vec<usize>,
+    /// Neighbour pairs (positions in `rows`, period added to the second's u).
+    pairs: Vec<(usize, usize, f64)>,
+    /// Gap per pair (length unit) and whether it is the exact arc length
+    /// or still the chord's lower bound.
+    gaps: Vec<(f64, bool)>,
+    groups: Vec<Group>,
+    /// Per-chain buffers of the projection ([`project`]).
+    ds0: Vec<f64>,
+    z: Vec<f64>,
+    mass: Vec<Option<f64>>,
+    pool_of: Vec<usize>,
+    pools: Vec<super::bead_chain::Pool>,
+}
+
+/// The beads of one rod: `len` of them from `order[first]` on, their
+/// pairs from `pairs[first_pair]` on (pair j joins the j-th and the next;
+/// on a closed rod the last pair closes the ring).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Group {
+    first: usize,
+    len: usize,
+    first_pair: usize,
+    closed: bool,
+}
+
+impl Scratch {
+    /// Fills `rows` from the world's beads (positions not yet set).
+    fn load(&mut self, world: &World) {
+        self.rows.clear();
+        self.rows.extend(world.beads.iter().map(|(id, b)| Row { id, rod: b.rod, u: b.u, fixed: b.fixed, mass: b.mass, radius: b.radius, x: Vector3::zeros() }));
+    }
+}
+
+fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
+    s.load(world);
+    let n = s.rows.len();
+    s.ds.clear();
+    s.w.clear();
+    s.jets.clear();
+    for k in 0..n {
+        let Some(b) = world.beads.get(s.rows[k].id) else { continue };
+        let jet = world.rod(b.rod)?.jet(b.u)?;
+        let sigma = jet.d1.norm();
+        if !(sigma > 0.0) {
+            return Err(crate::error::Error::singular(format!("zero tangent under bead {} at u = {}", s.rows[k].id.0, b.u)));
+        }
+        let t = jet.d1 / sigma;
+        let v_r = t.dot(&jet.velocity);
+        s.rows[k].x = jet.position;
+        s.jets.push(jet);
+        s.w.push(v_r);
         if b.fixed {
-            ds.push(0.0);
+            s.ds.push(0.0);
             continue;
         }
         let w_n = b.velocity + v_r;
         let w = (b.mass * w_n / h + t.dot(&bead_load(world, b)) + b.friction * v_r) / (b.mass / h + b.friction);
-        ds.push(h * (w - v_r));
+        s.ds.push(h * (w - v_r));
     }
-    let u_now: Vec<f64> = beads.iter().map(|b| b.u).collect();
-    let pairs = neighbours(world, &ids, &u_now)?;
-    let mut gaps = Vec::with_capacity(pairs.len());
-    for &(a, b, period) in &pairs {
-        let (ba, bb) = (beads[a], beads[b]);
-        gaps.push(arc(world.rod(ba.rod)?, ba.u, bb.u + period)? - ba.radius - bb.radius);
+    neighbours(world, s)?;
+    s.gaps.clear();
+    s.gaps.extend(s.pairs.iter().map(|&(a, b, _)| ((s.rows[b].x - s.rows[a].x).norm() - s.rows[a].radius - s.rows[b].radius, false)));
+    let mut s_groups = std::mem::take(&mut s.groups);
+    for g in &s_groups {
+        project(world, s, g)?;
     }
-    // Gauss–Seidel on the increments (a chain of touching beads needs a
-    // few passes); fixed beads do not move.
-    for _ in 0..50 {
-        let mut worst = 0.0f64;
-        for (&(a, b, _), &gap) in pairs.iter().zip(&gaps) {
-            let c = gap + ds[b] - ds[a];
-            if c >= 0.0 {
-                continue;
-            }
-            let inv = |k: usize| if beads[k].fixed { 0.0 } else { 1.0 / beads[k].mass };
-            let (wa, wb) = (inv(a), inv(b));
-            if wa + wb == 0.0 {
-                continue;
-            }
-            ds[a] += c * wa / (wa + wb);
-            ds[b] -= c * wb / (wa + wb);
-            worst = worst.max(-c);
-        }
-        if worst <= 1e-12 * h {
-            break;
-        }
-    }
-    let mut out = Vec::with_capacity(ids.len());
-    for (k, (&b, i)) in beads.iter().zip(&ids).enumerate() {
-        let fp = bead_load(world, b);
+    s_groups.clear();
+    s.groups = s_groups;
+    // The force on the rod during the step, at the projected sliding speed.
+    s.force.clear();
+    for k in 0..n {
+        let Some(b) = world.beads.get(s.rows[k].id) else { continue };
+        let (jet, fp) = (&s.jets[k], bead_load(world, b));
         let f = if b.fixed {
             fp
         } else {
-            let rod = world.rod(b.rod)?;
-            let (d1, d2) = (rod.eval(b.u, 1)?, rod.eval(b.u, 2)?);
-            let (d1, d2) = (Vector3::new(d1[0], d1[1], d1[2]), Vector3::new(d2[0], d2[1], d2[2]));
-            let sigma = d1.norm();
-            let t = d1 / sigma;
+            let sigma = jet.d1.norm();
+            let t = jet.d1 / sigma;
             let normal = |x: Vector3<f64>| x - t * x.dot(&t);
-            let v = ds[k] / h;
-            let kappa_n = normal(d2) / (sigma * sigma);
-            let turn = normal(rod.velocity_derivative(b.u, 1)? / sigma);
+            let v = s.ds[k] / h;
+            s.w[k] += v;
+            let kappa_n = normal(jet.d2) / (sigma * sigma);
+            let turn = normal(jet.d_velocity / sigma);
             normal(fp) + t * (b.friction * v) - (kappa_n * (v * v) + turn * (2.0 * v)) * b.mass
         };
-        if !ds[k].is_finite() || !f.iter().all(|x| x.is_finite()) {
+        if !s.ds[k].is_finite() || !f.iter().all(|x| x.is_finite()) {
             return Err(crate::error::Error::NonFinite {
                 rod: Some(b.rod),
-                detail: format!("bead {}: its sliding step or its force on the rod is not finite (mass {:e}); the world is unchanged", i.0, b.mass),
+                detail: format!("bead {}: its sliding step or its force on the rod is not finite (mass {:e}); the world is unchanged", s.rows[k].id.0, b.mass),
             });
         }
-        out.push(f);
+        s.force.push(f);
     }
-    for (k, (&i, f)) in ids.iter().zip(out).enumerate() {
-        if let Some(b) = world.beads.get_mut(i) {
-            b.step_ds = ds[k];
-            b.step_w = ds[k] / h + rod_speed[k];
-            b.rod_force = f.into();
+    for k in 0..n {
+        if let Some(b) = world.beads.get_mut(s.rows[k].id) {
+            b.step_ds = s.ds[k];
+            b.step_w = s.w[k];
+            b.rod_force = s.force[k].into();
+        }
+    }
+    Ok(())
+}
+
+/// Projects the predicted increments of one rod's beads so that no two
+/// end the step closer than r_a + r_b ([`super::bead_chain`]). Gaps start
+/// as the chord's lower bound of the arc; a pair found touching with a
+/// bound gets its exact arc length and the chain is solved again. A closed
+/// ring is cut at its slackest pair; a ring too full to cut (every pair
+/// pressed) falls back to Gauss–Seidel sweeps.
+fn project(world: &World, s: &mut Scratch, g: &Group) -> Result<()> {
+    let m = g.len;
+    if m < 2 {
+        return Ok(());
+    }
+    let n_pairs = if g.closed { m } else { m - 1 };
+    let bead = |s: &Scratch, i: usize| s.order[g.first + i % m];
+    let slack = |s: &Scratch, j: usize| {
+        let (a, b, _) = s.pairs[g.first_pair + j];
+        s.gaps[g.first_pair + j].0 + s.ds[b] - s.ds[a]
+    };
+    s.ds0.clear();
+    for i in 0..m {
+        let d = s.ds[bead(s, i)];
+        s.ds0.push(d);
+    }
+    for _ in 0..=n_pairs {
+        // Restart from the prediction (gaps may have been refined).
+        for i in 0..m {
+            let k = bead(s, i);
+            s.ds[k] = s.ds0[i];
+        }
+        if (0..n_pairs).all(|j| slack(s, j) >= 0.0) {
+            return Ok(());
+        }
+        // Chain order: from the bead after the cut.
+        let cut = if g.closed { (0..m).max_by(|&a, &b| slack(s, a).total_cmp(&slack(s, b))).unwrap_or(0) } else { m - 1 };
+        let start = (cut + 1) % m;
+        s.z.clear();
+        s.mass.clear();
+        let mut offset = 0.0;
+        for i in 0..m {
+            let k = bead(s, start + i);
+            s.z.push(s.ds[k] + offset);
+            s.mass.push((!s.rows[k].fixed).then_some(s.rows[k].mass));
+            if i + 1 < m {
+                offset += s.gaps[g.first_pair + (start + i) % m].0;
+            }
+        }
+        s.pool_of.resize(m, 0);
+        super::bead_chain::isotonic(&mut s.z, &s.mass, &mut s.pools, &mut s.pool_of);
+        let mut offset = 0.0;
+        for i in 0..m {
+            let k = bead(s, start + i);
+            s.ds[k] = s.z[i] - offset;
+            if i + 1 < m {
+                offset += s.gaps[g.first_pair + (start + i) % m].0;
+            }
+        }
+        // Touching pairs whose gap was only the chord's bound: refine.
+        let mut refined = false;
+        for i in 0..m {
+            let j = (start + i) % m;
+            let along_chain = i + 1 < m;
+            let touching = if along_chain { s.pool_of[i] == s.pool_of[i + 1] } else { g.closed && slack(s, j) < 0.0 };
+            if touching && !s.gaps[g.first_pair + j].1 {
+                let (a, b, period) = s.pairs[g.first_pair + j];
+                let (ra, rb) = (&s.rows[a], &s.rows[b]);
+                s.gaps[g.first_pair + j] = (arc(world.rod(ra.rod)?, ra.u, rb.u + period)? - ra.radius - rb.radius, true);
+                refined = true;
+            }
+        }
+        if !refined {
+            if g.closed && slack(s, cut) < 0.0 {
+                break; // the ring is full: sweeps below
+            }
+            return Ok(());
+        }
+    }
+    // Gauss–Seidel sweeps over the ring (every gap exact by now or after
+    // the first sweep).
+    for _ in 0..50 {
+        let mut worst = 0.0f64;
+        for j in 0..n_pairs {
+            let (a, b, period) = s.pairs[g.first_pair + j];
+            if slack(s, j) < 0.0 && !s.gaps[g.first_pair + j].1 {
+                let (ra, rb) = (&s.rows[a], &s.rows[b]);
+                s.gaps[g.first_pair + j] = (arc(world.rod(ra.rod)?, ra.u, rb.u + period)? - ra.radius - rb.radius, true);
+            }
+            let c = slack(s, j);
+            let (wa, wb) = (s.rows[a].inv_mass(), s.rows[b].inv_mass());
+            if c >= 0.0 || wa + wb == 0.0 {
+                continue;
+            }
+            s.ds[a] += c * wa / (wa + wb);
+            s.ds[b] -= c * wb / (wa + wb);
+            worst = worst.max(-c);
+        }
+        if worst == 0.0 {
+            break;
         }
     }
     Ok(())
@@ -121,30 +285,35 @@ fn arc(rod: &crate::rod::Rod, ua: f64, ub: f64) -> Result<f64> {
 }
 
 /// Neighbouring beads on each rod in the order of `u` (positions in
-/// `ids`), with the period to add to the second's abscissa: on a closed
-/// rod the last and first are neighbours across the seam.
-fn neighbours(world: &World, ids: &[Index], u: &[f64]) -> Result<Vec<(usize, usize, f64)>> {
-    let rod_of = |k: usize| world.beads.get(ids[k]).map(|x| x.rod.index).unwrap_or(0);
-    let mut order: Vec<usize> = (0..ids.len()).collect();
-    order.sort_by(|&a, &b| rod_of(a).cmp(&rod_of(b)).then(u[a].total_cmp(&u[b])));
-    let mut pairs = Vec::new();
+/// `s.rows`, into `s.pairs`; one [`Group`] per rod into `s.groups`), with the period to add to the second's
+/// abscissa: on a closed rod the last and first are neighbours across the
+/// seam.
+fn neighbours(world: &World, s: &mut Scratch) -> Result<()> {
+    let Scratch { rows, order, pairs, groups, .. } = s;
+    order.clear();
+    groups.clear();
+    order.extend(0..rows.len());
+    order.sort_unstable_by(|&a, &b| rows[a].rod.index.cmp(&rows[b].rod.index).then(rows[a].u.total_cmp(&rows[b].u)).then(a.cmp(&b)));
+    pairs.clear();
     let mut k = 0;
     while k < order.len() {
         let mut e = k;
-        while e + 1 < order.len() && rod_of(order[e + 1]) == rod_of(order[k]) {
+        while e + 1 < order.len() && rows[order[e + 1]].rod.index == rows[order[k]].rod.index {
             pairs.push((order[e], order[e + 1], 0.0));
             e += 1;
         }
+        let first_pair = pairs.len() - (e - k);
+        let mut closed = false;
         if e > k {
-            if let Some(b) = world.beads.get(ids[order[k]]) {
-                if let Some(p) = period(world.rod(b.rod)?) {
-                    pairs.push((order[e], order[k], p));
-                }
+            if let Some(p) = period(world.rod(rows[order[k]].rod)?) {
+                pairs.push((order[e], order[k], p));
+                closed = true;
             }
         }
+        groups.push(Group { first: k, len: e + 1 - k, first_pair, closed });
         k = e + 1;
     }
-    Ok(pairs)
+    Ok(())
 }
 
 /// The parameter period of a closed rod (None for an open one).
@@ -168,55 +337,76 @@ pub(crate) fn static_load(world: &mut World) {
 }
 
 /// Dynamics, after the rod solve: advance each bead along the new rod
-/// shape, keep beads from passing each other, remove those that left.
-pub(crate) fn advance(world: &mut World, h: f64) -> Result<Vec<Event>> {
-    let ids: Vec<Index> = world.beads.iter().map(|(i, _)| i).collect();
-    let old_u: Vec<f64> = ids.iter().filter_map(|i| world.beads.get(*i).map(|b| b.u)).collect();
-    for &i in &ids {
-        let Some(b) = world.beads.get(i) else { continue };
+/// shape, keep beads from passing each other, remove those that left
+/// (their events go to `events`).
+pub(crate) fn advance(world: &mut World, h: f64, events: &mut Vec<Event>) -> Result<()> {
+    let mut s = std::mem::take(&mut world.ws.beads);
+    let out = advance_with(world, h, events, &mut s);
+    world.ws.beads = s;
+    out
+}
+
+fn advance_with(world: &mut World, h: f64, events: &mut Vec<Event>, s: &mut Scratch) -> Result<()> {
+    // Neighbours are taken in the order before the move.
+    s.load(world);
+    neighbours(world, s)?;
+    for k in 0..s.rows.len() {
+        let Some(b) = world.beads.get(s.rows[k].id) else { continue };
         if b.fixed {
             continue;
         }
         // Sliding speed relative to the rod as it now moves.
         let rod = world.rod(b.rod)?;
-        let d = rod.eval(b.u, 1)?;
-        let d1 = Vector3::new(d[0], d[1], d[2]);
-        let speed = d1.norm();
-        let v = b.step_w - (d1 / speed).dot(&rod.eval_velocity(b.u)?);
+        let jet = rod.jet(b.u)?;
+        let speed = jet.d1.norm();
+        let v = b.step_w - (jet.d1 / speed).dot(&jet.velocity);
         let du = h * v / speed;
         // On a closed rod a bead goes round: its abscissa wraps.
         let period = period(rod);
-        if let Some(b) = world.beads.get_mut(i) {
+        if let Some(b) = world.beads.get_mut(s.rows[k].id) {
             b.u = period.map_or(b.u + du, |p| (b.u + du).rem_euclid(p));
             b.velocity = v;
         }
     }
-    contacts(world, &ids, &old_u)?;
-    let mut events = Vec::new();
-    for &i in &ids {
-        let Some(b) = world.beads.get(i) else { continue };
+    contacts(world, s)?;
+    for r in &s.rows {
+        let Some(b) = world.beads.get(r.id) else { continue };
         let (a, z) = world.rod(b.rod)?.domain();
         if b.u < a || b.u > z {
-            world.beads.remove(i);
-            events.push(Event::BeadLeft { bead: i.into(), time: world.time });
+            world.beads.remove(r.id);
+            events.push(Event::BeadLeft { bead: r.id.into(), time: world.time });
         }
     }
-    Ok(events)
+    Ok(())
 }
 
 /// After the step, what the predicted increments could not foresee (the
 /// rod stretched or bent under them): neighbours closer than r_a + r_b
 /// are set r_a + r_b apart about their centre of mass, with a common
-/// velocity (inelastic; a fixed bead acts as an infinite mass).
-pub(crate) fn contacts(world: &mut World, ids: &[Index], old_u: &[f64]) -> Result<()> {
-    for (ka, kb, period) in neighbours(world, ids, old_u)? {
-        let (Some(a), Some(b)) = (world.beads.get(ids[ka]).cloned(), world.beads.get(ids[kb]).cloned()) else {
+/// velocity (inelastic; a fixed bead acts as an infinite mass). A pair
+/// whose chord already exceeds r_a + r_b is clear (the arc is longer).
+fn contacts(world: &mut World, s: &mut Scratch) -> Result<()> {
+    for r in s.rows.iter_mut() {
+        if let Some(b) = world.beads.get(r.id) {
+            // A bead past an open rod's end (leaving) sits at the end.
+            let rod = world.rod(b.rod)?;
+            let (lo, hi) = rod.domain();
+            r.u = b.u;
+            r.x = rod.position(if period(rod).is_some() { b.u } else { b.u.clamp(lo, hi) })?;
+        }
+    }
+    for p in 0..s.pairs.len() {
+        let (ka, kb, period) = s.pairs[p];
+        let (ia, ib) = (s.rows[ka].id, s.rows[kb].id);
+        let (Some(a), Some(b)) = (world.beads.get(ia), world.beads.get(ib)) else { continue };
+        let need = a.radius + b.radius;
+        // Rows are updated when a pair moves, so the chord is current.
+        if (s.rows[kb].x - s.rows[ka].x).norm() >= need {
             continue;
-        };
+        }
         let rod = world.rod(a.rod)?;
         let bu = b.u + period;
         let gap = arc(rod, a.u, bu)?;
-        let need = a.radius + b.radius;
         if gap >= need {
             continue;
         }
@@ -230,13 +420,15 @@ pub(crate) fn contacts(world: &mut World, ids: &[Index], old_u: &[f64]) -> Resul
         let (sc, v) = ((ma * a.u + mb * bu) / m, (ma * a.velocity + mb * b.velocity) / m);
         let span = need / (gap / (bu - a.u).max(f64::MIN_POSITIVE));
         let wrap = |u: f64| if period > 0.0 { u.rem_euclid(period) } else { u };
-        if let Some(x) = world.beads.get_mut(ids[ka]) {
-            x.u = wrap(sc - span * mb / m);
-            x.velocity = v;
-        }
-        if let Some(x) = world.beads.get_mut(ids[kb]) {
-            x.u = wrap(sc + span * ma / m - period);
-            x.velocity = v;
+        let (ua, ub) = (wrap(sc - span * mb / m), wrap(sc + span * ma / m - period));
+        let (xa, xb) = (rod.position(ua), rod.position(ub));
+        for (k, i, u, x) in [(ka, ia, ua, xa), (kb, ib, ub, xb)] {
+            if let Some(bead) = world.beads.get_mut(i) {
+                bead.u = u;
+                bead.velocity = v;
+            }
+            // A bead pushed past the end has left; its chord is moot.
+            s.rows[k].x = x.unwrap_or(s.rows[k].x);
         }
     }
     Ok(())

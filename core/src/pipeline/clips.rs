@@ -7,10 +7,20 @@ use crate::handles::RodHandle;
 use crate::world::{Event, World};
 use nalgebra::Vector3;
 
-pub(crate) fn update(world: &mut World) -> Result<Vec<Event>> {
-    let mut events = Vec::new();
-    let ids: Vec<_> = world.clips.iter().map(|(i, _)| i).collect();
-    for i in ids {
+/// Appends what happened to `events`.
+pub(crate) fn update(world: &mut World, events: &mut Vec<Event>) -> Result<()> {
+    // The clip list is walked from a recycled buffer (clips change as
+    // they go); the buffer returns to the workspace whatever happens.
+    let mut ids = std::mem::take(&mut world.ws.clip_ids);
+    ids.clear();
+    ids.extend(world.clips.iter().map(|(i, _)| i));
+    let out = update_listed(world, &ids, events);
+    world.ws.clip_ids = ids;
+    out
+}
+
+fn update_listed(world: &mut World, ids: &[crate::handles::Index], events: &mut Vec<Event>) -> Result<()> {
+    for &i in ids {
         let Some(clip) = world.clips.get(i).cloned() else { continue };
         let axis = Vector3::from(clip.axis);
         if let Some((rod, con)) = clip.held {
@@ -56,5 +66,5 @@ pub(crate) fn update(world: &mut World) -> Result<Vec<Event>> {
             _ => {}
         }
     }
-    Ok(events)
+    Ok(())
 }

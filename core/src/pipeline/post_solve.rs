@@ -38,12 +38,12 @@ pub(crate) fn run(world: &mut World, h: Option<f64>, events: &mut Vec<Event>) ->
             Stage::Sliders => drop_departed_sliders(world, events),
             Stage::Beads => {
                 if let Some(h) = h {
-                    events.extend(super::beads::advance(world, h)?);
+                    super::beads::advance(world, h, events)?;
                 }
             }
             Stage::Frames => world.rods.iter_mut().for_each(|(_, r)| r.transport_frames()),
             Stage::Breaking => break_constraints(world, events)?,
-            Stage::Clips => events.extend(super::clips::update(world)?),
+            Stage::Clips => super::clips::update(world, events)?,
             Stage::Inelastic => inelastic = inelastic_update(world, events)?,
         }
     }

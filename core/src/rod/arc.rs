@@ -1,11 +1,41 @@
-//! Rest arc length along a rod (for the free length of IV.15), and the
-//! rod's point nearest a given point.
+//! Rest arc length along a rod (for the free length of IV.15), the rod's
+//! point nearest a given point, and the local geometry and motion at a
+//! point (what the bead passes read).
 use super::{samples, Rod};
 use crate::error::Result;
+use nalgebra::Vector3;
 use crate::quadrature::gauss_legendre;
 use crate::spline::KnotKind;
 
+/// The centreline and its motion at one abscissa u: r, r′, r″ (u
+/// derivatives, length unit) and the velocity v and ∂v/∂u (length/time).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Jet {
+    pub position: Vector3<f64>,
+    pub d1: Vector3<f64>,
+    pub d2: Vector3<f64>,
+    pub velocity: Vector3<f64>,
+    pub d_velocity: Vector3<f64>,
+}
+
 impl Rod {
+    /// [`Jet`] at u (checked) from one basis evaluation: five queries for
+    /// the price of one `eval`.
+    pub fn jet(&self, u: f64) -> Result<Jet> {
+        let (ctrl, b) = self.basis_at(u)?;
+        let mut j = Jet::default();
+        for (k, &i) in ctrl.iter().enumerate() {
+            let (q, v) = (&self.q[i * self.dofs..i * self.dofs + 3], &self.v[i * self.dofs..i * self.dofs + 3]);
+            let (q, v) = (Vector3::new(q[0], q[1], q[2]), Vector3::new(v[0], v[1], v[2]));
+            j.position += q * b[0][k];
+            j.d1 += q * b[1][k];
+            j.d2 += q * b[2][k];
+            j.velocity += v * b[0][k];
+            j.d_velocity += v * b[1][k];
+        }
+        Ok(j)
+    }
+
     /// The abscissa of the rod's point nearest `x`, and its distance
     /// (length unit): from the nearest sample, by Newton on
     /// (r(u) − x)·r'(u) = 0 (samples alone miss a point between two).

@@ -13,6 +13,7 @@ mod samples;
 mod split;
 pub mod topology;
 
+pub use arc::Jet;
 pub use assemble::SegBlock;
 pub use build::{RodBuilder, RodShape};
 pub use plastic::{PlasticUpdate, RuptureSite, StrainMode};

@@ -37,6 +37,10 @@ pub struct Workspace {
     pub(crate) undo: Vec<f64>,
     /// Elastic + kinetic energy of each rod before the step being committed.
     pub(crate) energy_before: Vec<f64>,
+    /// Buffers of the bead passes.
+    pub(crate) beads: crate::pipeline::beads::Scratch,
+    /// The clips walked after a solve.
+    pub(crate) clip_ids: Vec<Index>,
 }
 
 /// Empties a vector and reuses its allocation for another element type of
