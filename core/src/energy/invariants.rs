@@ -88,15 +88,32 @@ impl LocalState {
 
     /// Adds Σ_k f_k ∇²q_k to `h` (f = ∂F/∂q).
     pub fn add_invariant_hessians(&self, f: &Vec5, h: &mut Mat11) {
+        self.add_invariant_hessians_up_to(f, h, 3);
+    }
+
+    /// [`Self::add_invariant_hessians`] for an energy that uses r′ … r^(np)
+    /// only: f_c2 is zero below np = 2 and f_p below 3, so their blocks
+    /// are skipped.
+    pub fn add_invariant_hessians_up_to(&self, f: &Vec5, h: &mut Mat11, np: usize) {
         let (r1, r2, r3) = (&self.r1, &self.r2, &self.r3);
         let eye = Matrix3::identity();
         // ∇²a = 2 I on r'.
         let fa = f[QA];
         // ∇²c2 from c2 = |r'|²|r''|² − (r'·r'')².
         let fc = f[QC2];
+        if np < 2 {
+            add_block(h, R1, R1, &(2.0 * fa * eye));
+            return;
+        }
         let h11 = (2.0 * fa + 2.0 * fc * r2.norm_squared()) * eye - 2.0 * fc * r2 * r2.transpose();
         let h22 = fc * (2.0 * r1.norm_squared() * eye - 2.0 * r1 * r1.transpose());
         let h12 = fc * (4.0 * r1 * r2.transpose() - 2.0 * r2 * r1.transpose() - 2.0 * r1.dot(r2) * eye);
+        if np < 3 {
+            add_block(h, R1, R1, &h11);
+            add_block(h, R2, R2, &h22);
+            add_sym_block(h, R1, R2, &h12);
+            return;
+        }
         // ∇²p: ∂²p/∂r'∂r'' = −[r''']×, ∂²p/∂r'∂r''' = [r'']×, ∂²p/∂r''∂r''' = −[r']×.
         let fp = f[QP];
         let p12 = -fp * r3.cross_matrix();
@@ -135,6 +152,24 @@ fn add_sym_block(h: &mut Mat11, r: usize, c: usize, b: &Matrix3<f64>) {
 /// Jᵀ F_qq J is formed as M = F_qq J (5 dense rows) and then Jᵀ M, one
 /// axpy per non-zero of J: ≈ 320 multiply-adds instead of ≈ 880 dense.
 pub fn compose(s: &LocalState, fq: &Vec5, fqq: &Mat5, grad: &mut Vec11, hess: &mut Mat11) {
+    compose_up_to(s, fq, fqq, grad, hess, 3);
+}
+
+/// [`compose`] for an energy that uses r′ … r^(np) only (np = 1: a alone,
+/// 2: a and c2, 3: all): the Jacobian blocks of the unused invariants,
+/// whose derivatives are zero, are skipped.
+pub fn compose_up_to(s: &LocalState, fq: &Vec5, fqq: &Mat5, grad: &mut Vec11, hess: &mut Mat11, np: usize) {
+    // Compiled per np: fixed loop bounds keep the loops unrolled.
+    match np {
+        0 | 1 => compose_n::<1>(s, fq, fqq, grad, hess),
+        2 => compose_n::<2>(s, fq, fqq, grad, hess),
+        _ => compose_n::<3>(s, fq, fqq, grad, hess),
+    }
+}
+
+#[inline(always)]
+fn compose_n<const NP: usize>(s: &LocalState, fq: &Vec5, fqq: &Mat5, grad: &mut Vec11, hess: &mut Mat11) {
+    let np = NP;
     let c = s.cross();
     // The 3-vector blocks of J: (invariant, first slot, ∂q/∂slot).
     let blocks: [(usize, usize, Vector3<f64>); 6] = [
@@ -145,20 +180,21 @@ pub fn compose(s: &LocalState, fq: &Vec5, fqq: &Mat5, grad: &mut Vec11, hess: &m
         (QP, R2, s.r3.cross(&s.r1)),
         (QP, R3, c),
     ];
+    let blocks = &blocks[..[1, 1, 3, 6][np.min(3)]];
     // The unit entries of J: (invariant, slot).
     let units = [(QTH, TH), (QTH1, TH1)];
-    for &(k, off, v) in &blocks {
+    for &(k, off, v) in blocks {
         let mut g = grad.fixed_rows_mut::<3>(off);
         g += fq[k] * v;
     }
     for &(k, slot) in &units {
         grad[slot] += fq[k];
     }
-    s.add_invariant_hessians(fq, hess);
+    s.add_invariant_hessians_up_to(fq, hess, np);
     // M = F_qq J, row k over the 11 slots.
     let mut m = [[0.0f64; 11]; 5];
     for (k, mk) in m.iter_mut().enumerate() {
-        for &(l, off, v) in &blocks {
+        for &(l, off, v) in blocks {
             let f = fqq[(k, l)];
             if f != 0.0 {
                 for a in 0..3 {
@@ -172,7 +208,7 @@ pub fn compose(s: &LocalState, fq: &Vec5, fqq: &Mat5, grad: &mut Vec11, hess: &m
     }
     // Jᵀ M is symmetric: add its row i (Σ_k J[k][i] M[k]) as column i,
     // which is contiguous in nalgebra's column-major storage.
-    for &(k, off, v) in &blocks {
+    for &(k, off, v) in blocks {
         for a in 0..3 {
             let mut col = hess.column_mut(off + a);
             for (h, &mv) in col.iter_mut().zip(&m[k]) {

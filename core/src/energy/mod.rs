@@ -12,7 +12,7 @@ pub mod frenet;
 pub mod invariants;
 pub mod stretch;
 
-use invariants::{compose, LocalState, Mat11, Mat5, Vec11, Vec5};
+use invariants::{compose_up_to, LocalState, Mat11, Mat5, Vec11, Vec5};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
@@ -223,21 +223,51 @@ pub fn density(
     model: FrameModel,
     derivs: bool,
 ) -> LocalEnergy {
-    let q = s.invariants();
+    let mut out = LocalEnergy::default();
+    density_into(s, c, state, terms, model, derivs, &mut out);
+    out
+}
+
+/// [`density`] into a caller-owned `out` (overwritten): the assembly
+/// reuses one per segment rather than moving a 1 KB value per sample.
+#[inline]
+pub fn density_into(
+    s: &LocalState,
+    c: &SampleConsts,
+    state: &FrameState,
+    terms: EnergyTerms,
+    model: FrameModel,
+    derivs: bool,
+    out: &mut LocalEnergy,
+) {
     let mut fq = Vec5::zeros();
     let mut fqq = Mat5::zeros();
+    out.w = invariant_derivatives(s, c, state, terms, model, &mut fq, &mut fqq);
+    if derivs {
+        out.grad = Vec11::zeros();
+        out.hess = Mat11::zeros();
+        compose_up_to(s, &fq, &fqq, &mut out.grad, &mut out.hess, ActiveSlots::of(terms, model).positions);
+    }
+}
+
+/// The energy density W alone (energy per rest length).
+#[inline]
+pub fn energy_density(s: &LocalState, c: &SampleConsts, state: &FrameState, terms: EnergyTerms, model: FrameModel) -> f64 {
+    let (mut fq, mut fqq) = (Vec5::zeros(), Mat5::zeros());
+    invariant_derivatives(s, c, state, terms, model, &mut fq, &mut fqq)
+}
+
+/// W and its derivatives with respect to the invariants (a, c2, p, θ, θ′).
+#[inline(always)]
+fn invariant_derivatives(s: &LocalState, c: &SampleConsts, state: &FrameState, terms: EnergyTerms, model: FrameModel, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
+    let q = s.invariants();
     let mut w = 0.0;
     if terms.stretch {
-        w += stretch::add(&q, c, &mut fq, &mut fqq);
+        w += stretch::add(&q, c, fq, fqq);
     }
-    w += match model {
-        FrameModel::Frenet => frenet::Frenet::add_bend_twist(&q, c, state, terms, &mut fq, &mut fqq),
-    };
-    let mut out = LocalEnergy { w, ..Default::default() };
-    if derivs {
-        compose(s, &fq, &fqq, &mut out.grad, &mut out.hess);
+    w + match model {
+        FrameModel::Frenet => frenet::Frenet::add_bend_twist(&q, c, state, terms, fq, fqq),
     }
-    out
 }
 
 /// Strains of a local state under a frame model (for reports and plasticity).

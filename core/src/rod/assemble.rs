@@ -9,7 +9,7 @@
 use super::samples::local_state;
 use super::Rod;
 use crate::energy::invariants::{Mat11, TH, TH1};
-use crate::energy::{density, ActiveSlots};
+use crate::energy::{density_into, energy_density, ActiveSlots, LocalEnergy};
 use rayon::prelude::*;
 
 /// One segment's contribution. Local index k*dofs + α (k = 0..4).
@@ -68,7 +68,7 @@ impl Rod {
             for i in c.seg_start[seg]..c.seg_start[seg + 1] {
                 let s = &c.samples[i];
                 let ls = local_state(&self.q, self.dofs, ctrl, &s.basis);
-                u += s.w * density(&ls, &s.consts, self.frame_state(i), self.opts.terms, self.opts.model, false).w;
+                u += s.w * energy_density(&ls, &s.consts, self.frame_state(i), self.opts.terms, self.opts.model);
             }
         }
         u
@@ -99,13 +99,14 @@ impl Rod {
         let (th, th1) = (dofs == 4 && act.theta, dofs == 4 && act.theta1);
         let np = act.positions;
         let mut acc = ChainAcc::default();
+        let mut e = LocalEnergy::default();
         let c = &self.cache;
         let ctrl = &c.seg_ctrl[seg];
         for (i, s) in c.samples[c.seg_start[seg]..c.seg_start[seg + 1]].iter().enumerate() {
             let b = &s.basis;
             let ls = local_state(&self.q, dofs, ctrl, b);
             let state = self.frame_state(c.seg_start[seg] + i);
-            let e = density(&ls, &s.consts, state, self.opts.terms, self.opts.model, true);
+            density_into(&ls, &s.consts, state, self.opts.terms, self.opts.model, true, &mut e);
             out.energy += s.w * e.w;
             // ∂U/∂q_(k,α) = w Σ_a β_k^a ∂W/∂d_(a,α).
             let g = &e.grad;
@@ -142,6 +143,9 @@ struct ChainAcc {
     /// K[(k, α)][l][γ] with row k·4 + α (α = 3: roll), summed over samples;
     /// only the blocks l ≥ k are formed.
     k: [[[f64; 4]; 4]; 16],
+    /// T[r][l][γ] of the current sample (scratch: each sample writes the
+    /// rows it reads, so it is not cleared between samples).
+    t: [[[f64; 4]; 4]; 11],
 }
 
 #[inline(always)]
@@ -182,7 +186,7 @@ impl ChainAcc {
         // b[·] are 4-vectors), T[r][γ][l] = Σ_c H[r][3c+γ] b^(c+1)_l, then
         // transposed so that K's axpys run over γ. H is symmetric: row r is
         // column r, contiguous in nalgebra's storage.
-        let mut t = [[[0.0f64; 4]; 4]; 11];
+        let t = &mut self.t;
         let hs = h.as_slice();
         let mut rows = [0usize; 11];
         let mut nr = 0;
@@ -208,24 +212,35 @@ impl ChainAcc {
                 *tl = [tt[0][l], tt[1][l], tt[2][l], tt[3][l]];
             }
         }
-        // K[(k, α)][l] += w Σ_a β^a_k T[3a+α][l] on the upper blocks l ≥ k.
+        // K[(k, α)][l] += w Σ_a β^a_k T[3a+α][l] on the upper blocks l ≥ k,
+        // the sum over a formed in registers (one store per block row).
         for k in 0..4 {
-            for a in 0..np {
-                let wb = w * b[a + 1][k];
-                for al in 0..3 {
-                    let (row, tr) = (&mut self.k[k * 4 + al], &t[3 * a + al]);
-                    for l in k..4 {
-                        axpy4(&mut row[l], wb, &tr[l]);
+            let mut wb = [0.0f64; 3];
+            for (a, x) in wb.iter_mut().enumerate().take(np) {
+                *x = w * b[a + 1][k];
+            }
+            for al in 0..3 {
+                let row = &mut self.k[k * 4 + al];
+                for l in k..4 {
+                    let mut acc = [0.0f64; 4];
+                    for (a, &x) in wb.iter().enumerate().take(np) {
+                        axpy4(&mut acc, x, &t[3 * a + al][l]);
                     }
+                    axpy4(&mut row[l], 1.0, &acc);
                 }
             }
-            for (on, slot, basis) in [(th, TH, &b[0]), (th1, TH1, &b[1])] {
-                if on {
-                    let wb = w * basis[k];
-                    let (row, tr) = (&mut self.k[k * 4 + 3], &t[slot]);
-                    for l in k..4 {
-                        axpy4(&mut row[l], wb, &tr[l]);
+            if th || th1 {
+                let (w0, w1) = (w * b[0][k], w * b[1][k]);
+                let row = &mut self.k[k * 4 + 3];
+                for l in k..4 {
+                    let mut acc = [0.0f64; 4];
+                    if th {
+                        axpy4(&mut acc, w0, &t[TH][l]);
                     }
+                    if th1 {
+                        axpy4(&mut acc, w1, &t[TH1][l]);
+                    }
+                    axpy4(&mut row[l], 1.0, &acc);
                 }
             }
         }
