@@ -72,6 +72,15 @@ impl BandMatrix {
         i < self.n && j < self.n && i <= j + self.kl && j <= i + self.ku
     }
 
+    /// Column `j`'s in-band entries, rows `j − ku ..= j + kl` clipped to
+    /// the matrix (contiguous in the column-major storage), and the first
+    /// row.
+    pub fn column(&self, j: usize) -> (usize, &[f64]) {
+        let (i0, i1) = (j.saturating_sub(self.ku), (j + self.kl).min(self.n.saturating_sub(1)));
+        let start = self.idx(i0, j);
+        (i0, &self.data[start..start + (i1 + 1 - i0)])
+    }
+
     /// Index of `(i, j)` in `data`; caller guarantees `in_band(i, j)`.
     #[inline]
     fn idx(&self, i: usize, j: usize) -> usize {

@@ -256,28 +256,23 @@ impl SparseLu {
         }
         for j in 0..n {
             let (p0, p1) = (self.col_ptr[j], self.col_ptr[j + 1]);
-            let mut p = p0;
-            for i in j.saturating_sub(ku)..=(j + kl).min(n - 1) {
-                let v = a.get(i, j);
-                if v == 0.0 && i != j {
-                    continue;
-                }
+            let (i0, col) = a.column(j);
+            // Gather the pattern's slots (the pattern is sorted, in band),
+            // then check by count that no nonzero lies outside it: the
+            // count is a branch-free pass over the column.
+            let mut inside = 0usize;
+            for p in p0..p1 {
+                // A symmetrised slot can lie outside a lopsided band: zero.
+                let v = self.row_idx[p].checked_sub(i0).and_then(|r| col.get(r)).copied().unwrap_or(0.0);
                 if !v.is_finite() {
-                    return Err(non_finite(i, j, v));
+                    return Err(non_finite(self.row_idx[p], j, v));
                 }
-                while p < p1 && self.row_idx[p] < i {
-                    self.val[p] = 0.0;
-                    p += 1;
-                }
-                if p < p1 && self.row_idx[p] == i {
-                    self.val[p] = v;
-                    p += 1;
-                } else {
-                    return Ok(true);
-                }
+                inside += usize::from(v != 0.0);
+                self.val[p] = v;
             }
-            for v in &mut self.val[p..p1] {
-                *v = 0.0;
+            let all = col.iter().fold(0usize, |c, &v| c + usize::from(v != 0.0));
+            if all != inside {
+                return Ok(true);
             }
         }
         // Slots that are zero now stay in the pattern: the pattern is the
