@@ -73,16 +73,19 @@ fn plastic_steps_do_not_allocate() {
 }
 
 /// The builders' scenes with beads (a necklace whose beads press on each
-/// other over a peg, beads sliding down a spring) and with clips (the
-/// door cable) step without allocating once warmed up.
+/// other over a peg, beads sliding down a spring), with clips (the door
+/// cable) and on the sparse path (the bridge and the harness: wide
+/// systems) step without allocating once warmed up.
 #[test]
-fn bead_and_clip_scenes_do_not_allocate() {
+fn builder_scenes_do_not_allocate() {
     use strandkit::prelude::*;
-    use strandkit_builders::{beads_on_spring, cable_on_clips, necklace, BeadsOnSpring, CableOnClips, Necklace};
+    use strandkit_builders::{beads_on_spring, cable_on_clips, harness, necklace, rope_bridge, BeadsOnSpring, CableOnClips, Harness, Necklace, RopeBridge};
     let scenes = [
         ("necklace over a peg", necklace(&Necklace::default()).unwrap().0, 8e-4),
         ("beads on a spring", beads_on_spring(&BeadsOnSpring::default()).unwrap().0, 1e-3),
         ("cable on a door", cable_on_clips(&CableOnClips::default()).unwrap().0, 3e-3),
+        ("rope bridge", rope_bridge(&RopeBridge::default()).unwrap().0, 1e-2),
+        ("harness", harness(&Harness::default()).unwrap().0, 3e-3),
     ];
     for (name, asm, dt) in scenes {
         let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt, parallel: false, ..Default::default() });

@@ -111,6 +111,12 @@ pub struct SparseLu {
     sval: Vec<f64>,
     scratch: Option<MemBuffer>,
     scratch_req: Option<StackReq>,
+    /// Buffers of the solve and its refinement (right-hand side, residual,
+    /// best iterate) and of the norm: a warmed-up step allocates nothing.
+    work_rhs: Vec<f64>,
+    work_r: Vec<f64>,
+    work_best: Vec<f64>,
+    work_rows: Vec<f64>,
     active: Option<SparseFactor>,
     anorm: f64,
     probe_residual: f64,
@@ -196,13 +202,13 @@ impl SparseLu {
     }
 
     /// Overwrites `b` with `A⁻¹ b` (with iterative refinement against `A`).
-    pub fn solve_in_place(&self, b: &mut [f64]) -> Result<()> {
+    pub fn solve_in_place(&mut self, b: &mut [f64]) -> Result<()> {
         self.solve_refined_in_place(b).map(|_| ())
     }
 
     /// As [`SparseLu::solve_in_place`]; returns the final relative residual
     /// `||A x - b||_inf / (||A||_inf ||x||_inf + ||b||_inf)`.
-    pub fn solve_refined_in_place(&self, b: &mut [f64]) -> Result<f64> {
+    pub fn solve_refined_in_place(&mut self, b: &mut [f64]) -> Result<f64> {
         let Some(kind) = self.active else {
             return Err(Error::input(
                 "SparseLu::solve_in_place called without a successful factor()",
@@ -217,8 +223,12 @@ impl SparseLu {
             SparseFactor::Ldlt => REFINE_LDLT,
             SparseFactor::Lu => REFINE_LU,
         };
-        let rhs = b.to_vec();
-        Ok(self.refine(&rhs, b, steps))
+        let mut rhs = std::mem::take(&mut self.work_rhs);
+        rhs.clear();
+        rhs.extend_from_slice(b);
+        let rel = self.refine(&rhs, b, steps);
+        self.work_rhs = rhs;
+        Ok(rel)
     }
 
     /// The factorisation held after the last successful [`SparseLu::factor`].
@@ -482,8 +492,15 @@ impl SparseLu {
 
     /// One solve with the held factors, no refinement; false (x unchanged)
     /// when there are none.
-    fn raw_solve(&self, x: &mut [f64]) -> bool {
+    fn raw_solve(&mut self, x: &mut [f64]) -> bool {
         let n = self.n;
+        let req = match (self.active, &self.sym_ldlt, &self.sym_lu) {
+            (Some(SparseFactor::Ldlt), Some(sym), _) => sym.solve_in_place_scratch::<f64>(1, Par::Seq),
+            (Some(SparseFactor::Lu), _, Some(sym)) => sym.solve_in_place_scratch::<f64>(1, Par::Seq),
+            _ => return false,
+        };
+        self.ensure_scratch(req);
+        let Some(buf) = self.scratch.as_mut() else { return false };
         match self.active {
             Some(SparseFactor::Ldlt) => {
                 let Some(sym) = self.sym_ldlt.as_ref() else { return false };
@@ -491,8 +508,7 @@ impl SparseLu {
                 for (xi, d) in x.iter_mut().zip(&self.dscale) {
                     *xi *= d;
                 }
-                let mut buf = MemBuffer::new(sym.solve_in_place_scratch::<f64>(1, Par::Seq));
-                let stack = MemStack::new(&mut buf);
+                let stack = MemStack::new(buf);
                 LdltRef::new(sym, &self.ldlt_val).solve_in_place_with_conj(
                     Conj::No,
                     MatMut::from_column_major_slice_mut(x, n, 1),
@@ -505,8 +521,7 @@ impl SparseLu {
             }
             Some(SparseFactor::Lu) => {
                 let Some(sym) = self.sym_lu.as_ref() else { return false };
-                let mut buf = MemBuffer::new(sym.solve_in_place_scratch::<f64>(1, Par::Seq));
-                let stack = MemStack::new(&mut buf);
+                let stack = MemStack::new(buf);
                 LuRef::new_unchecked(sym, &self.num_lu).solve_in_place_with_conj(
                     Conj::No,
                     MatMut::from_column_major_slice_mut(x, n, 1),
@@ -522,28 +537,36 @@ impl SparseLu {
     /// `x = A⁻¹ b` with up to `steps` refinement steps (stops at rounding
     /// level or when the residual stops halving; keeps the best iterate).
     /// Returns the relative residual of `x`.
-    fn refine(&self, b: &[f64], x: &mut [f64], steps: usize) -> f64 {
+    fn refine(&mut self, b: &[f64], x: &mut [f64], steps: usize) -> f64 {
+        let (mut r, mut best_x) = (std::mem::take(&mut self.work_r), std::mem::take(&mut self.work_best));
+        let rel = self.refine_with(b, x, steps, &mut r, &mut best_x);
+        (self.work_r, self.work_best) = (r, best_x);
+        rel
+    }
+
+    fn refine_with(&mut self, b: &[f64], x: &mut [f64], steps: usize, r: &mut Vec<f64>, best_x: &mut Vec<f64>) -> f64 {
         let n = self.n;
         let bnorm = inf_norm(b);
         x.copy_from_slice(b);
         if !self.raw_solve(x) {
             return f64::INFINITY; // no factors: nothing solved
         }
-        let mut r = vec![0.0; n];
+        r.clear();
+        r.resize(n, 0.0);
+        best_x.clear();
         let mut best = f64::INFINITY;
-        let mut best_x: Vec<f64> = Vec::new();
         let mut step = 0;
         loop {
-            self.residual(b, x, &mut r);
+            self.residual(b, x, r);
             let denom = self.anorm * inf_norm(x) + bnorm;
-            let rn = inf_norm(&r);
+            let rn = inf_norm(r);
             let rel = if denom > 0.0 { rn / denom } else { rn };
             if rel.is_nan() || rel >= best {
                 // Worse (or NaN): go back to the best iterate.
                 if best_x.is_empty() {
                     return rel;
                 }
-                x.copy_from_slice(&best_x);
+                x.copy_from_slice(best_x);
                 return best;
             }
             let stagnating = rel > 0.5 * best;
@@ -553,8 +576,8 @@ impl SparseLu {
             }
             best_x.clear();
             best_x.extend_from_slice(x);
-            self.raw_solve(&mut r);
-            for (xi, d) in x.iter_mut().zip(&r) {
+            self.raw_solve(r);
+            for (xi, d) in x.iter_mut().zip(r.iter()) {
                 *xi += d;
             }
             step += 1;
@@ -574,8 +597,10 @@ impl SparseLu {
         }
     }
 
-    fn norm_inf(&self) -> f64 {
-        let mut rows = vec![0.0f64; self.n];
+    fn norm_inf(&mut self) -> f64 {
+        let rows = &mut self.work_rows;
+        rows.clear();
+        rows.resize(self.n, 0.0);
         for (&i, &v) in self.row_idx.iter().zip(&self.val) {
             rows[i] += v.abs();
         }
