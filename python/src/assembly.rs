@@ -251,6 +251,32 @@ impl PyAssembly {
         self.inner.beads[i].fixed = fixed;
         Ok(i)
     }
+    /// A clip of the assembly: `center` (length), capture `radius`
+    /// (length, > 0), exit `axis` (a direction) and pull-out `resistance`
+    /// (force, > 0). Once inserted it captures a rod that comes within its
+    /// radius and releases it when pulled out along the axis harder than
+    /// the resistance (events ClipCaptured / ClipReleased); the values are
+    /// checked at insertion. Returns its index.
+    #[pyo3(signature = (center, *, radius, axis, resistance, label = None))]
+    fn add_clip(&mut self, center: &Bound<'_, PyAny>, radius: f64, axis: &Bound<'_, PyAny>, resistance: f64, label: Option<String>) -> PyResult<usize> {
+        let (c, a) = (convert::vec3(center, "clip center")?, convert::vec3(axis, "clip axis")?);
+        let label = label_arg(label)?;
+        Ok(self.inner.add_clip(c, radius, a, resistance, label.as_deref()))
+    }
+    /// Clip `clip` holds the assembly's rod `rod` at abscissa `u` from the
+    /// start (a point constraint to the clip's centre, released by the
+    /// clip like a captured rod). Returns the constraint's index.
+    fn hold_in_clip(&mut self, clip: usize, rod: usize, u: f64) -> PyResult<usize> {
+        self.rod_index("clip rod", rod)?;
+        if !u.is_finite() {
+            return Err(crate::err(strandkit_core::Error::invalid("u", u, "a finite abscissa on the rod")));
+        }
+        self.inner.hold_in_clip(clip, rod, u).map_err(crate::err)
+    }
+    #[getter]
+    fn n_clips(&self) -> usize {
+        self.inner.clips.len()
+    }
     /// A free copy of the assembly's rod `i`.
     fn rod(&self, i: usize) -> PyResult<PyRod> {
         self.rod_index("rod", i)?;

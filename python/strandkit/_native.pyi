@@ -57,6 +57,8 @@ class Assembly:
     def __repr__(self, /): ...
     def add_bead(self, rod, u, *, mass, friction=0.0, radius=0.0, fixed=False, label=None):
         """A bead on the assembly's rod `rod` at abscissa `u`: `mass` (mass unit, > 0), viscous `friction` (force per speed), `radius` (length)."""
+    def add_clip(self, center, *, radius, axis, resistance, label=None):
+        """A clip of the assembly: `center` (length), capture `radius` (length, > 0), exit `axis` (a direction) and pull-out `resistance` (force, > 0)."""
     def add_load(self, rod, load, label=None):
         """A load (strandkit.point_force, distributed, trap, …) on the assembly's rod `rod`; the load's own `rod` field is ignored (give None)."""
     def add_rod(self, rod, label=None):
@@ -71,11 +73,14 @@ class Assembly:
         """An assembly from `to_json()` text (rods rebuilt and checked)."""
     groups: Any
     """The group names (base names of the labels), sorted."""
+    def hold_in_clip(self, clip, rod, u):
+        """Clip `clip` holds the assembly's rod `rod` at abscissa `u` from the start (a point constraint to the clip's centre, released by the clip like a captured rod)."""
     labels: Any
     """Every label, in the order: rods, constraints, loads, beads."""
     def link(self, a, b, kind, *, compliance=0.0, break_force=None, policy="magnitude", tension_only=False, label=None):
         """A relative constraint (relative_position, relative_distance, …) between the assembly's rods `a` and `b` (may be equal)."""
     n_beads: Any
+    n_clips: Any
     n_constraints: Any
     n_loads: Any
     n_rods: Any
