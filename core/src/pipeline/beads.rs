@@ -18,9 +18,9 @@ pub(crate) fn bead_load(world: &World, b: &crate::bead::Bead) -> Vector3<f64> {
 /// that no two neighbours end the step closer than r_a + r_b (an inelastic
 /// impulse shared by mass, which only removes kinetic energy). The force
 /// on the rod during the step: the normal part of F_p, the friction
-/// c ṡ t, and −m (ṡ² κn + 2ṡ (∂v_rod/∂s)⊥) of the bead following the
-/// rod's curvature and turning (x = r(s(t), t)). A fixed bead rides with
-/// the rod: whole load, whole mass.
+/// c ṡ t, and the bead's own momentum across the rod m (v_b − v_rod)⊥/h
+/// (see [`crate::bead`]). A fixed bead rides with the rod: whole load,
+/// whole mass.
 pub(crate) fn predict(world: &mut World, h: f64) -> Result<()> {
     // The scratch leaves the world for the pass (the world is borrowed).
     let mut s = std::mem::take(&mut world.ws.beads);
@@ -118,7 +118,7 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
             s.ds.push(0.0);
             continue;
         }
-        let w_n = b.velocity + v_r;
+        let w_n = t.dot(&b.absolute_velocity(world.rod(b.rod)?)?);
         let w = (b.mass * w_n / h + t.dot(&bead_load(world, b)) + b.friction * v_r) / (b.mass / h + b.friction);
         s.ds.push(h * (w - v_r));
     }
@@ -144,9 +144,13 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
             let normal = |x: Vector3<f64>| x - t * x.dot(&t);
             let v = s.ds[k] / h;
             s.w[k] += v;
-            let kappa_n = normal(jet.d2) / (sigma * sigma);
-            let turn = normal(jet.d_velocity / sigma);
-            normal(fp) + t * (b.friction * v) - (kappa_n * (v * v) + turn * (2.0 * v)) * b.mass
+            // The bead's momentum across the rod, m P (v_b − v_rod)/h on
+            // top of the transverse inertia the rod carries: what makes the
+            // bead follow the rod's bends and turning (the centripetal and
+            // Coriolis forces, −m(ṡ²κn + 2ṡ ∂v/∂s⊥) in the limit) as
+            // inelastic impulses, which never add energy.
+            let across = normal(b.absolute_velocity(world.rod(b.rod)?)? - jet.velocity);
+            normal(fp) + t * (b.friction * v) + across * (b.mass / h)
         };
         if !s.ds[k].is_finite() || !f.iter().all(|x| x.is_finite()) {
             return Err(crate::error::Error::NonFinite {
@@ -161,6 +165,7 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
             b.step_ds = s.ds[k];
             b.step_w = s.w[k];
             b.rod_force = s.force[k].into();
+            b.step_t = (s.jets[k].d1 / s.jets[k].d1.norm()).into();
         }
     }
     Ok(())
@@ -333,6 +338,7 @@ pub(crate) fn static_load(world: &mut World) {
         b.rod_force = (g * b.mass + Vector3::from(b.force)).into();
         b.step_ds = 0.0;
         b.velocity = 0.0;
+        b.carried = None;
     }
 }
 
@@ -361,11 +367,16 @@ fn advance_with(world: &mut World, h: f64, events: &mut Vec<Event>, s: &mut Scra
         let speed = jet.d1.norm();
         let v = b.step_w - (jet.d1 / speed).dot(&jet.velocity);
         let du = h * v / speed;
+        // Its own velocity: the rod's across the step's tangent, where it
+        // was, and the step's speed along it.
+        let t = Vector3::from(b.step_t);
+        let carried = jet.velocity - t * t.dot(&jet.velocity) + t * b.step_w;
         // On a closed rod a bead goes round: its abscissa wraps.
         let period = period(rod);
         if let Some(b) = world.beads.get_mut(s.rows[k].id) {
             b.u = period.map_or(b.u + du, |p| (b.u + du).rem_euclid(p));
             b.velocity = v;
+            b.carried = Some(carried.into());
         }
     }
     contacts(world, s)?;
@@ -425,6 +436,11 @@ fn contacts(world: &mut World, s: &mut Scratch) -> Result<()> {
         for (k, i, u, x) in [(ka, ia, ua, xa), (kb, ib, ub, xb)] {
             if let Some(bead) = world.beads.get_mut(i) {
                 bead.u = u;
+                // The common speed along the rod replaces the bead's own.
+                if let Some(c) = bead.carried {
+                    let t = Vector3::from(bead.step_t);
+                    bead.carried = Some((Vector3::from(c) + t * (v - bead.velocity)).into());
+                }
                 bead.velocity = v;
             }
             // A bead pushed past the end has left; its chord is moot.

@@ -253,7 +253,10 @@ fn static_frame(world: &mut World, dt: f64, fraction: f64, cap: Option<f64>) -> 
         }
     }
     let (motion, _) = solve::commit(world, scale, Some(1.0 / dt), None)?;
-    world.beads.iter_mut().for_each(|(_, b)| b.velocity = 0.0);
+    world.beads.iter_mut().for_each(|(_, b)| {
+        b.velocity = 0.0;
+        b.carried = None;
+    });
     world.time += dt;
     world.steps += 1;
     let mut events = Vec::new();

@@ -43,7 +43,7 @@ impl World {
         }
         for (_, b) in self.beads.iter() {
             let rod = self.rod(b.rod)?;
-            let v = rod.eval_velocity(b.u)? + rod.tangent(b.u)? * b.velocity;
+            let v = b.absolute_velocity(rod)?;
             e.kinetic += 0.5 * b.mass * v.norm_squared();
             e.external -= (g * b.mass + Vector3::from(b.force)).dot(&rod.position(b.u)?);
         }

@@ -248,6 +248,7 @@ impl World {
         b.fixed = fixed;
         if fixed {
             b.velocity = 0.0;
+            b.carried = None;
         }
         Ok(())
     }
