@@ -85,9 +85,14 @@ impl Bead {
     }
     /// The bead's velocity (length/time) on `rod` (its rod).
     pub fn absolute_velocity(&self, rod: &crate::rod::Rod) -> crate::error::Result<nalgebra::Vector3<f64>> {
+        Ok(self.velocity_from(rod.eval_velocity(self.u)?, rod.tangent(self.u)?))
+    }
+    /// [`Self::absolute_velocity`] from the rod's velocity and unit tangent
+    /// at the bead: the carried velocity, or the rod's plus the sliding speed.
+    pub(crate) fn velocity_from(&self, rod_velocity: nalgebra::Vector3<f64>, tangent: nalgebra::Vector3<f64>) -> nalgebra::Vector3<f64> {
         match self.carried {
-            Some(v) if !self.fixed => Ok(v.into()),
-            _ => Ok(rod.eval_velocity(self.u)? + rod.tangent(self.u)? * self.velocity),
+            Some(v) if !self.fixed => v.into(),
+            _ => rod_velocity + tangent * self.velocity,
         }
     }
     /// All values valid and the abscissa on `rod`.

@@ -61,6 +61,8 @@ pub(crate) struct Scratch {
     /// Rod speed along the tangent, then the bead's absolute speed w.
     w: Vec<f64>,
     jets: Vec<crate::rod::Jet>,
+    /// The bead's own velocity at the start of the step.
+    v_b: Vec<Vector3<f64>>,
     force: Vec<Vector3<f64>>,
     order: Vec<usize>,
     /// Neighbour pairs (positions in `rows`, period added to the second's u).
@@ -102,6 +104,7 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
     s.ds.clear();
     s.w.clear();
     s.jets.clear();
+    s.v_b.clear();
     for k in 0..n {
         let Some(b) = world.beads.get(s.rows[k].id) else { continue };
         let jet = world.rod(b.rod)?.jet(b.u)?;
@@ -114,11 +117,14 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
         s.rows[k].x = jet.position;
         s.jets.push(jet);
         s.w.push(v_r);
+        // Its own velocity, read off the jet (no second evaluation).
+        let v_b = b.velocity_from(jet.velocity, t);
+        s.v_b.push(v_b);
         if b.fixed {
             s.ds.push(0.0);
             continue;
         }
-        let w_n = t.dot(&b.absolute_velocity(world.rod(b.rod)?)?);
+        let w_n = t.dot(&v_b);
         let w = (b.mass * w_n / h + t.dot(&bead_load(world, b)) + b.friction * v_r) / (b.mass / h + b.friction);
         s.ds.push(h * (w - v_r));
     }
@@ -149,7 +155,7 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
             // bead follow the rod's bends and turning (the centripetal and
             // Coriolis forces, −m(ṡ²κn + 2ṡ ∂v/∂s⊥) in the limit) as
             // inelastic impulses, which never add energy.
-            let across = normal(b.absolute_velocity(world.rod(b.rod)?)? - jet.velocity);
+            let across = normal(s.v_b[k] - jet.velocity);
             normal(fp) + t * (b.friction * v) + across * (b.mass / h)
         };
         if !s.ds[k].is_finite() || !f.iter().all(|x| x.is_finite()) {
