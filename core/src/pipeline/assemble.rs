@@ -18,8 +18,13 @@ use crate::world::{position_of, Constraint, IntegrationParameters, World};
 /// What kind of solve the system is assembled for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Regime {
-    /// Linearised implicit Euler with step h (II.77–II.82).
+    /// A linearised implicit Euler step of h (II.77–II.82).
     Dynamic { h: f64 },
+    /// A Newton iteration of a trapezoidal step of h (SPEC §3): the first
+    /// at the start of the step (forces at t, whole), the next ones at the
+    /// iterate (forces at t + h, halved, the other half in the workspace's
+    /// `trapezoidal` state).
+    Trapezoidal { h: f64, first: bool },
     /// Newton statics (II.83); `bead_unknowns`: beads' abscissae are
     /// unknowns, placed like sliders next to the control points they touch.
     Statics { bead_unknowns: bool },
@@ -28,20 +33,31 @@ pub(crate) enum Regime {
 impl Regime {
     pub fn coefficients(self) -> Coefficients {
         match self {
-            Regime::Dynamic { h } => Coefficients { mass: 1.0 / (h * h), drag: 1.0 / h, momentum: 1.0 / h },
-            Regime::Statics { .. } => Coefficients { mass: 0.0, drag: 0.0, momentum: 0.0 },
+            Regime::Dynamic { h } => Coefficients { mass: 1.0 / (h * h), drag: 1.0 / h, momentum: 1.0 / h, stiffness: 1.0, force: 1.0 },
+            // 2M (ΔX − hV)/h² + D ΔX/h = ½ (f_n + f(q_n + ΔX)), the drag
+            // on the mean velocity ΔX/h; ∂/∂ΔX of the right side is −K/2.
+            Regime::Trapezoidal { h, first } => Coefficients {
+                mass: 2.0 / (h * h),
+                drag: 1.0 / h,
+                momentum: 2.0 / h,
+                stiffness: 0.5,
+                force: if first { 1.0 } else { 0.5 },
+            },
+            Regime::Statics { .. } => Coefficients { mass: 0.0, drag: 0.0, momentum: 0.0, stiffness: 1.0, force: 1.0 },
         }
     }
-    /// Time the forces are evaluated at: the end of a dynamic step.
+    /// Time the forces are evaluated at: the end of an implicit Euler
+    /// step; the start, then the end, of a trapezoidal one.
     fn force_time(self, now: f64) -> f64 {
         match self {
             Regime::Dynamic { h } => now + h,
+            Regime::Trapezoidal { h, first } => now + if first { 0.0 } else { h },
             Regime::Statics { .. } => now,
         }
     }
     /// Dynamics: a sliding bead's tangential motion is its own.
     fn bead_slides(self) -> bool {
-        matches!(self, Regime::Dynamic { .. })
+        matches!(self, Regime::Dynamic { .. } | Regime::Trapezoidal { .. })
     }
     fn bead_unknowns(self) -> bool {
         matches!(self, Regime::Statics { bead_unknowns: true })
@@ -243,6 +259,13 @@ fn gather_and_assemble(
         let slide = if b.fixed || !regime.bead_slides() { [0.0; 3] } else { rods[r].tangent(b.u)?.into() };
         ws.masses.push(PointMass { rod: r, u: b.u, mass: b.mass, slide });
     }
+    if let Regime::Trapezoidal { first: false, .. } = regime {
+        // ½ f(t + h) here, the other half of the trapezoid (and the drag
+        // of the iterate) from the state of the step.
+        for (f, extra) in ws.ext.iter_mut().zip(&ws.trapezoidal.extra) {
+            f.iter_mut().zip(extra).for_each(|(x, e)| *x = 0.5 * *x + e);
+        }
+    }
     let mut crefs: Vec<ConstraintRef<'_>> = recycle(std::mem::take(&mut ws.con_refs));
     for (_, c) in constraints.iter() {
         let (a, b) = (position_of(pos, c.rod)?, position_of(pos, c.other.unwrap_or(c.rod))?);
@@ -254,6 +277,7 @@ fn gather_and_assemble(
         crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: 0.0, lambda: std::slice::from_ref(&p.force) });
     }
     let k = regime.coefficients();
+    ws.sys.record_forces = matches!(regime, Regime::Trapezoidal { first: true, .. });
     let mut energy = ws.sys.assemble(&ws.layout, rods, &ws.ext, &crefs, &ws.masses, &ws.field_k, k, params.parallel);
     if energy.is_ok() && regime.bead_unknowns() {
         let static_beads: Vec<BeadRef> = beads

@@ -1,6 +1,7 @@
-//! Linearised implicit Euler (II.77–II.82; V^n is the velocity):
+//! A dynamic step: linearised implicit Euler (II.77–II.82; V^n is the velocity)
 //!   (M/h² + D/h + K^n) ΔX = M V^n / h + F + P^n,   V^{n+1} = ΔX / h,
-//! with the constraint rows of SPEC §4 in the same solve.
+//! with the constraint rows of SPEC §4 in the same solve, or the
+//! trapezoidal rule (`Scheme::Trapezoidal`, SPEC §3; `trapezoidal.rs`).
 //!
 //! With `IntegrationParameters::adaptive_dt`, a step refused as diverged or
 //! non-finite is retried as 2, 4, … sub-steps (up to `2^max_halvings`)
@@ -8,14 +9,14 @@
 use super::assemble::Regime;
 use super::{post_solve, solve, StepReport};
 use crate::error::{Error, Result};
-use crate::world::World;
+use crate::world::{Scheme, World};
 
 /// Advances the world by one time step `params.dt`.
 pub fn step(world: &mut World) -> Result<StepReport> {
     world.params.validate()?;
     let h = world.params.dt;
     let first = step_by(world, h);
-    if !world.params.adaptive_dt || !matches!(first, Err(Error::Diverged { .. } | Error::NonFinite { .. })) {
+    if !world.params.adaptive_dt || !matches!(first, Err(Error::Diverged { .. } | Error::NonFinite { .. } | Error::NotConverged { .. })) {
         return first; // a refused step left the world unchanged
     }
     let before = world.clone();
@@ -26,7 +27,7 @@ pub fn step(world: &mut World) -> Result<StepReport> {
             Ok(report) => return Ok(report),
             Err(e) => {
                 *world = before.clone();
-                let retry = matches!(e, Error::Diverged { .. } | Error::NonFinite { .. });
+                let retry = matches!(e, Error::Diverged { .. } | Error::NonFinite { .. } | Error::NotConverged { .. });
                 last = Err(e);
                 if !retry {
                     break;
@@ -43,7 +44,8 @@ fn substeps(world: &mut World, h: f64, n: u32) -> Result<StepReport> {
     for _ in 1..n {
         let next = step_by(world, h)?;
         let events = std::mem::take(&mut report.events);
-        report = StepReport { elastic_energy: report.elastic_energy, events: [events, next.events.clone()].concat(), ..next };
+        let solves = report.solves + next.solves;
+        report = StepReport { elastic_energy: report.elastic_energy, events: [events, next.events.clone()].concat(), solves, ..next };
     }
     report.substeps = n;
     Ok(report)
@@ -52,8 +54,14 @@ fn substeps(world: &mut World, h: f64, n: u32) -> Result<StepReport> {
 /// One step of `h`.
 fn step_by(world: &mut World, h: f64) -> Result<StepReport> {
     super::beads::predict(world, h)?;
-    let (energy, solved) = solve::assemble_and_solve(world, Regime::Dynamic { h })?;
-    solve::commit(world, 1.0, Some(1.0 / h), Some(energy))?;
+    let (energy, solved, solves) = match world.params.scheme {
+        Scheme::ImplicitEuler => {
+            let (energy, solved) = solve::assemble_and_solve(world, Regime::Dynamic { h })?;
+            solve::commit(world, 1.0, Some(1.0 / h), Some(energy))?;
+            (energy, solved, 1)
+        }
+        Scheme::Trapezoidal => super::trapezoidal::step(world, h)?,
+    };
     world.time += h;
     world.steps += 1;
     let mut events = Vec::new();
@@ -72,6 +80,7 @@ fn step_by(world: &mut World, h: f64) -> Result<StepReport> {
         plastic_samples: inelastic.yielded,
         active_contacts: world.contacts.active().count(),
         substeps: 1,
+        solves: solves as u32,
         events,
     })
 }

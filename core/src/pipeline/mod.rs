@@ -19,6 +19,7 @@ pub mod post_solve;
 pub mod quasi_dynamic;
 mod rupture;
 mod solve;
+pub(crate) mod trapezoidal;
 pub mod statics;
 
 use crate::error::Result;
@@ -55,6 +56,10 @@ pub struct StepReport {
     /// `IntegrationParameters::adaptive_dt`).
     #[serde(default)]
     pub substeps: u32,
+    /// Linear solves of the step (sub-steps included): one per implicit
+    /// Euler step, one per Newton iteration of a trapezoidal one.
+    #[serde(default)]
+    pub solves: u32,
     /// What happened in this step (broken constraints, departed sliders,
     /// clips, ruptures), in the order it happened.
     pub events: Vec<Event>,

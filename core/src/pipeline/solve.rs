@@ -182,10 +182,25 @@ fn update_active_set(world: &mut World) -> Result<bool> {
 /// on the divergence guard: see `IntegrationParameters::divergence_factor`.
 pub(crate) fn commit(world: &mut World, scale: f64, set_velocity: Option<f64>, elastic_before: Option<f64>) -> Result<(f64, f64)> {
     check_finite(world, scale, set_velocity)?;
+    let budget = begin(world, scale, elastic_before);
+    let moved = apply(world, scale, set_velocity);
+    finish(world, budget)?;
+    Ok(moved)
+}
+
+/// The first half of [`commit`] for a step applied in several parts: the
+/// divergence guard's budget (when `elastic_before` is given, with the
+/// work of the solution in the system now) and the undo buffer.
+pub(crate) fn begin(world: &mut World, scale: f64, elastic_before: Option<f64>) -> Option<f64> {
     let guard = elastic_before.filter(|_| world.params.divergence_factor.is_finite());
     let budget = guard.map(|u| u + energy_in(world, scale));
     save_undo(world);
-    let moved = apply(world, scale, set_velocity);
+    budget
+}
+
+/// The second half of [`commit`]: every Poisson update possible and the
+/// divergence guard satisfied, or everything since [`begin`] undone.
+pub(crate) fn finish(world: &mut World, budget: Option<f64>) -> Result<()> {
     let refused = world.rods.iter().find_map(|(_, r)| r.check_poisson().err());
     let mut growth = world.growth;
     let refused = refused.or_else(|| budget.and_then(|b| divergence(world, b, &mut growth)));
@@ -194,7 +209,7 @@ pub(crate) fn commit(world: &mut World, scale: f64, set_velocity: Option<f64>, e
         return Err(e);
     }
     world.growth = growth;
-    Ok(moved)
+    Ok(())
 }
 
 /// Stores each rod's kinetic energy now and returns what the step may
@@ -282,7 +297,7 @@ fn divergence(world: &World, budget: f64, growth: &mut crate::world::Growth) -> 
 
 /// The state `apply` would produce is finite (coordinates, velocities,
 /// multipliers, slider increments).
-fn check_finite(world: &World, scale: f64, set_velocity: Option<f64>) -> Result<()> {
+pub(crate) fn check_finite(world: &World, scale: f64, set_velocity: Option<f64>) -> Result<()> {
     let ws = &world.ws;
     for (r, (h, rod)) in world.rods.iter().enumerate() {
         let d = rod.dofs();
@@ -324,7 +339,7 @@ fn save_undo(world: &mut World) {
 }
 
 /// Puts back what [`save_undo`] saved (same rods and constraints).
-fn undo(world: &mut World) {
+pub(crate) fn undo(world: &mut World) {
     let World { rods, constraints, ws, .. } = world;
     let mut it = ws.undo.iter().copied();
     for (_, rod) in rods.iter_mut() {

@@ -513,17 +513,28 @@ impl Rod {
 
     /// y = M x with the consistent mass matrix (II.70–II.75).
     pub fn mass_times(&self, x: &[f64], y: &mut [f64]) {
+        self.blocks_times(&self.cache.seg_mass, Some(&self.cache.seg_inertia), x, y);
+    }
+
+    /// y = D x with the viscous drag matrix (III.10: positions only).
+    pub fn drag_times(&self, x: &[f64], y: &mut [f64]) {
+        self.blocks_times(&self.cache.seg_drag, None, x, y);
+    }
+
+    /// y = B x for a matrix given by per-segment 4×4 blocks on each axis
+    /// (`roll`: the blocks on θ, none for zero).
+    fn blocks_times(&self, blocks: &[[[f64; 4]; 4]], roll: Option<&[[[f64; 4]; 4]]>, x: &[f64], y: &mut [f64]) {
         y.iter_mut().for_each(|v| *v = 0.0);
         let d = self.dofs;
         for (seg, ctrl) in self.cache.seg_ctrl.iter().enumerate() {
-            let (m, j) = (&self.cache.seg_mass[seg], &self.cache.seg_inertia[seg]);
+            let m = &blocks[seg];
             for k in 0..4 {
                 for l in 0..4 {
                     for a in 0..3 {
                         y[ctrl[k] * d + a] += m[k][l] * x[ctrl[l] * d + a];
                     }
-                    if d == 4 {
-                        y[ctrl[k] * d + 3] += j[k][l] * x[ctrl[l] * d + 3];
+                    if let (4, Some(j)) = (d, roll) {
+                        y[ctrl[k] * d + 3] += j[seg][k][l] * x[ctrl[l] * d + 3];
                     }
                 }
             }

@@ -71,9 +71,14 @@ use crate::rod::{Rod, SegBlock};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Coefficients {
+    /// c_m on the mass matrix, c_d on the drag, c_v on the momentum M V of
+    /// the right-hand side, c_k on the stiffness (elastic and force fields),
+    /// c_f on the elastic forces P of the right-hand side.
     pub mass: f64,
     pub drag: f64,
     pub momentum: f64,
+    pub stiffness: f64,
+    pub force: f64,
 }
 
 /// A constraint as the system sees it.
@@ -100,9 +105,18 @@ pub struct BeadRef {
 const SEQ_BATCH: usize = 16;
 const PAR_BATCH: usize = 512;
 
-/// Adds c_m M + c_d D on each axis (II.70–II.75, III.10) to the upper half of
-/// a segment's block (M, J, D are symmetric, so the upper half carries them).
+/// Turns a segment's stiffness block K into c_k K + c_m M + c_d D on each
+/// axis (II.70–II.75, III.10), upper half only (M, J, D are symmetric, so
+/// the upper half carries them).
 fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4], j: &[[f64; 4]; 4], dr: &[[f64; 4]; 4]) {
+    if k.stiffness != 1.0 {
+        let n = 4 * d;
+        for row in 0..n {
+            for x in &mut blk.hess[row * 16 + row..row * 16 + n] {
+                *x *= k.stiffness;
+            }
+        }
+    }
     for kk in 0..4 {
         for l in kk..4 {
             let t = k.mass * m[kk][l] + k.drag * dr[kk][l];
@@ -148,6 +162,10 @@ pub struct KktSystem {
     blocks: Vec<SegBlock>,
     rows: Vec<Row>,
     mv: Vec<f64>,
+    /// When set, `assemble` keeps each rod's elastic forces P (rod-local
+    /// coordinates) in `elastic_forces`.
+    pub(crate) record_forces: bool,
+    pub(crate) elastic_forces: Vec<Vec<f64>>,
 }
 
 /// A point mass (bead) on a rod: `mass` at abscissa `u` of the rod at
@@ -187,6 +205,12 @@ impl KktSystem {
             let d = rod.dofs;
             let nl = 4 * d;
             let cache = &rod.cache;
+            if self.record_forces {
+                self.elastic_forces.resize_with(rods.len(), Vec::new);
+                let p = &mut self.elastic_forces[r];
+                p.clear();
+                p.resize(rod.v.len(), 0.0);
+            }
             // Momentum term c_v M V.
             self.mv.resize(rod.v.len(), 0.0);
             if k.momentum != 0.0 {
@@ -216,8 +240,22 @@ impl KktSystem {
                             idx[kk * d + a] = layout.cp_index[r][ctrl[kk]] + a;
                         }
                     }
-                    for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
-                        self.rhs[gi] -= g;
+                    if k.force == 1.0 {
+                        for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
+                            self.rhs[gi] -= g;
+                        }
+                    } else {
+                        for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
+                            self.rhs[gi] -= k.force * g;
+                        }
+                    }
+                    if self.record_forces {
+                        let p = &mut self.elastic_forces[r];
+                        for kk in 0..4 {
+                            for a in 0..d {
+                                p[ctrl[kk] * d + a] -= blk.grad[kk * d + a];
+                            }
+                        }
                     }
                     add_inertia(blk, d, k, &cache.seg_mass[s], &cache.seg_inertia[s], &cache.seg_drag[s]);
                     self.band.add_sym_block(&idx[..nl], &blk.hess, 16);
@@ -250,7 +288,7 @@ impl KktSystem {
         }
         // Stiffness −∂F/∂q of the force fields (harmonic traps), rod-local entries.
         for &(r, i, j, v) in field_stiffness {
-            self.band.add(layout.dof(r, i), layout.dof(r, j), v);
+            self.band.add(layout.dof(r, i), layout.dof(r, j), k.stiffness * v);
         }
         for (c, cr) in cons.iter().enumerate() {
             let nr = cr.kind.n_rows();

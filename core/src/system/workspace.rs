@@ -39,6 +39,8 @@ pub struct Workspace {
     pub(crate) energy_before: Vec<f64>,
     /// Buffers of the bead passes.
     pub(crate) beads: crate::pipeline::beads::Scratch,
+    /// The trapezoidal step's per-rod vectors.
+    pub(crate) trapezoidal: crate::pipeline::trapezoidal::State,
     /// The clips walked after a solve.
     pub(crate) clip_ids: Vec<Index>,
 }

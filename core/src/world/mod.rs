@@ -15,7 +15,7 @@ pub use constraints::Constraint;
 pub use energy::Energy;
 pub use events::Event;
 pub use groups::{Broken, ConstraintState, Groups, Item, Member, ObjectState};
-pub use params::IntegrationParameters;
+pub use params::{IntegrationParameters, Scheme};
 
 use crate::bead::Bead;
 use crate::clip::Clip;

@@ -1,0 +1,170 @@
+//! The trapezoidal rule (SPEC §3; Newmark γ = ½, β = ¼): with f = F + P
+//! the external and elastic forces and V' = 2ΔX/h − V,
+//!   R(ΔX) = 2M (ΔX − hV)/h² + D ΔX/h − ½ (f(t, q) + f(t + h, q + ΔX)) + Lᵀλ = 0,
+//! the constraints held at q + ΔX as in implicit Euler. Newton on R with
+//! the same banded system, (2M/h² + D/h + K/2) δ + Lᵀλ = −R, the rods
+//! moved to each iterate (so constraints, sliders and contacts linearise
+//! there as in statics). The first iteration, from ΔX = 0, is the
+//! linearised implicit midpoint rule; alone it injects energy into a fast
+//! spinning rod (its stiffness points the old way), so the step iterates
+//! until the increment is negligible.
+//!
+//! On linear problems the rule keeps ½VᵀMV + ½XᵀKX exactly and lengthens
+//! each period by a factor ωh / (2 atan(ωh/2)) ≈ 1 + (ωh)²/12.
+use super::assemble::Regime;
+use super::solve;
+use crate::error::{Error, Result};
+use crate::system::Solved;
+use crate::world::World;
+
+/// Newton iterations of one step at most (a step that needs more is
+/// refused as NotConverged, the world unchanged; `adaptive_dt` retries it).
+const MAX_ITERATIONS: usize = 12;
+/// Converged when the last increment is below this fraction of the step's
+/// motion (positions and roll separately), or below `FLOOR` × the longest
+/// rod (positions) or `FLOOR` radians (roll).
+const TOLERANCE: f64 = 1e-6;
+const FLOOR: f64 = 1e-14;
+
+/// Per-rod vectors of the step (rod-local coordinates), kept between
+/// steps so that a step allocates nothing.
+#[derive(Debug, Default)]
+pub(crate) struct State {
+    /// Velocities at the start of the step.
+    v_n: Vec<Vec<f64>>,
+    /// f(t, q) = F + P at the start of the step.
+    f_n: Vec<Vec<f64>>,
+    /// ΔX so far.
+    dx: Vec<Vec<f64>>,
+    /// What the assembly adds to ½ f(t + h, q + ΔX): ½ f_n − D ΔX / h.
+    pub(crate) extra: Vec<Vec<f64>>,
+}
+
+/// One trapezoidal step of `h`: returns the elastic energy at its start,
+/// the last solve and the number of solves. On error the world is as it
+/// was before (but for the beads' prediction, as with implicit Euler).
+pub(crate) fn step(world: &mut World, h: f64) -> Result<(f64, Solved, usize)> {
+    let (energy, solved) = solve::assemble_and_solve(world, Regime::Trapezoidal { h, first: true })?;
+    solve::check_finite(world, 1.0, None)?;
+    start(world);
+    let budget = solve::begin(world, 1.0, Some(energy));
+    match iterate(world, h, solved).and_then(|s| finish_velocities(world, h).map(|_| s)) {
+        Ok((solved, solves)) => {
+            solve::finish(world, budget)?;
+            Ok((energy, solved, solves))
+        }
+        Err(e) => {
+            solve::undo(world);
+            Err(e)
+        }
+    }
+}
+
+/// Keeps V_n and f_n = F + P (the first assembly's), zeroes ΔX.
+fn start(world: &mut World) {
+    let World { rods, ws, .. } = world;
+    let n = rods.len();
+    let st = &mut ws.trapezoidal;
+    for v in [&mut st.v_n, &mut st.f_n, &mut st.dx, &mut st.extra] {
+        v.resize_with(n, Vec::new);
+    }
+    for (r, (_, rod)) in rods.iter().enumerate() {
+        let m = rod.velocities().len();
+        st.v_n[r].clear();
+        st.v_n[r].extend_from_slice(rod.velocities());
+        st.f_n[r].clear();
+        st.f_n[r].extend(ws.ext[r].iter().zip(&ws.sys.elastic_forces[r]).map(|(f, p)| f + p));
+        st.dx[r].clear();
+        st.dx[r].resize(m, 0.0);
+        st.extra[r].clear();
+        st.extra[r].resize(m, 0.0);
+    }
+}
+
+/// Applies the solve in the system, then Newton iterations until the
+/// increment is negligible. Returns the last solve and the number of solves.
+fn iterate(world: &mut World, h: f64, mut solved: Solved) -> Result<(Solved, usize)> {
+    let longest = world.rods.iter().fold(0.0f64, |m, (_, r)| m.max(r.rest_length()));
+    for solves in 1..=MAX_ITERATIONS {
+        solve::check_finite(world, 1.0, None)?;
+        let [step_x, step_th, total_x, total_th] = accumulate(world);
+        solve::apply(world, 1.0, None);
+        let converged = step_x <= TOLERANCE * total_x + FLOOR * longest && step_th <= TOLERANCE * total_th + FLOOR;
+        // A slider that left its rod ends the iterations (it is removed after the step).
+        if solves > 1 && converged || !world.ws.left.is_empty() {
+            return Ok((solved, solves));
+        }
+        if solves == MAX_ITERATIONS {
+            return Err(Error::NotConverged {
+                iterations: solves,
+                residual: step_x,
+                detail: format!(
+                    "the trapezoidal step's Newton iterations still move the rods by {step_x:.3e} (of {total_x:.3e}) after {solves} solves; the world is unchanged (reduce dt, or World(adaptive_dt=True))"
+                ),
+            });
+        }
+        prepare(world, h);
+        solved = solve::assemble_and_solve(world, Regime::Trapezoidal { h, first: false })?.1;
+    }
+    unreachable!("the loop returns at its last iteration")
+}
+
+/// Adds the solution in the system to ΔX; returns max |δ| and max |ΔX|
+/// over positions, then over roll.
+fn accumulate(world: &mut World) -> [f64; 4] {
+    let World { rods, ws, .. } = world;
+    let mut out = [0.0f64; 4];
+    for (r, (_, rod)) in rods.iter().enumerate() {
+        let d = rod.dofs();
+        let dx = &mut ws.trapezoidal.dx[r];
+        for i in 0..rod.n_ctrl() {
+            for a in 0..d {
+                let s = ws.sys.sol[ws.layout.cp_index[r][i] + a];
+                let x = &mut dx[i * d + a];
+                *x += s;
+                let k = usize::from(a == 3);
+                out[k] = out[k].max(s.abs());
+                out[2 + k] = out[2 + k].max(x.abs());
+            }
+        }
+    }
+    out
+}
+
+/// Before an assembly at the iterate: V = V_n − ΔX/h (so that the
+/// momentum term 2MV/h carries −2MΔX/h²) and extra = ½ f_n − D ΔX/h.
+fn prepare(world: &mut World, h: f64) {
+    let World { rods, ws, .. } = world;
+    let st = &mut ws.trapezoidal;
+    for (r, (_, rod)) in rods.iter_mut().enumerate() {
+        rod.drag_times(&st.dx[r], &mut st.extra[r]);
+        for (e, f) in st.extra[r].iter_mut().zip(&st.f_n[r]) {
+            *e = 0.5 * f - *e / h;
+        }
+        let (_, v) = rod.state_mut();
+        for ((v, v0), x) in v.iter_mut().zip(&st.v_n[r]).zip(&st.dx[r]) {
+            *v = v0 - x / h;
+        }
+    }
+}
+
+/// V' = 2ΔX/h − V_n; NonFinite (nothing changed by it) if not finite.
+fn finish_velocities(world: &mut World, h: f64) -> Result<()> {
+    let World { rods, ws, .. } = world;
+    let st = &ws.trapezoidal;
+    for (r, (handle, _)) in rods.iter().enumerate() {
+        if let Some(i) = st.dx[r].iter().zip(&st.v_n[r]).position(|(x, v0)| !(2.0 * x / h - v0).is_finite()) {
+            return Err(Error::NonFinite {
+                rod: Some(handle.into()),
+                detail: format!("the step would give coordinate {i} a non-finite velocity; the world is unchanged (reduce dt or the loads)"),
+            });
+        }
+    }
+    for (r, (_, rod)) in rods.iter_mut().enumerate() {
+        let (_, v) = rod.state_mut();
+        for ((v, v0), x) in v.iter_mut().zip(&st.v_n[r]).zip(&st.dx[r]) {
+            *v = 2.0 * x / h - v0;
+        }
+    }
+    Ok(())
+}
