@@ -79,6 +79,7 @@ fn plastic_steps_do_not_allocate() {
 #[test]
 fn builder_scenes_do_not_allocate() {
     use strandkit::prelude::*;
+    use strandkit::Scheme;
     use strandkit_builders::{beads_on_spring, cable_on_clips, harness, necklace, rope_bridge, BeadsOnSpring, CableOnClips, Harness, Necklace, RopeBridge};
     let scenes = [
         ("necklace over a peg", necklace(&Necklace::default()).unwrap().0, 8e-4),
@@ -88,14 +89,21 @@ fn builder_scenes_do_not_allocate() {
         ("harness", harness(&Harness::default()).unwrap().0, 3e-3),
     ];
     for (name, asm, dt) in scenes {
-        let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt, parallel: false, ..Default::default() });
-        w.insert(&asm).unwrap();
-        // Long enough a warm-up for the necklace's beads to gather.
-        for _ in 0..200 {
-            w.step().unwrap();
+        // TR-BDF2 too, but for the door, whose start it steps by halving
+        // (a world copy per retry; see tests/schemes.rs).
+        for scheme in [Scheme::ImplicitEuler, Scheme::TrBdf2] {
+            if scheme == Scheme::TrBdf2 && name == "cable on a door" {
+                continue;
+            }
+            let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt, parallel: false, scheme, ..Default::default() });
+            w.insert(&asm).unwrap();
+            // Long enough a warm-up for the necklace's beads to gather.
+            for _ in 0..200 {
+                w.step().unwrap();
+            }
+            let n = allocations_per_step(&mut w);
+            println!("{name}, {scheme:?}: {n} heap allocations per step");
+            assert_eq!(n, 0.0, "{name}, {scheme:?}");
         }
-        let n = allocations_per_step(&mut w);
-        println!("{name}: {n} heap allocations per step");
-        assert_eq!(n, 0.0, "{name}");
     }
 }

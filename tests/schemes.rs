@@ -49,14 +49,23 @@ fn free_rod_energies(scheme: Scheme, roll: bool, dt: f64, steps: usize) -> Vec<f
     e
 }
 
+/// Issue 13, check 2: a free rod in flight (no damping, no gravity) keeps
+/// its energy within 1 % over 1000 steps with the trapezoidal rule
+/// (measured 0.30 % at dt = 1e-3 s; 2.8 % at 3e-3 s), where implicit Euler
+/// loses 70 % and TR-BDF2, which damps the unresolved modes the initial
+/// shape excites, 12 %. (Roll off: with the Frenet model the twist is
+/// singular at inflections, which the undamped rule does not survive.)
 #[test]
 fn free_rod_in_flight_keeps_its_energy_with_the_trapezoidal_rule() {
-    for (roll, dt) in [(false, 1e-3), (false, 3e-3)] {
-        let m = free_rod_energies(Scheme::Trapezoidal, roll, dt, 1000);
-        let eu = free_rod_energies(Scheme::ImplicitEuler, roll, dt, 1000);
-        let dev = m.iter().map(|e| (e / m[0] - 1.0).abs()).fold(0.0, f64::max);
-        println!("roll {roll} dt {dt}: trapezoidal max |ΔE|/E0 = {dev:.3e}, end {:.4e}; implicit Euler end {:.4e} ({:.1} % lost)", m[1000] / m[0], eu[1000] / eu[0], 100.0 * (1.0 - eu[1000] / eu[0]));
-    }
+    let dt = 1e-3;
+    let trap = free_rod_energies(Scheme::Trapezoidal, false, dt, 1000);
+    let euler = free_rod_energies(Scheme::ImplicitEuler, false, dt, 1000);
+    let tb = free_rod_energies(Scheme::TrBdf2, false, dt, 1000);
+    let dev = trap.iter().map(|e| (e / trap[0] - 1.0).abs()).fold(0.0, f64::max);
+    println!("dt {dt}: trapezoidal max |ΔE|/E0 = {dev:.3e}; kept: implicit Euler {:.3}, TR-BDF2 {:.3}", euler[1000] / euler[0], tb[1000] / tb[0]);
+    assert!(dev < 0.01, "trapezoidal energy drift {dev}");
+    assert!(euler[1000] < 0.5 * euler[0]);
+    assert!(tb.windows(2).all(|w| w[1] <= w[0] * (1.0 + 1e-9)), "TR-BDF2 raised the free rod's energy");
 }
 
 /// The SPEC §10 cantilever (steel, L = 4 m, R = 5 cm, clamped) with `n`
@@ -123,8 +132,9 @@ fn vibrate(w: &mut World, rod: RodHandle, omega: f64, per_period: usize, periods
 /// first mode's amplitude over 10 periods (≥ 98 %; implicit Euler keeps
 /// little) and lengthens its period by the rule's own factor ωh/(2 atan(ωh/2))
 /// (0.82 % at 20 steps); at 26 steps the period is within 0.5 % of
-/// Euler–Bernoulli. The spline model itself (200 steps per period) is
-/// within 0.1 % of Euler–Bernoulli.
+/// Euler–Bernoulli. TR-BDF2 at 20 steps keeps ≥ 98 % (99.2 %) with the
+/// period within 0.5 % (+0.40 %). The spline model itself (200 steps per
+/// period) is within 0.1 % of Euler–Bernoulli (+0.008 %).
 #[test]
 fn cantilever_first_mode_keeps_its_amplitude_with_the_trapezoidal_rule() {
     let (mut w, rod, omega) = cantilever_in_first_mode(16, Scheme::Trapezoidal);
@@ -132,7 +142,7 @@ fn cantilever_first_mode_keeps_its_amplitude_with_the_trapezoidal_rule() {
     let (model, a0, a1) = vibrate(&mut w, rod, omega, 200, 3);
     println!("model period {model:.6} s vs Euler–Bernoulli {exact:.6} s ({:+.3} %); amplitude {a0:.5} -> {a1:.5}", 100.0 * (model / exact - 1.0));
     assert!((model / exact - 1.0).abs() < 1e-3);
-    for (scheme, per_period) in [(Scheme::Trapezoidal, 20usize), (Scheme::Trapezoidal, 26), (Scheme::ImplicitEuler, 20)] {
+    for (scheme, per_period) in [(Scheme::Trapezoidal, 20usize), (Scheme::Trapezoidal, 26), (Scheme::TrBdf2, 20), (Scheme::ImplicitEuler, 20)] {
         let (mut w, rod, omega) = cantilever_in_first_mode(16, scheme);
         let (period, a0, a1) = vibrate(&mut w, rod, omega, per_period, 10);
         let wh = 2.0 * std::f64::consts::PI / per_period as f64;
@@ -153,6 +163,8 @@ fn cantilever_first_mode_keeps_its_amplitude_with_the_trapezoidal_rule() {
                 }
             }
             Scheme::ImplicitEuler => assert!(a1 / a0 < 0.1, "implicit Euler kept {}", a1 / a0),
+            // Both of issue 13's figures at 20 steps per period.
+            Scheme::TrBdf2 => assert!(a1 / a0 >= 0.98 && (period / exact - 1.0).abs() < 5e-3, "TR-BDF2: {} {period}", a1 / a0),
         }
     }
 }
@@ -180,20 +192,67 @@ fn flexible_pendulum_tip(scheme: Scheme, dt: f64, n_ctrl: usize) -> Vector3<f64>
     r.position(r.domain().1).unwrap()
 }
 
+/// Issue 13, check 3: at 1 s the trapezoidal rule reaches 2 mm tip
+/// accuracy with a step 20× larger than implicit Euler needs. Reference:
+/// the same model with the trapezoidal rule at dt = 5e-5 s (4.5e-7 m from
+/// dt = 2.5e-5 s). Measured: implicit Euler 2.6 mm at dt = 1e-4 s (it needs
+/// ≈ 7e-5 s for 2 mm); trapezoidal 0.18 mm at 1e-3 s, 0.58 mm at 2e-3 s;
+/// TR-BDF2 0.09 mm at 1e-3 s, 0.32 mm at 2e-3 s.
 #[test]
-#[ignore]
-fn flexible_pendulum_sweep() {
+fn flexible_pendulum_reaches_2_mm_with_a_20x_larger_step() {
     let n = 16;
-    let reference = flexible_pendulum_tip(Scheme::Trapezoidal, 2.5e-5, n);
-    let check = flexible_pendulum_tip(Scheme::Trapezoidal, 5e-5, n);
-    println!("reference tip {reference:?}, dt/2 check {:.3e} m", (check - reference).norm());
-    for dt in [1e-2, 5e-3, 2e-3, 1e-3, 5e-4, 2e-4, 1e-4] {
-        for scheme in [Scheme::Trapezoidal, Scheme::ImplicitEuler] {
-            let std::result::Result::Ok(tip) = std::panic::catch_unwind(|| flexible_pendulum_tip(scheme, dt, n)) else {
-                println!("{scheme:?} dt {dt}: failed");
-                continue;
-            };
-            println!("{scheme:?} dt {dt}: tip error {:.3e} m", (tip - reference).norm());
+    let reference = flexible_pendulum_tip(Scheme::Trapezoidal, 5e-5, n);
+    let euler = (flexible_pendulum_tip(Scheme::ImplicitEuler, 1e-4, n) - reference).norm();
+    let trap10 = (flexible_pendulum_tip(Scheme::Trapezoidal, 1e-3, n) - reference).norm();
+    let trap20 = (flexible_pendulum_tip(Scheme::Trapezoidal, 2e-3, n) - reference).norm();
+    let trap5 = (flexible_pendulum_tip(Scheme::Trapezoidal, 5e-4, n) - reference).norm();
+    let tb20 = (flexible_pendulum_tip(Scheme::TrBdf2, 2e-3, n) - reference).norm();
+    let tb10 = (flexible_pendulum_tip(Scheme::TrBdf2, 1e-3, n) - reference).norm();
+    println!("TR-BDF2: dt 2e-3 {tb20:.3e} m, 1e-3 {tb10:.3e} m");
+    assert!(tb20 < 2e-3 && tb20 / tb10 > 3.0, "TR-BDF2 {tb20} {tb10}");
+    println!("tip error at 1 s: implicit Euler dt 1e-4 {euler:.3e} m; trapezoidal dt 2e-3 {trap20:.3e} m, 1e-3 {trap10:.3e} m, 5e-4 {trap5:.3e} m");
+    assert!(euler > 2e-3, "implicit Euler already within 2 mm at 1e-4 s: {euler}");
+    assert!(trap10 < 5e-4 && trap20 < 2e-3, "trapezoidal {trap10}, {trap20}");
+    // Second order: halving the step divides the error by ≈ 4 (3.3–3.4 here).
+    assert!(trap20 / trap10 > 3.0 && trap10 / trap5 > 3.0, "order: {trap20} {trap10} {trap5}");
+}
+
+/// The builders' scenes step with TR-BDF2 (sliders, beads, clips, relative
+/// orientations, many constraints; `adaptive_dt` on) and their mechanical
+/// energy (gravity included) ends below where it began, no step raising it
+/// by more than 0.5 % of |E0| (measured: necklace 6.4e-5 J of 2.2e-2,
+/// spring 3.8e-7 of 3.1e-3, bridge 3.7e-2 of 354, harness 1.3e-4 of 0.35;
+/// implicit Euler, for comparison, 2.5e-5, 0, 0, 0). The cable on the door
+/// is printed, not asserted: its laid cable starts with ≈ 1 J of local
+/// strain, and TR-BDF2 ends that transient above where it began (issue 13
+/// notes). The trapezoidal rule is not run here: with curved constraints
+/// its undamped constraint chatter blows up (see `Scheme::Trapezoidal`).
+#[test]
+fn builder_scenes_step_with_tr_bdf2() {
+    use strandkit_builders::{beads_on_spring, cable_on_clips, harness, necklace, rope_bridge, BeadsOnSpring, CableOnClips, Harness, Necklace, RopeBridge};
+    let scenes = [
+        ("necklace over a peg", necklace(&Necklace::default()).unwrap().0, 8e-4, true),
+        ("beads on a spring", beads_on_spring(&BeadsOnSpring::default()).unwrap().0, 1e-3, true),
+        ("cable on a door", cable_on_clips(&CableOnClips::default()).unwrap().0, 3e-3, false),
+        ("rope bridge", rope_bridge(&RopeBridge::default()).unwrap().0, 1e-2, true),
+        ("harness", harness(&Harness::default()).unwrap().0, 3e-3, true),
+    ];
+    for (name, asm, dt, assert) in scenes {
+        for scheme in [Scheme::ImplicitEuler, Scheme::TrBdf2] {
+            let mut w = World::new(IntegrationParameters { gravity: [0.0, -9.81, 0.0], dt, parallel: false, scheme, adaptive_dt: true, ..Default::default() });
+            w.insert(&asm).unwrap();
+            let e0 = w.energy().unwrap().total();
+            let (mut rise, mut solves, mut prev) = (0.0f64, 0u32, e0);
+            for _ in 0..300 {
+                solves += w.step().unwrap().solves;
+                let e = w.energy().unwrap().total();
+                rise = rise.max(e - prev);
+                prev = e;
+            }
+            println!("{name}, {scheme:?}: energy {e0:.4e} -> {prev:.4e} J, largest rise in a step {rise:.2e} J, {:.2} solves per step", solves as f64 / 300.0);
+            if assert {
+                assert!(prev <= e0 && rise <= 5e-3 * e0.abs(), "{name}, {scheme:?}");
+            }
         }
     }
 }

@@ -7,7 +7,8 @@ use pyo3::prelude::*;
 use strandkit_core::{Item, World};
 
 /// A simulation world: rods, constraints and loads, advanced by `step()`
-/// (linearised implicit Euler) or brought to equilibrium by `relax()`.
+/// (linearised implicit Euler, or a second-order scheme) or brought to
+/// equilibrium by `relax()`.
 ///
 /// Keyword arguments: every field of the core's IntegrationParameters
 /// (None = its default; `params` lists them): `dt` time step (time unit,
@@ -17,7 +18,11 @@ use strandkit_core::{Item, World};
 /// `relax_max_iterations` (default 500), `plastic_tolerance` (relax with
 /// plastic flow: largest offset increment per round, strain or curvature ×
 /// rest length, default 1e-6), `linear_solver` ("Auto" | "Band" |
-/// "BandLu" | "Sparse"). `set_params(**fields)` changes them later.
+/// "BandLu" | "Sparse"), `scheme` ("implicit_euler", the default: first
+/// order, damps what dt does not resolve | "tr_bdf2": second order,
+/// L-stable, keeps resolved vibrations, two or more solves per step |
+/// "trapezoidal": second order, no numerical damping, for rods held by
+/// linear constraints only). `set_params(**fields)` changes them later.
 ///
 /// Rods whose material has yield or rupture limits flow plastically and
 /// break after every step (and at every relax equilibrium); a rupture is a

@@ -25,6 +25,9 @@ pub(crate) enum Regime {
     /// iterate (forces at t + h, halved, the other half in the workspace's
     /// `trapezoidal` state).
     Trapezoidal { h: f64, first: bool },
+    /// The BDF2 stage of a TR-BDF2 step: an implicit Euler solve of step
+    /// `h2` (forces at t + `h`, plus the workspace's `extra`).
+    Bdf2 { h2: f64, h: f64 },
     /// Newton statics (II.83); `bead_unknowns`: beads' abscissae are
     /// unknowns, placed like sliders next to the control points they touch.
     Statics { bead_unknowns: bool },
@@ -33,7 +36,7 @@ pub(crate) enum Regime {
 impl Regime {
     pub fn coefficients(self) -> Coefficients {
         match self {
-            Regime::Dynamic { h } => Coefficients { mass: 1.0 / (h * h), drag: 1.0 / h, momentum: 1.0 / h, stiffness: 1.0, force: 1.0 },
+            Regime::Dynamic { h } | Regime::Bdf2 { h2: h, .. } => Coefficients { mass: 1.0 / (h * h), drag: 1.0 / h, momentum: 1.0 / h, stiffness: 1.0, force: 1.0 },
             // 2M (ΔX − hV)/h² + D ΔX/h = ½ (f_n + f(q_n + ΔX)), the drag
             // on the mean velocity ΔX/h; ∂/∂ΔX of the right side is −K/2.
             Regime::Trapezoidal { h, first } => Coefficients {
@@ -52,12 +55,13 @@ impl Regime {
         match self {
             Regime::Dynamic { h } => now + h,
             Regime::Trapezoidal { h, first } => now + if first { 0.0 } else { h },
+            Regime::Bdf2 { h, .. } => now + h,
             Regime::Statics { .. } => now,
         }
     }
     /// Dynamics: a sliding bead's tangential motion is its own.
     fn bead_slides(self) -> bool {
-        matches!(self, Regime::Dynamic { .. } | Regime::Trapezoidal { .. })
+        matches!(self, Regime::Dynamic { .. } | Regime::Trapezoidal { .. } | Regime::Bdf2 { .. })
     }
     fn bead_unknowns(self) -> bool {
         matches!(self, Regime::Statics { bead_unknowns: true })
@@ -259,11 +263,16 @@ fn gather_and_assemble(
         let slide = if b.fixed || !regime.bead_slides() { [0.0; 3] } else { rods[r].tangent(b.u)?.into() };
         ws.masses.push(PointMass { rod: r, u: b.u, mass: b.mass, slide });
     }
-    if let Regime::Trapezoidal { first: false, .. } = regime {
-        // ½ f(t + h) here, the other half of the trapezoid (and the drag
-        // of the iterate) from the state of the step.
+    // ½ f(t + h) here, the other half of the trapezoid (and the drag of
+    // the iterate) from the state of the step; the BDF2 stage's drag term.
+    let scale = match regime {
+        Regime::Trapezoidal { first: false, .. } => Some(0.5),
+        Regime::Bdf2 { .. } => Some(1.0),
+        _ => None,
+    };
+    if let Some(s) = scale {
         for (f, extra) in ws.ext.iter_mut().zip(&ws.trapezoidal.extra) {
-            f.iter_mut().zip(extra).for_each(|(x, e)| *x = 0.5 * *x + e);
+            f.iter_mut().zip(extra).for_each(|(x, e)| *x = s * *x + e);
         }
     }
     let mut crefs: Vec<ConstraintRef<'_>> = recycle(std::mem::take(&mut ws.con_refs));

@@ -61,6 +61,7 @@ fn step_by(world: &mut World, h: f64) -> Result<StepReport> {
             (energy, solved, 1)
         }
         Scheme::Trapezoidal => super::trapezoidal::step(world, h)?,
+        Scheme::TrBdf2 => super::trapezoidal::tr_bdf2(world, h)?,
     };
     world.time += h;
     world.steps += 1;

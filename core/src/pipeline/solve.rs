@@ -198,6 +198,28 @@ pub(crate) fn begin(world: &mut World, scale: f64, elastic_before: Option<f64>) 
     budget
 }
 
+/// For a step applied in several parts: keeps each rod's kinetic energy
+/// now (for naming the rod whose energy grew) and returns their sum.
+pub(crate) fn kinetic_before(world: &mut World) -> f64 {
+    let World { rods, ws, .. } = world;
+    ws.energy_before.clear();
+    ws.energy_before.extend(rods.iter().map(|(_, r)| r.kinetic_energy()));
+    ws.energy_before.iter().sum()
+}
+
+/// Σ |Λ E| over the multiplier rows of the last solve: what the
+/// constraints may have put in.
+pub(crate) fn constraint_work(world: &World) -> f64 {
+    let ws = &world.ws;
+    let mut total = 0.0;
+    for (c, &r0) in ws.layout.row_index.iter().enumerate() {
+        for i in r0..r0 + ws.layout.row_count[c] {
+            total += (ws.sys.sol[i] * ws.sys.rhs[i]).abs();
+        }
+    }
+    total
+}
+
 /// The second half of [`commit`]: every Poisson update possible and the
 /// divergence guard satisfied, or everything since [`begin`] undone.
 pub(crate) fn finish(world: &mut World, budget: Option<f64>) -> Result<()> {
@@ -234,12 +256,7 @@ fn energy_in(world: &mut World, scale: f64) -> f64 {
             }
         }
     }
-    for (c, &r0) in ws.layout.row_index.iter().enumerate() {
-        for i in r0..r0 + ws.layout.row_count[c] {
-            total += (ws.sys.sol[i] * ws.sys.rhs[i]).abs();
-        }
-    }
-    total
+    total + constraint_work(world)
 }
 
 /// The guard's verdict after `apply`. Implicit Euler never creates energy:

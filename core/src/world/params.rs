@@ -47,7 +47,7 @@ pub struct IntegrationParameters {
     pub max_halvings: u32,
     /// Time integration of dynamic steps (SPEC §3): implicit Euler (the
     /// thesis' method, the default) or the trapezoidal rule.
-    #[serde(default, skip_serializing_if = "Scheme::is_default")]
+    #[serde(default)]
     pub scheme: Scheme,
 }
 
@@ -67,27 +67,38 @@ pub enum Scheme {
     /// Newton iterations on (2M/h² + D/h + K/2) δ = −residual, the first
     /// of which is the linearised implicit midpoint rule. Second order;
     /// keeps the energy of vibrations (no numerical damping), lengthens
-    /// periods by (ωh)²/12. Costs two or three solves per step.
+    /// periods by (ωh)²/12. Costs two or three solves per step. Without
+    /// any damping of unresolved modes it suits vibration of rods held by
+    /// linear constraints (fixed points, clamps); with curved constraints
+    /// (relative orientations, sliders, beads) prefer `TrBdf2`.
     Trapezoidal,
+    /// TR-BDF2 (Bank et al. 1985): a trapezoidal stage over γh
+    /// (γ = 2 − √2), then a BDF2 stage to t + h through q_n, q_γ, q_{n+1},
+    /// each one linearised solve of the same banded system (the BDF2
+    /// stage is an implicit Euler solve of step (1 − γ)/(2 − γ) h with a
+    /// modified velocity). Second order and L-stable: resolved vibrations
+    /// keep their amplitude (99.3 % over 10 periods at 20 steps per
+    /// period, period +0.40 %), unresolved ones (stiff stretching,
+    /// constraint chatter) are damped out as by implicit Euler.
+    TrBdf2,
 }
 
 impl Scheme {
-    fn is_default(&self) -> bool {
-        *self == Scheme::ImplicitEuler
-    }
     /// Name as accepted by [`Scheme::from_name`].
     pub fn name(self) -> &'static str {
         match self {
             Scheme::ImplicitEuler => "implicit_euler",
             Scheme::Trapezoidal => "trapezoidal",
+            Scheme::TrBdf2 => "tr_bdf2",
         }
     }
-    /// Parses "implicit_euler" or "trapezoidal".
+    /// Parses "implicit_euler", "trapezoidal" or "tr_bdf2".
     pub fn from_name(name: &str) -> Result<Scheme> {
         match name {
             "implicit_euler" => Ok(Scheme::ImplicitEuler),
             "trapezoidal" => Ok(Scheme::Trapezoidal),
-            _ => Err(Error::invalid("scheme", name, "\"implicit_euler\" or \"trapezoidal\"")),
+            "tr_bdf2" => Ok(Scheme::TrBdf2),
+            _ => Err(Error::invalid("scheme", name, "\"implicit_euler\", \"trapezoidal\" or \"tr_bdf2\"")),
         }
     }
 }
