@@ -5,16 +5,6 @@ use strandkit::prelude::*;
 use common::*;
 use nalgebra::Vector3;
 
-fn soft_rod(n: usize, roll: bool) -> Rod {
-    RodBuilder::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0))
-        .control_points(n)
-        .with_roll(roll)
-        .section(Section::circle(0.01).unwrap())
-        .material(Material::new("rubber", 1e6, 0.45, 1000.0).unwrap())
-        .build()
-        .unwrap()
-}
-
 /// A pre-deformed free rod with spinning initial velocities: linear momentum
 /// is conserved to 1e-10 (relative to Σ|M V|) and the total energy
 /// (kinetic + elastic) never grows over 2000 steps (linearised implicit Euler
@@ -27,24 +17,7 @@ fn free_rod_conserves_momentum_and_does_not_gain_energy() {
 }
 
 fn free_rod_case(roll: bool) {
-    let mut rod = soft_rod(15, roll);
-    let d = rod.dofs();
-    let mut q = rod.coords().to_vec();
-    let mut v = vec![0.0; q.len()];
-    for i in 0..rod.n_ctrl() {
-        let x = q[i * d];
-        q[i * d + 1] = 0.05 * (3.0 * x).sin();
-        q[i * d + 2] = 0.03 * (5.0 * x).cos();
-        if d == 4 {
-            q[i * d + 3] = 0.2 * x;
-            v[i * d + 3] = 0.5;
-        }
-        v[i * d] = 0.1;
-        v[i * d + 1] = 0.3 * (x - 0.5);
-        v[i * d + 2] = -0.2;
-    }
-    rod.set_coords(&q).unwrap();
-    rod.set_velocities(&v).unwrap();
+    let rod = spinning_free_rod(roll);
     let mut w = World::new(IntegrationParameters { dt: 1e-3, parallel: false, ..Default::default() });
     let h = w.add_rod(rod);
     let total = |w: &World| {

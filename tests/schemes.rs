@@ -1,38 +1,15 @@
-//! Issue 13: the second-order (implicit trapezoidal) scheme beside implicit
-//! Euler — energy of a free rod in flight, the cantilever's first mode,
-//! order of convergence, and the scheme with constraints, beads and clips.
+//! Issue 13: the second-order schemes (trapezoidal rule, TR-BDF2) beside
+//! implicit Euler — energy of a free rod in flight, the cantilever's first
+//! mode, order of convergence, the schemes with constraints, beads, clips
+//! and quasi-dynamic frames.
 mod common;
 use nalgebra::Vector3;
 use strandkit::prelude::*;
 use strandkit::{Mode, QuasiDynamic, QuasiDynamicParameters, Scheme};
 
-/// The pre-deformed, spinning free rod of `tests/dynamics.rs` (rubber,
-/// 1 m, r = 1 cm, roll on): (kinetic + elastic) energy after each step.
+/// `common::spinning_free_rod`: (kinetic + elastic) energy after each step.
 fn free_rod_energies(scheme: Scheme, roll: bool, dt: f64, steps: usize) -> Vec<f64> {
-    let mut rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0))
-        .control_points(15)
-        .with_roll(roll)
-        .section(Section::circle(0.01).unwrap())
-        .material(Material::new("rubber", 1e6, 0.45, 1000.0).unwrap())
-        .build()
-        .unwrap();
-    let d = rod.dofs();
-    let mut q = rod.coords().to_vec();
-    let mut v = vec![0.0; q.len()];
-    for i in 0..rod.n_ctrl() {
-        let x = q[i * d];
-        q[i * d + 1] = 0.05 * (3.0 * x).sin();
-        q[i * d + 2] = 0.03 * (5.0 * x).cos();
-        if roll {
-            q[i * d + 3] = 0.2 * x;
-            v[i * d + 3] = 0.5;
-        }
-        v[i * d] = 0.1;
-        v[i * d + 1] = 0.3 * (x - 0.5);
-        v[i * d + 2] = -0.2;
-    }
-    rod.set_coords(&q).unwrap();
-    rod.set_velocities(&v).unwrap();
+    let rod = common::spinning_free_rod(roll);
     let mut w = World::new(IntegrationParameters { dt, parallel: false, scheme, ..Default::default() });
     let h = w.add_rod(rod);
     let total = |w: &World| {

@@ -39,3 +39,34 @@ pub fn sag(rod: &mut strandkit::Rod, len: f64, span: f64) {
         .collect();
     rod.set_coords(&q).unwrap();
 }
+
+/// The pre-deformed, spinning free rod of the energy tests (rubber, 1 m,
+/// r = 1 cm, 15 control points): bent in y and z, moving and spinning (and
+/// twisted and rolling when `roll`).
+pub fn spinning_free_rod(roll: bool) -> strandkit::Rod {
+    let mut rod = strandkit::RodBuilder::straight(nalgebra::Vector3::zeros(), nalgebra::Vector3::new(1.0, 0.0, 0.0))
+        .control_points(15)
+        .with_roll(roll)
+        .section(strandkit::Section::circle(0.01).unwrap())
+        .material(strandkit::Material::new("rubber", 1e6, 0.45, 1000.0).unwrap())
+        .build()
+        .unwrap();
+    let d = rod.dofs();
+    let mut q = rod.coords().to_vec();
+    let mut v = vec![0.0; q.len()];
+    for i in 0..rod.n_ctrl() {
+        let x = q[i * d];
+        q[i * d + 1] = 0.05 * (3.0 * x).sin();
+        q[i * d + 2] = 0.03 * (5.0 * x).cos();
+        if d == 4 {
+            q[i * d + 3] = 0.2 * x;
+            v[i * d + 3] = 0.5;
+        }
+        v[i * d] = 0.1;
+        v[i * d + 1] = 0.3 * (x - 0.5);
+        v[i * d + 2] = -0.2;
+    }
+    rod.set_coords(&q).unwrap();
+    rod.set_velocities(&v).unwrap();
+    rod
+}

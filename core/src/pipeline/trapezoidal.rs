@@ -48,15 +48,24 @@ pub(crate) struct State {
 /// the last solve and the number of solves. On error the world is as it
 /// was before (but for the beads' prediction, as with implicit Euler).
 pub(crate) fn step(world: &mut World, h: f64) -> Result<(f64, Solved, usize)> {
-    let (energy, solved) = solve::assemble_and_solve(world, Regime::Trapezoidal { h, first: true })?;
+    guarded(world, h, |world, solved| {
+        let out = iterate(world, h, solved)?;
+        finish_velocities(world, h)?;
+        Ok(out)
+    })
+}
+
+/// The frame of a multi-solve step: the first trapezoidal solve of step
+/// `h1` (nothing moved if it fails), the per-step state and undo buffer,
+/// then `rest` (which applies that solve and whatever follows); undone on
+/// error, guarded over the whole step on success. Returns the elastic
+/// energy at the start, the last solve and the number of solves.
+fn guarded(world: &mut World, h1: f64, rest: impl FnOnce(&mut World, Solved) -> Result<(Solved, usize)>) -> Result<(f64, Solved, usize)> {
+    let (energy, solved) = solve::assemble_and_solve(world, Regime::Trapezoidal { h: h1, first: true })?;
     solve::check_finite(world, 1.0, None)?;
     let kinetic = start(world);
     solve::begin(world, 1.0, None);
-    let out = iterate(world, h, solved).and_then(|s| {
-        finish_velocities(world, h)?;
-        Ok(s)
-    });
-    match out {
+    match rest(world, solved) {
         Ok((solved, solves)) => {
             solve::finish(world, budget(world, energy, kinetic))?;
             Ok((energy, solved, solves))
@@ -83,11 +92,8 @@ const GAMMA: f64 = 2.0 - std::f64::consts::SQRT_2;
 /// elastic energy at the start, the last solve and the number of solves.
 pub(crate) fn tr_bdf2(world: &mut World, h: f64) -> Result<(f64, Solved, usize)> {
     let h1 = GAMMA * h;
-    let (energy, solved) = solve::assemble_and_solve(world, Regime::Trapezoidal { h: h1, first: true })?;
-    solve::check_finite(world, 1.0, None)?;
-    let kinetic = start(world);
-    solve::begin(world, 1.0, None);
-    let out = iterate(world, h1, solved).and_then(|(_, solves)| {
+    guarded(world, h1, |world, solved| {
+        let (_, solves) = iterate(world, h1, solved)?;
         finish_velocities(world, h1)?;
         let h2 = (1.0 - GAMMA) / (2.0 - GAMMA) * h;
         bdf2_velocity(world, h2);
@@ -97,17 +103,7 @@ pub(crate) fn tr_bdf2(world: &mut World, h: f64) -> Result<(f64, Solved, usize)>
         bdf2_finish(world, h2);
         accumulate(world);
         Ok((solved, solves + 1))
-    });
-    match out {
-        Ok((solved, solves)) => {
-            solve::finish(world, budget(world, energy, kinetic))?;
-            Ok((energy, solved, solves))
-        }
-        Err(e) => {
-            solve::undo(world);
-            Err(e)
-        }
-    }
+    })
 }
 
 /// Before the BDF2 stage (rods at q_γ with V_γ, Δ₁ in `dx`): V = V*,
