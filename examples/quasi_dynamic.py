@@ -87,9 +87,13 @@ def main():
     checks.true("quasi-static with the wire", static[200:400].mean() > 0.5, f"{static[200:400].mean():.0%} of frames")
     checks.true("dynamic again after it", static[450:].mean() < 0.5, f"{static[450:].mean():.0%} quasi-static")
     checks.true("no quasi-static frame refused", refused == 0, f"{refused}")
-    # Continuity: the frames after a switch move the rope about as much as
-    # the frames before it (the support keeps moving at 0.16 m/s).
-    for s in switches[switches > 2]:
+    # Continuity at the two switches the wire causes (the first after frame
+    # 200 and after frame 400; the docstring's claim): the frames after the
+    # switch move the rope about as much as the frames before it (the
+    # support keeps moving at 0.16 m/s). Switches a busy machine's slow
+    # frames add elsewhere are printed above, not checked.
+    wire_switches = [s for s in (next((s for s in switches if s > b), None) for b in (200, 400)) if s is not None]
+    for s in wire_switches:
         before, after = motion[s - 2:s].max(), motion[s:s + 2].max()
         checks.true(f"motion continuous at the switch of frame {s}", after <= 5 * before + 1e-6,
                     f"{after * 1e3:.3f} mm after vs {before * 1e3:.3f} mm before")
