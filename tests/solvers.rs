@@ -93,15 +93,30 @@ fn band_and_sparse_agree() {
 }
 
 /// On a clamped cantilever (a saddle-point system: 6 clamp rows) the band
-/// path factors with the unpivoted LDLᵀ, and agrees with the pivoting LU
-/// on the same assembled step.
+/// path factors with the unpivoted LDLᵀ at any size (20, 1000 and 4000
+/// control points: before the quasi-definite pivot test and the growth
+/// rule, the rods of ≥ 1000 points fell back to the LU) with a relative
+/// residual ≤ 1e-14, and agrees with the pivoting LU on the same assembled
+/// step (20 and 1000 points; at 4000 the step matrix's condition number,
+/// ≈ 1e14, leaves the two solutions 1e-3 apart in velocity).
 #[test]
 fn ldlt_with_constraint_rows_matches_the_lu() {
-    let mut c = cantilever(20, 5, [0.0, -1e5, 2e4]);
+    for n in [20, 1000, 4000] {
+        ldlt_matches_lu_on_cantilever(n);
+    }
+}
+
+fn ldlt_matches_lu_on_cantilever(n: usize) {
+    let mut c = cantilever(n, 5, [0.0, -1e5, 2e4]);
     c.world.params.dt = 1e-3;
     c.world.params.gravity = [0.0, -9.81, 0.0];
     for _ in 0..10 {
-        c.world.step().unwrap();
+        let rep = c.world.step().unwrap();
+        assert_eq!((rep.factorisation, rep.fallbacks), (Factorisation::BandLdlt, 0), "{n} control points");
+        assert!(rep.residual <= 1e-14, "{n} control points: residual {:e}", rep.residual);
+    }
+    if n > 1000 {
+        return;
     }
     let snapshot = c.world.to_json().unwrap();
     let mut out = Vec::new();
@@ -109,7 +124,7 @@ fn ldlt_with_constraint_rows_matches_the_lu() {
         let mut w = World::from_json(&snapshot).unwrap();
         w.params.linear_solver = solver;
         let rep = w.step().unwrap();
-        assert_eq!(rep.factorisation == Factorisation::BandLdlt, solver == LinearSolver::Band, "{solver:?}");
+        assert_eq!(rep.factorisation == Factorisation::BandLdlt, solver == LinearSolver::Band, "{solver:?} {rep:?}");
         assert!(rep.n_multipliers > 0);
         let r = w.rod(c.rod).unwrap();
         let lam: Vec<f64> = w.constraints().flat_map(|(_, c)| c.multipliers.clone()).collect();
@@ -120,6 +135,11 @@ fn ldlt_with_constraint_rows_matches_the_lu() {
         x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs())) / s
     };
     let (q, v, l) = (rel(&out[0].0, &out[1].0), rel(&out[0].1, &out[1].1), rel(&out[0].2, &out[1].2));
-    println!("cantilever step, LDLᵀ vs LU: coords {q:.2e}, velocities {v:.2e}, multipliers {l:.2e}");
-    assert!(q < 1e-12 && v < 1e-9 && l < 1e-9);
+    println!("cantilever step, {n} control points, LDLᵀ vs LU: coords {q:.2e}, velocities {v:.2e}, multipliers {l:.2e}");
+    // The two factorisations agree to what the conditioning allows: the
+    // step matrix's coordinate diagonal spans c_m m … EI/Δs³ (κ ≈ 1e5 at
+    // 20 points, ≈ 1e10 at 1000), and each solve leaves a relative
+    // residual ≈ 1e-16 (checked by the solver).
+    let (tq, tv) = if n <= 20 { (1e-12, 1e-9) } else { (1e-8, 1e-5) };
+    assert!(q < tq && v < tv && l < tv, "{n} control points");
 }

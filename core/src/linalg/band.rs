@@ -370,9 +370,14 @@ const LDLT_TOL: f64 = 1e-14;
 /// negative geometric stiffness exceeds its mass term, or a quasi-definite
 /// ordering), LDLᵀ without pivoting is no longer backward stable by itself:
 /// entries of L grow like 1/|d_j|. Every pivot from there on must then
-/// satisfy `|d_j| > LDLT_INDEF_TOL * a_jj` (growth ≤ 1e6); the caller's
+/// satisfy `|d_j| > LDLT_INDEF_TOL * a_jj`, or (a positive pivot) make an
+/// update no larger than a_jj / LDLT_INDEF_TOL (growth ≤ 1e6); the caller's
 /// residual check after refinement decides whether the result is kept.
 const LDLT_INDEF_TOL: f64 = 1e-6;
+
+/// Smallest |pivot| of a multiplier row in [`BandLdlt::factor_quasi_definite`]
+/// (after the KKT equilibration; see there).
+const LDLT_ROW_TOL: f64 = 1e-12;
 
 /// Why [`BandLdlt::factor`] declined a matrix (the caller falls back to [`BandLu`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -382,7 +387,8 @@ pub enum LdltDecline {
     /// An entry of the lower band is NaN or infinite.
     NonFinite,
     /// Pivot `d` at row `row` is too small: `d <= LDLT_TOL * a_jj` while A
-    /// looks positive definite, `|d| <= LDLT_INDEF_TOL * a_jj` once a negative
+    /// looks positive definite, `|d| <= LDLT_INDEF_TOL * a_jj` (with a growth
+    /// above 1e6 for a positive pivot) once a negative
     /// pivot was met, or NaN.
     Pivot { row: usize, d: f64 },
 }
@@ -429,7 +435,23 @@ impl BandLdlt {
     /// same pass) and factors it in place. Allocates only when `a` is larger
     /// than any matrix factored before by this object.
     pub fn factor(&mut self, a: &BandMatrix) -> std::result::Result<(), LdltDecline> {
-        self.factor_with(a, LDLT_TOL, LDLT_INDEF_TOL)
+        self.factor_with(a, LDLT_TOL, LDLT_INDEF_TOL, &[])
+    }
+
+    /// `factor` for a quasi-definite KKT matrix [[H, Lᵀ], [L, −C]] in an
+    /// interleaved order: `negative[j]` marks the multiplier rows, whose
+    /// pivots are expected negative (−L H⁻¹ Lᵀ − C restricted to what is
+    /// eliminated before them). Such a matrix has an LDLᵀ in any symmetric
+    /// order with H positive definite (Vanderbei 1995), stable when H and
+    /// the Schur complement are not too ill-conditioned (Gill, Saunders &
+    /// Shinnerl 1996; the caller's residual check decides): a negative pivot
+    /// at a row is therefore no sign of indefiniteness, and only a negative
+    /// pivot at a coordinate switches to the stricter `LDLT_INDEF_TOL`. A
+    /// row's pivot must be below −`LDLT_ROW_TOL` (rows are scaled to unit
+    /// max-norm and coordinates to unit diagonal, so an independent row's
+    /// pivot is O(1/bandwidth)); ≈ 0 means a dependent row.
+    pub fn factor_quasi_definite(&mut self, a: &BandMatrix, negative: &[bool]) -> std::result::Result<(), LdltDecline> {
+        self.factor_with(a, LDLT_TOL, LDLT_INDEF_TOL, negative)
     }
 
     /// The factorisation for counting the inertia ([`Self::negative_pivots`])
@@ -437,10 +459,10 @@ impl BandLdlt {
     /// round-off (|d| > 1e-12 a_jj), where `factor` asks 1e-6 of an
     /// indefinite matrix for a stable solve.
     pub fn factor_for_inertia(&mut self, a: &BandMatrix) -> std::result::Result<(), LdltDecline> {
-        self.factor_with(a, 1e-12, 1e-12)
+        self.factor_with(a, 1e-12, 1e-12, &[])
     }
 
-    fn factor_with(&mut self, a: &BandMatrix, tol_pd: f64, tol_indef: f64) -> std::result::Result<(), LdltDecline> {
+    fn factor_with(&mut self, a: &BandMatrix, tol_pd: f64, tol_indef: f64, negative: &[bool]) -> std::result::Result<(), LdltDecline> {
         self.factored = false;
         if a.kl != a.ku {
             return Err(LdltDecline::NotSymmetricBand);
@@ -455,11 +477,24 @@ impl BandLdlt {
         let mut d_max = 0.0f64;
         let mut indefinite = false;
         for j in 0..n {
-            let d = self.eliminate(j);
+            let (d, growth) = self.eliminate(j);
             let ajj = a.data[j * a.ldab + a.ku].abs();
-            indefinite |= d < 0.0;
-            let tol = if indefinite { tol_indef } else { tol_pd };
-            if !(d.abs() > tol * ajj) {
+            let ok = if negative.get(j).copied().unwrap_or(false) {
+                d < -LDLT_ROW_TOL
+            } else if d < 0.0 {
+                indefinite = true;
+                -d > tol_indef * ajj
+            } else {
+                // Once A showed indefinite, a small positive pivot is kept
+                // if the update it makes stays small: |L| |D| |Lᵀ| (the
+                // backward error's bound) grows by max a_ij² / d_j. A soft
+                // mode's pivot at a stiff rod's end (the tip of a clamped
+                // 1000-point rod: d ≈ 1e-9 a_jj, coupled only weakly to
+                // what follows) passes; a pivot that would amplify its
+                // neighbours does not.
+                d > tol_pd * ajj && (!indefinite || d > tol_indef * ajj || growth * tol_indef <= ajj)
+            };
+            if !ok {
                 return Err(LdltDecline::Pivot { row: j, d });
             }
             d_min = d_min.min(d.abs());
@@ -507,9 +542,10 @@ impl BandLdlt {
 
     /// Step j of the right-looking LDLᵀ: D_j = updated a_jj; the trailing
     /// block gets A[j+c..][j+c] −= A[j+c..][j] A[j+c][j] / D_j; column j is
-    /// then scaled to L[·][j] = A[·][j] / D_j. Returns D_j (unchecked).
+    /// then scaled to L[·][j] = A[·][j] / D_j. Returns D_j (unchecked) and
+    /// the growth max_c A[j+c][j]² / |D_j| of the update.
     #[inline]
-    fn eliminate(&mut self, j: usize) -> f64 {
+    fn eliminate(&mut self, j: usize) -> (f64, f64) {
         let (kd, ld) = (self.kd, self.ld);
         let km = kd.min(self.n - 1 - j);
         let (head, tail) = self.l.split_at_mut((j + 1) * ld);
@@ -518,8 +554,10 @@ impl BandLdlt {
         let inv = 1.0 / d;
         // Column j + c of the trailing block starts (c − 1) * ld into `tail`;
         // rows j + c ..= j + km of it are updated (lengths ≤ kd).
+        let mut growth = 0.0f64;
         for c in 1..=km {
             let t = col[c] * inv;
+            growth = growth.max((t * col[c]).abs());
             if t != 0.0 {
                 let dst = &mut tail[(c - 1) * ld..(c - 1) * ld + km - c + 1];
                 for (x, &v) in dst.iter_mut().zip(&col[c..=km]) {
@@ -530,7 +568,7 @@ impl BandLdlt {
         for v in &mut col[1..=km] {
             *v *= inv;
         }
-        d
+        (d, growth)
     }
 
     /// Smallest |D_j| / largest |D_j| of the last successful factorisation.
@@ -1127,6 +1165,75 @@ mod tests {
         // Empty matrix.
         ldlt.factor(&BandMatrix::new(0, 2, 2)).unwrap();
         ldlt.solve_in_place(&mut []).unwrap();
+    }
+
+    /// The growth rule once A showed indefinite: a pivot δ = 1e-9 a_jj
+    /// (cancellation: r, then a negative p, then q = 1 + δ coupled by 1 to
+    /// r) coupled strongly to what follows (s, by c = 1: growth 1e9) is
+    /// declined; coupled weakly (c = 1e-6: growth 1e-3), kept.
+    #[test]
+    fn ldlt_small_pivot_after_indefinite_declined_only_when_it_grows() {
+        let mut a = BandMatrix::new(4, 2, 2);
+        a.set(0, 0, 1.0);
+        a.set(1, 1, -1.0);
+        a.set(2, 2, 1.0 + 1e-9);
+        a.set(3, 3, 1.0);
+        a.set(0, 2, 1.0);
+        a.set(2, 0, 1.0);
+        for c in [1.0, 1e-6] {
+            a.set(2, 3, c);
+            a.set(3, 2, c);
+            let r = BandLdlt::new().factor(&a);
+            assert_eq!(r.is_ok(), c < 1e-3, "coupling {c}: {r:?}");
+        }
+    }
+
+    /// A quasi-definite KKT matrix in an interleaved order: y0 pinned by
+    /// row 0, then x0 –(spring 1)– x1 held only by a mass ε = 1e-9 until
+    /// row 1 pins x1. x1's pivot is 2ε, coupled by 1 to row 1 (growth
+    /// 1/(2ε)). `factor` reads row 0's negative pivot as indefiniteness and
+    /// declines it; `factor_quasi_definite` knows the rows and solves like
+    /// the LU.
+    #[test]
+    fn quasi_definite_ldlt_accepts_interleaved_rows() {
+        let eps = 1e-9;
+        // Order: y0, row0, x0, x1, row1.
+        let mut a = BandMatrix::new(5, 1, 1);
+        let sym = |a: &mut BandMatrix, i: usize, j: usize, v: f64| {
+            a.set(i, j, v);
+            a.set(j, i, v);
+        };
+        sym(&mut a, 0, 0, 1.0 + eps);
+        sym(&mut a, 0, 1, 1.0);
+        sym(&mut a, 2, 2, 1.0 + eps);
+        sym(&mut a, 3, 3, 1.0 + eps);
+        sym(&mut a, 2, 3, -1.0);
+        sym(&mut a, 3, 4, 1.0);
+        let negative = [false, true, false, false, true];
+        let mut ldlt = BandLdlt::new();
+        assert!(matches!(ldlt.factor(&a), Err(LdltDecline::Pivot { row: 3, d }) if d > 0.0));
+        ldlt.factor_quasi_definite(&a, &negative).unwrap();
+        assert_eq!(ldlt.negative_pivots(), 2);
+        let b = [0.3, 0.5, -0.2, 0.1, -0.25];
+        let (mut x, mut w) = (vec![0.0; 5], Vec::new());
+        let res = solve_refined(&a, &ldlt, &b, &mut x, &mut w, 1).unwrap();
+        assert!(res < 1e-15, "relative residual {res}");
+        let mut lu = BandLu::new();
+        lu.factor(&a).unwrap();
+        let mut xlu = b.to_vec();
+        lu.solve_in_place(&mut xlu).unwrap();
+        let scale = inf_norm(&xlu);
+        for (xi, ri) in x.iter().zip(&xlu) {
+            assert!((xi - ri).abs() <= 1e-12 * scale, "{xi} vs {ri}");
+        }
+        // A row whose pivot is not negative (a dependent row: x0 pinned
+        // twice) is declined.
+        let mut d = BandMatrix::new(3, 2, 2);
+        d.set(0, 0, 1.0);
+        for (i, j) in [(1, 0), (0, 1), (2, 0), (0, 2)] {
+            d.set(i, j, 1.0);
+        }
+        assert!(matches!(ldlt.factor_quasi_definite(&d, &[false, true, true]), Err(LdltDecline::Pivot { row: 2, .. })));
     }
 
     #[test]

@@ -154,10 +154,10 @@ pub struct KktSystem {
     /// The last assembly had a positive mass coefficient c_m.
     inertia: bool,
     /// c_m × the largest mass per control point of the last assembly, and
-    /// the largest coordinate diagonal |A_ii| (from the equilibration): how
-    /// much the inertia weighs against the stiffness.
+    /// the smallest nonzero coordinate diagonal |A_ii| (from the
+    /// equilibration): whether the inertia is felt on the softest unknown.
     mass_scale: f64,
-    diag_max: f64,
+    diag_min: f64,
     /// Kernel outputs of one batch of segments (reused).
     blocks: Vec<SegBlock>,
     rows: Vec<Row>,
@@ -396,12 +396,12 @@ impl KktSystem {
                 is_row[r0 + i] = true;
             }
         }
-        self.diag_max = 0.0;
+        self.diag_min = f64::INFINITY;
         for i in 0..n {
             let a = self.band.get(i, i).abs();
             if !is_row[i] && a > 0.0 {
                 self.scale[i] = 1.0 / a.sqrt();
-                self.diag_max = self.diag_max.max(a);
+                self.diag_min = self.diag_min.min(a);
             }
         }
         let bw = layout.bandwidth;
@@ -434,13 +434,16 @@ impl KktSystem {
         // each constraint's rows after at least half of the control points
         // it touches (IV.3), so its pivot is −(part of L A⁻¹ Lᵀ) < 0, not
         // zero: the unpivoted LDLᵀ still goes through on these
-        // quasi-definite orderings — only while the inertia is felt
-        // (c_m m ≥ 1e-12 max|A_ii|; a 40000-point steel rod at dt = 1e-3 has
-        // 4e-10): a step of 1e6 s is statics in disguise, whose
-        // ill-conditioned saddle point the unpivoted factorisation fails on.
+        // quasi-definite orderings (`factor_quasi_definite` expects those
+        // negative pivots) — while the inertia is felt on the softest
+        // coordinate (c_m m ≥ 1e-12 min|A_ii|; the largest diagonal, a
+        // bending or torsion term growing like Δs⁻³…Δs⁻⁵, says nothing of
+        // the rigid modes the mass holds): a step of 1e6 s is statics in
+        // disguise, whose ill-conditioned saddle point the unpivoted
+        // factorisation fails on.
         // Pure Newton statics (c_m = 0) start with the LU: a free rod's K is
         // singular only up to rounding, which the LU's zero-pivot test reports.
-        let felt = layout.n_rows == 0 || self.mass_scale >= 1e-12 * self.diag_max;
+        let felt = layout.n_rows == 0 || self.mass_scale >= 1e-12 * self.diag_min;
         let ldlt = self.inertia && felt;
         // The band LU as a last resort for a wide band, while its storage
         // (n (3 bw + 1) entries) stays below 50 M entries (400 MB).
@@ -504,6 +507,9 @@ impl KktSystem {
                     return Ok(Solved { residual: res, factorisation: *f, fallbacks });
                 }
                 Err(e) => {
+                    if std::env::var_os("STRANDKIT_DEBUG").is_some() {
+                        eprintln!("solve: {f:?} failed: {e}");
+                    }
                     fallbacks += 1;
                     // The most informative diagnosis is reported: a zero
                     // pivot at a constraint row, then at another unknown
@@ -529,7 +535,7 @@ impl KktSystem {
     fn attempt(&mut self, f: Factorisation, layout: &Layout, describe: &impl Fn(usize) -> crate::error::Unknown) -> Result<f64> {
         let res = match f {
             Factorisation::BandLdlt => {
-                self.ldlt.factor(&self.band).map_err(|d| Error::singular(format!("band LDLᵀ declined: {d:?}")))?;
+                self.ldlt.factor_quasi_definite(&self.band, &self.is_row).map_err(|d| Error::singular(format!("band LDLᵀ declined: {d:?}")))?;
                 let res = solve_refined(&self.band, &self.ldlt, &self.rhs, &mut self.sol, &mut self.work, 1)?;
                 if !(res <= LDLT_MAX_RESIDUAL) {
                     return Err(Error::singular(format!("band LDLᵀ residual {res:.3e}")));
