@@ -67,9 +67,14 @@ pub struct StepReport {
 
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct RelaxReport {
-    /// Linear solves performed (accepted and rejected).
+    /// Linear solves performed (accepted and rejected): one factorisation
+    /// each.
     pub iterations: usize,
     pub rejected: usize,
+    /// Newton steps that took a second-order correction (one more assembly
+    /// and a solve with the factors of the step, no new factorisation).
+    #[serde(default)]
+    pub corrections: usize,
     /// Final Newton increment (max norm, length unit) and constraint violation.
     pub increment: f64,
     pub violation: f64,

@@ -427,6 +427,32 @@ pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) ->
     (dx_max, dth_max)
 }
 
+/// Rate of change of the potential along the last solution, −(F + P)·ΔX
+/// over the coordinates and abscissae (the static right-hand side is the
+/// generalised force; multiplier rows left out): negative for a descent
+/// direction.
+pub(crate) fn directional_derivative(world: &World) -> f64 {
+    let ws = &world.ws;
+    let (layout, sys) = (&ws.layout, &ws.sys);
+    let mut slope = 0.0;
+    let mut rows = layout.row_index.iter().zip(&layout.row_count).map(|(&r0, &n)| r0..r0 + n).collect::<Vec<_>>();
+    rows.sort_by_key(|r| r.start);
+    let mut next = rows.iter().peekable();
+    let mut i = 0;
+    while i < layout.n {
+        if let Some(r) = next.peek() {
+            if r.start == i {
+                i = r.end;
+                next.next();
+                continue;
+            }
+        }
+        slope -= sys.rhs[i] * sys.sol[i];
+        i += 1;
+    }
+    slope
+}
+
 /// Largest constraint residual |E − CΛ| of the assembled system (a
 /// compliant row is at rest when its violation equals C Λ).
 pub(crate) fn violation(world: &World) -> f64 {

@@ -29,14 +29,31 @@ pub fn relax(world: &mut World) -> Result<RelaxReport> {
     // velocities, constraint kinds, beads, plastic state). The copy costs
     // less than one iteration's factorisation.
     let before = world.clone();
-    let out = relax_from(world);
+    let mut out = relax_from(world, 0.0);
+    // Newton's method goes to the nearest stationary point, stable or not
+    // (a column past its buckling load, started slightly bent, back to
+    // straight); the damped iteration descends. An unstable equilibrium
+    // found by Newton is checked by a damped solve from the same start,
+    // whose answer is kept (the same point again when the start is on it).
+    if let Some(newton) = out.as_ref().ok().filter(|r| r.stable == Some(false)).cloned() {
+        let newton_world = std::mem::replace(world, before.clone());
+        match relax_from(world, 1.0) {
+            Ok(mut damped) => {
+                damped.iterations += newton.iterations;
+                out = Ok(damped);
+            }
+            Err(_) => *world = newton_world, // Newton's answer stands
+        }
+    }
     if out.is_err() {
         *world = before;
     }
     out
 }
 
-fn relax_from(world: &mut World) -> Result<RelaxReport> {
+/// The relax iteration from `lambda` (0: Newton with a line search first;
+/// 1: the damped iteration, Newton once λ has fallen below 1e-9).
+fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
     let tol = world.params.relax_tolerance;
     let length = world.rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
     beads::static_load(world);
@@ -48,7 +65,14 @@ fn relax_from(world: &mut World) -> Result<RelaxReport> {
     for (_, r) in world.rods.iter_mut() {
         r.state_mut().1.iter_mut().for_each(|v| *v = 0.0);
     }
-    let mut lambda: f64 = 1.0;
+    // Newton first (λ = 0), damping only after a step that no line search
+    // could use — when the constraints hold at the start. A start that
+    // violates them takes the damped iteration: a full Newton step that
+    // meets the constraints may cost any amount of potential energy (a
+    // rope bridge's assembled ropes: 5e9 J), and the potential alone is no
+    // merit function for reaching them.
+    let start_violation = solve::constraint_violation(world)?;
+    let mut lambda = if start_violation > tol * length { lambda.max(1.0) } else { lambda };
     let mut report = RelaxReport::default();
     let mut potential = solve::potential(world)?;
     let statics = Regime::Statics { bead_unknowns: true };
@@ -87,44 +111,135 @@ fn relax_from(world: &mut World) -> Result<RelaxReport> {
             continue; // the contact active set changed: solve again
         }
         report.factorisation = solved.factorisation;
-        let (dx, dth) = solve::apply(world, 1.0, None);
-        let n_sliding = beads::n_sliding(world);
-        let n_cons = world.ws.layout.row_index.len() - n_sliding;
-        let du: Vec<f64> = (0..n_sliding).map(|j| world.ws.sys.sol[world.ws.layout.extra_index[n_cons + j]]).collect();
-        let dbead = beads::apply(world, &du)?;
+        let slope = solve::directional_derivative(world);
+        // The Newton solution z = (p, y): steps on the coordinates and
+        // abscissae, multipliers on the rows.
+        let z = world.ws.sys.sol.clone();
+        let is_row = multiplier_rows(world);
+        let beads_at: Vec<usize> = {
+            let (n_sliding, layout) = (beads::n_sliding(world), &world.ws.layout);
+            let n_cons = layout.row_index.len() - n_sliding;
+            (0..n_sliding).map(|j| layout.extra_index[n_cons + j]).collect()
+        };
+        // The full step, then (Newton only, along a descent direction) the
+        // curved path x + α p + ½ α² a with Newton's second-order
+        // correction a (`curvature_correction`), shortened by a
+        // backtracking line search on the potential. From a straight rod
+        // the linear step of a large deflection over-stretches the rod
+        // (transverse motion lengthens it to second order), a stretch
+        // energy ∝ α⁴ that the straight line pays and the curved path,
+        // which moves the points back along the rod, does not.
+        let saved_state = (&saved[..], &saved_kinds[..], &saved_beads[..]);
+        let mut path = Path { z: &z, is_row: &is_row, beads_at: &beads_at, saved: saved_state, last_alpha: f64::NAN };
+        // Energy comparisons are meaningless at round-off level: a step
+        // below the tolerance is accepted as is. Otherwise a step must cut
+        // the constraint violation (by half for the full step), or lower
+        // the potential (by Armijo's sufficient decrease along a shortened
+        // or curved step) without increasing the violation.
+        let accept = |t: &Trial, plain: bool| {
+            let tiny = plain && t.dx <= tol * length && t.dth <= tol && t.dbead <= tol * 1e3;
+            let lowered = if plain { potential + 1e-11 * potential.abs() } else { potential + 1e-4 * t.alpha * slope };
+            t.energy.is_finite()
+                && (tiny
+                    || (violation > 1e-2 * tol * length && t.violation <= (1.0 - 0.5 * t.alpha) * violation)
+                    || (t.energy <= lowered && t.violation <= violation.max(tol.sqrt() * length)))
+        };
+        let debug = std::env::var_os("STRANDKIT_DEBUG").is_some();
+        let log = |t: &Trial, curved: bool| {
+            if debug {
+                eprintln!(
+                    "relax it {} λ {lambda:.3e} α {:.3e} curved {curved} dx {:.3e} dth {:.3e} viol {violation:.3e} vtrial {:.3e} pot {potential:.9e} -> {:.9e} slope {slope:.3e}",
+                    report.iterations, t.alpha, t.dx, t.dth, t.violation, t.energy
+                );
+            }
+        };
+        // The full step; then (Newton only, along a descent direction) the
+        // curved path x + α p + ½ α² a with Newton's second-order
+        // correction a (`curvature_correction`), searched for the lowest
+        // potential. From a straight rod the linear step of a large
+        // deflection over-stretches the rod (transverse motion lengthens
+        // it to second order), a stretch energy ∝ α⁴ that the straight line
+        // pays and the curved path, which moves the points back along the
+        // rod, much less.
+        let full = path.evaluate(world, 1.0, None)?;
+        log(&full, false);
+        let outcome = if full.left || accept(&full, true) {
+            Some(full)
+        } else if !(newton && slope < 0.0) {
+            None
+        } else {
+            let correction = curvature_correction(world, &z, &is_row, statics, length, saved_state)?;
+            report.corrections += correction.is_some() as usize;
+            let a = correction.as_deref();
+            let mut rejected = full;
+            let mut best = None;
+            if a.is_some() {
+                let t = path.evaluate(world, 1.0, a)?;
+                log(&t, true);
+                if t.left || accept(&t, false) {
+                    best = Some(t);
+                } else {
+                    rejected = t;
+                }
+            }
+            // Backtracking to the first point of sufficient decrease (the
+            // minimiser of the quadratic through E(0), E′(0) and the last
+            // rejected point, kept within [α/10, α/2]) ...
+            let mut trials = 0;
+            while best.is_none() && trials < MAX_BACKTRACKS && rejected.energy.is_finite() {
+                let alpha = rejected.alpha;
+                let curvature = rejected.energy - potential - slope * alpha;
+                let next = if curvature > 0.0 { -slope * alpha * alpha / (2.0 * curvature) } else { 0.1 * alpha };
+                let t = path.evaluate(world, next.clamp(0.1 * alpha, 0.5 * alpha), a)?;
+                log(&t, a.is_some());
+                trials += 1;
+                if t.left || accept(&t, false) {
+                    best = Some(t);
+                } else {
+                    rejected = t;
+                }
+            }
+            // ... then towards the minimum along the path: the parabola
+            // through E(0), the best point and the rejected one, while it
+            // keeps lowering the potential (the stretch energy makes the
+            // first acceptable point far short of it).
+            if let Some(mut b) = best.take().filter(|b| !b.left) {
+                for _ in 0..MAX_EXPANSIONS {
+                    let Some(next) = parabola_minimum((0.0, potential), (b.alpha, b.energy), (rejected.alpha, rejected.energy)) else { break };
+                    if !(next > 1.2 * b.alpha && next < 0.95 * rejected.alpha) {
+                        break;
+                    }
+                    let t = path.evaluate(world, next, a)?;
+                    log(&t, a.is_some());
+                    if !t.left && accept(&t, false) && t.energy < b.energy {
+                        b = t;
+                    } else {
+                        break;
+                    }
+                }
+                if path.last_alpha != b.alpha {
+                    b = path.evaluate(world, b.alpha, a)?; // back to the best point
+                }
+                best = Some(b);
+            }
+            best
+        };
+        let (dx, dth, dbead, trial, newton_step, short) = match outcome {
+            Some(t) => (t.dx, t.dth, t.dbead, if t.left { f64::NAN } else { t.energy }, t.alpha == 1.0 && !t.curved, t.alpha < SHORT_STEP),
+            None => {
+                restore(world, &saved, &saved_kinds, &saved_beads);
+                (0.0, 0.0, 0.0, f64::NAN, false, false)
+            }
+        };
         if !world.ws.left.is_empty() {
             // A slider left its rod: the configuration changed, start anew.
             post_solve::drop_departed_sliders(world, &mut report.events);
             potential = solve::potential(world)?;
             continue;
         }
-        let trial = solve::potential(world)?;
-        let vtrial = solve::constraint_violation(world)?;
-        if std::env::var_os("STRANDKIT_DEBUG").is_some() {
-            eprintln!("relax it {} λ {lambda:.3e} newton {newton} dx {dx:.3e} dth {dth:.3e} viol {violation:.3e} vtrial {vtrial:.3e} pot {potential:.9e} -> {trial:.9e}", report.iterations);
-        }
-        // Energy comparisons are meaningless at round-off level: a step
-        // below the tolerance is accepted as is.
-        // Otherwise a step must halve the constraint violation, or lower
-        // the potential without increasing the violation.
-        let tiny = dx <= tol * length && dth <= tol && dbead <= tol * 1e3;
-        let accept = trial.is_finite()
-            && (tiny
-                || (violation > 1e-5 * tol * length && vtrial <= 0.5 * violation)
-                || (trial <= potential + 1e-11 * potential.abs() && vtrial <= violation.max(tol.sqrt() * length)));
-        if !accept {
-            for ((_, r), q) in world.rods.iter_mut().zip(saved) {
-                r.state_mut().0.copy_from_slice(&q);
-            }
-            for ((_, c), k) in world.constraints.iter_mut().zip(saved_kinds) {
-                c.kind = k;
-            }
-            for ((_, b), u) in world.beads.iter_mut().zip(saved_beads) {
-                b.u = u;
-            }
-            world.ws.left.clear();
+        if trial.is_nan() {
             report.rejected += 1;
-            lambda = (lambda * 4.0).max(1e-6);
+            lambda = (lambda * 4.0).max(DAMPING_RESTART);
             if lambda > 1e8 {
                 return Err(Error::not_converged(
                     report.iterations,
@@ -137,7 +252,7 @@ fn relax_from(world: &mut World) -> Result<RelaxReport> {
         potential = trial;
         report.increment = dx;
         report.violation = violation;
-        if newton && dx <= tol * length && dth <= tol && violation <= tol * length && dbead <= tol * 1e3 {
+        if newton && newton_step && dx <= tol * length && dth <= tol && violation <= tol * length && dbead <= tol * 1e3 {
             // The same rigid-mode check as at the start, now that the
             // constraints are met: a mode the start's violation made look
             // weakly held is named instead of returned as an equilibrium
@@ -160,7 +275,7 @@ fn relax_from(world: &mut World) -> Result<RelaxReport> {
             report.plastic_increment = inelastic.max_increment;
             if inelastic.max_increment > world.params.plastic_tolerance && !topology_changed && !stagnant {
                 potential = solve::potential(world)?;
-                lambda = 1e-6;
+                lambda = 0.0;
                 continue;
             }
             report.potential = potential;
@@ -172,13 +287,162 @@ fn relax_from(world: &mut World) -> Result<RelaxReport> {
             }
             return Ok(report);
         }
-        lambda /= 4.0;
+        // A Newton direction the line search had to cut below SHORT_STEP
+        // is a poor model of the potential here: the damped iteration
+        // takes over (and hands back to Newton as λ falls).
+        lambda = if short && newton { DAMPING_RESTART } else if lambda < 1e-9 { 0.0 } else { lambda / 4.0 };
     }
     Err(Error::not_converged(
         report.iterations,
         report.violation.max(report.increment),
         format!("relax: last increment {:.3e}, violation {:.3e}", report.increment, report.violation),
     ))
+}
+
+/// Most shortenings of one Newton step before the damping takes over.
+const MAX_BACKTRACKS: usize = 10;
+
+/// Shortest line-search step after which Newton keeps going undamped.
+const SHORT_STEP: f64 = 0.05;
+
+/// The damping λ after a Newton step that no line search could use.
+const DAMPING_RESTART: f64 = 1e-4;
+
+/// Most points tried beyond the first acceptable one of a line search.
+const MAX_EXPANSIONS: usize = 3;
+
+/// One point of a line search.
+#[derive(Clone, Copy, Debug)]
+struct Trial {
+    alpha: f64,
+    dx: f64,
+    dth: f64,
+    dbead: f64,
+    energy: f64,
+    violation: f64,
+    /// A slider left its rod on the way (energy not evaluated).
+    left: bool,
+    /// On the curved path (α = 1 is then not the Newton step).
+    curved: bool,
+}
+
+/// The path of a line search: from the saved state, q + α p + ½ α² a
+/// (coordinates and abscissae), with the multipliers y of the solve.
+struct Path<'a> {
+    z: &'a [f64],
+    is_row: &'a [bool],
+    beads_at: &'a [usize],
+    saved: Saved<'a>,
+    last_alpha: f64,
+}
+
+impl Path<'_> {
+    /// Moves the world to the path's point α (from the saved state) and
+    /// measures it.
+    fn evaluate(&mut self, world: &mut World, alpha: f64, a: Option<&[f64]>) -> Result<Trial> {
+        restore(world, self.saved.0, self.saved.1, self.saved.2);
+        for (i, x) in world.ws.sys.sol.iter_mut().enumerate() {
+            let c = a.map_or(0.0, |a| a[i]);
+            *x = if self.is_row[i] { self.z[i] } else { alpha * self.z[i] + 0.5 * alpha * alpha * c };
+        }
+        self.last_alpha = alpha;
+        let (dx, dth) = solve::apply(world, 1.0, None);
+        let du: Vec<f64> = self.beads_at.iter().map(|&g| world.ws.sys.sol[g]).collect();
+        let dbead = beads::apply(world, &du)?;
+        let mut t = Trial { alpha, dx, dth, dbead, energy: f64::NAN, violation: f64::NAN, left: !world.ws.left.is_empty(), curved: a.is_some() };
+        if !t.left {
+            t.energy = solve::potential(world)?;
+            t.violation = solve::constraint_violation(world)?;
+        }
+        Ok(t)
+    }
+}
+
+/// The abscissa of the minimum of the parabola through three points, if
+/// it opens upwards.
+fn parabola_minimum(p0: (f64, f64), p1: (f64, f64), p2: (f64, f64)) -> Option<f64> {
+    let (a, b) = ((p1.1 - p0.1) / (p1.0 - p0.0), (p2.1 - p1.1) / (p2.0 - p1.0));
+    let c = (b - a) / (p2.0 - p0.0);
+    (c > 0.0 && c.is_finite()).then(|| 0.5 * (p0.0 + p1.0) - a / (2.0 * c))
+}
+
+/// Which unknowns of the layout are multipliers.
+fn multiplier_rows(world: &World) -> Vec<bool> {
+    let layout = &world.ws.layout;
+    let mut is_row = vec![false; layout.n];
+    for (c, &r0) in layout.row_index.iter().enumerate() {
+        is_row[r0..r0 + layout.row_count[c]].iter_mut().for_each(|x| *x = true);
+    }
+    is_row
+}
+
+/// Largest move of the finite difference of `curvature_correction`, as a
+/// fraction of the longest rod: small enough that the third-order terms
+/// of a large step (they dominate from 1e-3 of a 2 m step of a 4 m
+/// cantilever) stay out of the difference, large enough for the round-off
+/// of the forces (ε |R| / h²).
+const CORRECTION_PROBE: f64 = 5e-6;
+
+/// Newton's second-order correction (the "geodesic acceleration" of
+/// Transtrum & Sethna 2012): with R(q) = b(q) − A(q) ŷ the residual of
+/// the Newton system at the multipliers y found, the path q + α p + ½ α² a
+/// with A a = −R''[p, p] cancels R to second order in α. R'' is a finite
+/// difference along p, (2/h²)(R(q + h p) − (1 − h) R(q)) (R(q) = A p̂ by
+/// Newton's equation), at the cost of one assembly and one solve with the
+/// factors already computed. A rotation's linearisation (points moving
+/// along the tangent of their circle) is corrected to the circle to second
+/// order. None when the probe point cannot be assembled.
+type Saved<'a> = (&'a [Vec<f64>], &'a [crate::constraint::ConstraintKind], &'a [f64]);
+fn curvature_correction(world: &mut World, z: &[f64], is_row: &[bool], regime: Regime, length: f64, saved: Saved<'_>) -> Result<Option<Vec<f64>>> {
+    let peak = z.iter().zip(is_row).filter(|(_, &r)| !r).fold(0.0f64, |m, (x, _)| m.max(x.abs()));
+    let h = (CORRECTION_PROBE * length / peak).clamp(1e-7, 1e-2);
+    restore(world, saved.0, saved.1, saved.2);
+    let r0 = world.ws.sys.residual_less_rows(&world.ws.layout, z, true);
+    {
+        let sol = &mut world.ws.sys.sol;
+        for (i, x) in sol.iter_mut().enumerate() {
+            *x = if is_row[i] { z[i] } else { h * z[i] };
+        }
+    }
+    solve::apply(world, 1.0, None);
+    let n_sliding = beads::n_sliding(world);
+    let n_cons = world.ws.layout.row_index.len() - n_sliding;
+    let du: Vec<f64> = (0..n_sliding).map(|j| world.ws.sys.sol[world.ws.layout.extra_index[n_cons + j]]).collect();
+    let moved = beads::apply(world, &du).is_ok() && world.ws.left.is_empty();
+    let assembled = moved && assemble(world, regime).is_ok();
+    let rh = assembled.then(|| world.ws.sys.residual_less_rows(&world.ws.layout, z, false));
+    restore(world, saved.0, saved.1, saved.2);
+    let Some(rh) = rh else { return Ok(None) };
+    let k = 2.0 / (h * h);
+    let sys = &mut world.ws.sys;
+    for ((b, r1), r0) in sys.rhs.iter_mut().zip(&rh).zip(&r0) {
+        *b = k * (r1 - (1.0 - h) * r0);
+    }
+    if sys.resolve().is_err() {
+        return Ok(None);
+    }
+    // A correction larger than the step is no second-order term (Transtrum
+    // & Sethna keep |a| ≤ 2 × 0.75 |p|): the expansion does not hold that far.
+    let norm = |v: &[f64]| v.iter().zip(is_row).filter(|(_, &r)| !r).fold(0.0f64, |m, (x, _)| m.max(x.abs()));
+    if !(0.5 * norm(&sys.sol) <= 0.75 * norm(z)) {
+        return Ok(None);
+    }
+    Ok(Some(sys.sol.clone()))
+}
+
+/// Puts back the coordinates, constraint kinds and bead abscissae saved
+/// before a trial step.
+fn restore(world: &mut World, q: &[Vec<f64>], kinds: &[crate::constraint::ConstraintKind], u: &[f64]) {
+    for ((_, r), q) in world.rods.iter_mut().zip(q) {
+        r.state_mut().0.copy_from_slice(q);
+    }
+    for ((_, c), k) in world.constraints.iter_mut().zip(kinds) {
+        c.kind = k.clone();
+    }
+    for ((_, b), u) in world.beads.iter_mut().zip(u) {
+        b.u = *u;
+    }
+    world.ws.left.clear();
 }
 
 /// The start's statically-defined check at the current iterate.

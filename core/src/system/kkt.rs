@@ -346,6 +346,51 @@ impl KktSystem {
         }
     }
 
+    /// b − A ŷ, where ŷ is `z` on the multiplier rows and zero elsewhere:
+    /// the generalised forces left once the constraint forces of `z`'s
+    /// multipliers act (coordinate rows), and −c(q) + C y (multiplier
+    /// rows). `scaled`: the band holds D A D (after a solve), undone here.
+    pub fn residual_less_rows(&self, layout: &Layout, z: &[f64], scaled: bool) -> Vec<f64> {
+        let (n, bw) = (layout.n, layout.bandwidth);
+        let mut r = self.rhs.clone();
+        let d = |i: usize| if scaled { self.scale[i] } else { 1.0 };
+        for (c, &r0) in layout.row_index.iter().enumerate() {
+            for j in r0..r0 + layout.row_count[c] {
+                if z[j] == 0.0 {
+                    continue;
+                }
+                for i in j.saturating_sub(bw)..(j + bw + 1).min(n) {
+                    let a = self.band.get(i, j);
+                    if a != 0.0 {
+                        r[i] -= a / (d(i) * d(j)) * z[j];
+                    }
+                }
+            }
+        }
+        r
+    }
+
+    /// Solves for the right-hand side now in `rhs` with the factors (and
+    /// equilibration) of the last successful solve: a second right-hand
+    /// side on that matrix, even after `band` was assembled anew (so
+    /// without refinement).
+    pub fn resolve(&mut self) -> Result<()> {
+        self.sol.clear();
+        self.sol.extend(self.rhs.iter().zip(&self.scale).map(|(b, d)| b * d));
+        match self.used {
+            Factorisation::BandLdlt => self.ldlt.solve_in_place(&mut self.sol)?,
+            Factorisation::BandLu => self.lu.solve_in_place(&mut self.sol)?,
+            Factorisation::Sparse => self.sparse.solve_in_place(&mut self.sol)?,
+        }
+        for (x, d) in self.sol.iter_mut().zip(&self.scale) {
+            *x *= d;
+        }
+        if self.sol.iter().any(|x| !x.is_finite()) {
+            return Err(Error::NonFinite { rod: None, detail: "re-solve with the last factors: non-finite solution".into() });
+        }
+        Ok(())
+    }
+
     /// Bead abscissa unknowns (slots after the `n_cons` constraints):
     /// Π_b(u) = −F·r(u) gives rhs F·r'(u), diagonal −F·r''(u) + c_m m |r'|²
     /// (the bead's pseudo-inertia along the rod) and coupling −F_α b'_k(u).
