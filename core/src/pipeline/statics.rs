@@ -1,12 +1,15 @@
 //! Quasi-static equilibrium (II.83): K ΔX = F + P iterated to equilibrium.
-//! K is indefinite under compression and large rotations defeat plain
-//! Newton, so each iterate solves the damped system (K + λ D) ΔX = F + P
-//! with D = |diag K| (Levenberg–Marquardt; the thesis' "incomplete Newton"
-//! is a fixed damping), accepted when the potential energy U − Fᵀq does not
-//! rise (or while constraints are still being reached); λ ÷4 after an
-//! accepted step and ×4 after a rejected one. Once λ is negligible the
-//! iteration is Newton's method, and convergence is declared on the Newton
-//! increment. A mass-based damping (pseudo-transient continuation, M/h²)
+//! When the constraints hold at the start, Newton's method with a line
+//! search on the potential energy U − Fᵀq, along the Newton step or a path
+//! corrected to second order (large rotations defeat the straight line).
+//! Otherwise, and after a step no line search could use (K indefinite
+//! under compression, a line search cut short), each iterate solves the
+//! damped system (K + λ D) ΔX = F + P with D = |diag K| (Levenberg–
+//! Marquardt; the thesis' "incomplete Newton" is a fixed damping),
+//! accepted when the potential does not rise (or while constraints are
+//! still being reached); λ ÷4 after an accepted step and ×4 after a
+//! rejected one, Newton again once λ is negligible. Convergence is declared
+//! on a full Newton increment. A mass-based damping (pseudo-transient continuation, M/h²)
 //! was tried first: it stalls when the mass is very unevenly distributed,
 //! e.g. a bead on a light string.
 use super::assemble::{assemble, Regime};
@@ -121,14 +124,6 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
             let n_cons = layout.row_index.len() - n_sliding;
             (0..n_sliding).map(|j| layout.extra_index[n_cons + j]).collect()
         };
-        // The full step, then (Newton only, along a descent direction) the
-        // curved path x + α p + ½ α² a with Newton's second-order
-        // correction a (`curvature_correction`), shortened by a
-        // backtracking line search on the potential. From a straight rod
-        // the linear step of a large deflection over-stretches the rod
-        // (transverse motion lengthens it to second order), a stretch
-        // energy ∝ α⁴ that the straight line pays and the curved path,
-        // which moves the points back along the rod, does not.
         let saved_state = (&saved[..], &saved_kinds[..], &saved_beads[..]);
         let mut path = Path { z: &z, is_row: &is_row, beads_at: &beads_at, saved: saved_state, last_alpha: f64::NAN };
         // Energy comparisons are meaningless at round-off level: a step
@@ -186,7 +181,7 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
             // minimiser of the quadratic through E(0), E′(0) and the last
             // rejected point, kept within [α/10, α/2]) ...
             let mut trials = 0;
-            while best.is_none() && trials < MAX_BACKTRACKS && rejected.energy.is_finite() {
+            while best.is_none() && trials < MAX_BACKTRACKS {
                 let alpha = rejected.alpha;
                 let curvature = rejected.energy - potential - slope * alpha;
                 let next = if curvature > 0.0 { -slope * alpha * alpha / (2.0 * curvature) } else { 0.1 * alpha };
