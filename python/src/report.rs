@@ -106,8 +106,10 @@ report_class!(
 );
 
 report_class!(
-    /// What relax did, as attributes: `iterations` (accepted + rejected),
-    /// `rejected`, final `increment` (length unit) and `violation`,
+    /// What relax did, as attributes: `iterations` (linear solves, accepted
+    /// + rejected), `rejected`, `corrections` (Newton steps that took the
+    /// second-order path: one more assembly and a solve with the same
+    /// factors), final `increment` (length unit) and `violation`,
     /// `potential` (U − F·q, energy unit), `plastic_samples`,
     /// `plastic_increment`, `bandwidth`, `n_unknowns`, `factorisation`, `events`.
     PyRelaxReport,
