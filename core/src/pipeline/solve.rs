@@ -432,25 +432,9 @@ pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) ->
 /// generalised force; multiplier rows left out): negative for a descent
 /// direction.
 pub(crate) fn directional_derivative(world: &World) -> f64 {
-    let ws = &world.ws;
-    let (layout, sys) = (&ws.layout, &ws.sys);
-    let mut slope = 0.0;
-    let mut rows = layout.row_index.iter().zip(&layout.row_count).map(|(&r0, &n)| r0..r0 + n).collect::<Vec<_>>();
-    rows.sort_by_key(|r| r.start);
-    let mut next = rows.iter().peekable();
-    let mut i = 0;
-    while i < layout.n {
-        if let Some(r) = next.peek() {
-            if r.start == i {
-                i = r.end;
-                next.next();
-                continue;
-            }
-        }
-        slope -= sys.rhs[i] * sys.sol[i];
-        i += 1;
-    }
-    slope
+    let sys = &world.ws.sys;
+    let rows = sys.multiplier_rows();
+    (0..rows.len()).filter(|&i| !rows[i]).map(|i| -sys.rhs[i] * sys.sol[i]).sum()
 }
 
 /// Largest constraint residual |E − CΛ| of the assembled system (a

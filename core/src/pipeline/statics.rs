@@ -118,7 +118,7 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
         // The Newton solution z = (p, y): steps on the coordinates and
         // abscissae, multipliers on the rows.
         let z = world.ws.sys.sol.clone();
-        let is_row = multiplier_rows(world);
+        let is_row = world.ws.sys.multiplier_rows().to_vec();
         let beads_at: Vec<usize> = {
             let (n_sliding, layout) = (beads::n_sliding(world), &world.ws.layout);
             let n_cons = layout.row_index.len() - n_sliding;
@@ -163,7 +163,7 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
         } else if !(newton && slope < 0.0) {
             None
         } else {
-            let correction = curvature_correction(world, &z, &is_row, statics, length, saved_state)?;
+            let correction = curvature_correction(world, &mut path, statics, length)?;
             report.corrections += correction.is_some() as usize;
             let a = correction.as_deref();
             let mut rejected = full;
@@ -321,6 +321,8 @@ struct Trial {
     curved: bool,
 }
 
+type Saved<'a> = (&'a [Vec<f64>], &'a [crate::constraint::ConstraintKind], &'a [f64]);
+
 /// The path of a line search: from the saved state, q + α p + ½ α² a
 /// (coordinates and abscissae), with the multipliers y of the solve.
 struct Path<'a> {
@@ -335,15 +337,7 @@ impl Path<'_> {
     /// Moves the world to the path's point α (from the saved state) and
     /// measures it.
     fn evaluate(&mut self, world: &mut World, alpha: f64, a: Option<&[f64]>) -> Result<Trial> {
-        restore(world, self.saved.0, self.saved.1, self.saved.2);
-        for (i, x) in world.ws.sys.sol.iter_mut().enumerate() {
-            let c = a.map_or(0.0, |a| a[i]);
-            *x = if self.is_row[i] { self.z[i] } else { alpha * self.z[i] + 0.5 * alpha * alpha * c };
-        }
-        self.last_alpha = alpha;
-        let (dx, dth) = solve::apply(world, 1.0, None);
-        let du: Vec<f64> = self.beads_at.iter().map(|&g| world.ws.sys.sol[g]).collect();
-        let dbead = beads::apply(world, &du)?;
+        let (dx, dth, dbead) = self.move_to(world, alpha, a)?;
         let mut t = Trial { alpha, dx, dth, dbead, energy: f64::NAN, violation: f64::NAN, left: !world.ws.left.is_empty(), curved: a.is_some() };
         if !t.left {
             t.energy = solve::potential(world)?;
@@ -353,22 +347,29 @@ impl Path<'_> {
     }
 }
 
+impl Path<'_> {
+    /// Moves the world from the saved state to the path's point α (the
+    /// multipliers set to y); returns the largest moves (positions, roll,
+    /// bead abscissae).
+    fn move_to(&mut self, world: &mut World, alpha: f64, a: Option<&[f64]>) -> Result<(f64, f64, f64)> {
+        restore(world, self.saved.0, self.saved.1, self.saved.2);
+        for (i, x) in world.ws.sys.sol.iter_mut().enumerate() {
+            let c = a.map_or(0.0, |a| a[i]);
+            *x = if self.is_row[i] { self.z[i] } else { alpha * self.z[i] + 0.5 * alpha * alpha * c };
+        }
+        self.last_alpha = alpha;
+        let (dx, dth) = solve::apply(world, 1.0, None);
+        let du: Vec<f64> = self.beads_at.iter().map(|&g| world.ws.sys.sol[g]).collect();
+        Ok((dx, dth, beads::apply(world, &du)?))
+    }
+}
+
 /// The abscissa of the minimum of the parabola through three points, if
 /// it opens upwards.
 fn parabola_minimum(p0: (f64, f64), p1: (f64, f64), p2: (f64, f64)) -> Option<f64> {
     let (a, b) = ((p1.1 - p0.1) / (p1.0 - p0.0), (p2.1 - p1.1) / (p2.0 - p1.0));
     let c = (b - a) / (p2.0 - p0.0);
     (c > 0.0 && c.is_finite()).then(|| 0.5 * (p0.0 + p1.0) - a / (2.0 * c))
-}
-
-/// Which unknowns of the layout are multipliers.
-fn multiplier_rows(world: &World) -> Vec<bool> {
-    let layout = &world.ws.layout;
-    let mut is_row = vec![false; layout.n];
-    for (c, &r0) in layout.row_index.iter().enumerate() {
-        is_row[r0..r0 + layout.row_count[c]].iter_mut().for_each(|x| *x = true);
-    }
-    is_row
 }
 
 /// Largest move of the finite difference of `curvature_correction`, as a
@@ -387,26 +388,16 @@ const CORRECTION_PROBE: f64 = 5e-6;
 /// factors already computed. A rotation's linearisation (points moving
 /// along the tangent of their circle) is corrected to the circle to second
 /// order. None when the probe point cannot be assembled.
-type Saved<'a> = (&'a [Vec<f64>], &'a [crate::constraint::ConstraintKind], &'a [f64]);
-fn curvature_correction(world: &mut World, z: &[f64], is_row: &[bool], regime: Regime, length: f64, saved: Saved<'_>) -> Result<Option<Vec<f64>>> {
+fn curvature_correction(world: &mut World, path: &mut Path<'_>, regime: Regime, length: f64) -> Result<Option<Vec<f64>>> {
+    let (z, is_row) = (path.z, path.is_row);
     let peak = z.iter().zip(is_row).filter(|(_, &r)| !r).fold(0.0f64, |m, (x, _)| m.max(x.abs()));
     let h = (CORRECTION_PROBE * length / peak).clamp(1e-7, 1e-2);
-    restore(world, saved.0, saved.1, saved.2);
+    restore(world, path.saved.0, path.saved.1, path.saved.2);
     let r0 = world.ws.sys.residual_less_rows(&world.ws.layout, z, true);
-    {
-        let sol = &mut world.ws.sys.sol;
-        for (i, x) in sol.iter_mut().enumerate() {
-            *x = if is_row[i] { z[i] } else { h * z[i] };
-        }
-    }
-    solve::apply(world, 1.0, None);
-    let n_sliding = beads::n_sliding(world);
-    let n_cons = world.ws.layout.row_index.len() - n_sliding;
-    let du: Vec<f64> = (0..n_sliding).map(|j| world.ws.sys.sol[world.ws.layout.extra_index[n_cons + j]]).collect();
-    let moved = beads::apply(world, &du).is_ok() && world.ws.left.is_empty();
+    let moved = path.move_to(world, h, None).is_ok() && world.ws.left.is_empty();
     let assembled = moved && assemble(world, regime).is_ok();
     let rh = assembled.then(|| world.ws.sys.residual_less_rows(&world.ws.layout, z, false));
-    restore(world, saved.0, saved.1, saved.2);
+    restore(world, path.saved.0, path.saved.1, path.saved.2);
     let Some(rh) = rh else { return Ok(None) };
     let k = 2.0 / (h * h);
     let sys = &mut world.ws.sys;

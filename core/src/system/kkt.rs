@@ -370,6 +370,11 @@ impl KktSystem {
         r
     }
 
+    /// Which unknowns are multipliers (from the last solve's equilibration).
+    pub fn multiplier_rows(&self) -> &[bool] {
+        &self.is_row
+    }
+
     /// Solves for the right-hand side now in `rhs` with the factors (and
     /// equilibration) of the last successful solve: a second right-hand
     /// side on that matrix, even after `band` was assembled anew (so
