@@ -92,6 +92,20 @@ fn main() {
                     rod.assemble(&mut blocks, strandkit_core::rod::assemble::Need::Hessian, false);
                     kmin = kmin.min(s.elapsed().as_secs_f64());
                 }
+                // The same kernels without Hessians: the share of the
+                // Hessian chain rule.
+                let mut gmin = f64::INFINITY;
+                for _ in 0..reps {
+                    let s = Instant::now();
+                    rod.assemble(&mut blocks, strandkit_core::rod::assemble::Need::Gradient, false);
+                    gmin = gmin.min(s.elapsed().as_secs_f64());
+                }
+                let mut emin = f64::INFINITY;
+                for _ in 0..reps {
+                    let s = Instant::now();
+                    std::hint::black_box(rod.elastic_energy());
+                    emin = emin.min(s.elapsed().as_secs_f64());
+                }
                 let mut smin = f64::INFINITY;
                 for i in 0..reps {
                     if i % 50 == 0 {
@@ -101,7 +115,13 @@ fn main() {
                     let _ = w.step();
                     smin = smin.min(s.elapsed().as_secs_f64());
                 }
-                println!("row {row} n={n:6}: kernels {:.1} µs, step {:.1} µs (minima of {reps})", kmin * 1e6, smin * 1e6);
+                println!(
+                    "row {row} n={n:6}: kernels {:.1} µs (gradient only {:.1}, energy only {:.1}), step {:.1} µs (minima of {reps})",
+                    kmin * 1e6,
+                    gmin * 1e6,
+                    emin * 1e6,
+                    smin * 1e6
+                );
             }
         }
         return;

@@ -10,7 +10,7 @@
 //! ∇²W = Σ F_k ∇²q_k + Jᵀ F_qq J with J = ∂q/∂d (5×11). The q_k are
 //! polynomials whose gradients and Hessians are written here in closed form;
 //! this replaces the factorised (and misprinted) II.84–II.101.
-use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use nalgebra::{SMatrix, SVector, Vector3};
 
 pub type Vec11 = SVector<f64, 11>;
 pub type Mat11 = SMatrix<f64, 11, 11>;
@@ -85,46 +85,6 @@ impl LocalState {
         j[(QTH1, TH1)] = 1.0;
         j
     }
-
-    /// Adds Σ_k f_k ∇²q_k to `h` (f = ∂F/∂q).
-    pub fn add_invariant_hessians(&self, f: &Vec5, h: &mut Mat11) {
-        self.add_invariant_hessians_up_to(f, h, 3);
-    }
-
-    /// [`Self::add_invariant_hessians`] for an energy that uses r′ … r^(np)
-    /// only: f_c2 is zero below np = 2 and f_p below 3, so their blocks
-    /// are skipped.
-    pub fn add_invariant_hessians_up_to(&self, f: &Vec5, h: &mut Mat11, np: usize) {
-        let (r1, r2, r3) = (&self.r1, &self.r2, &self.r3);
-        let eye = Matrix3::identity();
-        // ∇²a = 2 I on r'.
-        let fa = f[QA];
-        // ∇²c2 from c2 = |r'|²|r''|² − (r'·r'')².
-        let fc = f[QC2];
-        if np < 2 {
-            add_block(h, R1, R1, &(2.0 * fa * eye));
-            return;
-        }
-        let h11 = (2.0 * fa + 2.0 * fc * r2.norm_squared()) * eye - 2.0 * fc * r2 * r2.transpose();
-        let h22 = fc * (2.0 * r1.norm_squared() * eye - 2.0 * r1 * r1.transpose());
-        let h12 = fc * (4.0 * r1 * r2.transpose() - 2.0 * r2 * r1.transpose() - 2.0 * r1.dot(r2) * eye);
-        if np < 3 {
-            add_block(h, R1, R1, &h11);
-            add_block(h, R2, R2, &h22);
-            add_sym_block(h, R1, R2, &h12);
-            return;
-        }
-        // ∇²p: ∂²p/∂r'∂r'' = −[r''']×, ∂²p/∂r'∂r''' = [r'']×, ∂²p/∂r''∂r''' = −[r']×.
-        let fp = f[QP];
-        let p12 = -fp * r3.cross_matrix();
-        let p13 = fp * r2.cross_matrix();
-        let p23 = -fp * r1.cross_matrix();
-        add_block(h, R1, R1, &h11);
-        add_block(h, R2, R2, &h22);
-        add_sym_block(h, R1, R2, &(h12 + p12));
-        add_sym_block(h, R1, R3, &p13);
-        add_sym_block(h, R2, R3, &p23);
-    }
 }
 
 fn set3(j: &mut SMatrix<f64, 5, 11>, row: usize, col: usize, v: &Vector3<f64>) {
@@ -133,31 +93,24 @@ fn set3(j: &mut SMatrix<f64, 5, 11>, row: usize, col: usize, v: &Vector3<f64>) {
     }
 }
 
-fn add_block(h: &mut Mat11, r: usize, c: usize, b: &Matrix3<f64>) {
-    let mut v = h.fixed_view_mut::<3, 3>(r, c);
-    v += b;
-}
-
-/// Adds `b` at (r, c) and bᵀ at (c, r).
-fn add_sym_block(h: &mut Mat11, r: usize, c: usize, b: &Matrix3<f64>) {
-    add_block(h, r, c, b);
-    add_block(h, c, r, &b.transpose());
-}
-
 /// Value, gradient and Hessian of W(d) from F's derivatives with respect to
-/// the invariants: the chain rule of the module doc.
+/// the invariants: the chain rule of the module doc, ∇W = Jᵀ F_q and
+/// ∇²W = Σ_k F_k ∇²q_k + Jᵀ F_qq J. `grad` and `hess` are overwritten.
 ///
-/// J = ∂q/∂d is sparse (a depends on r′ only, c2 on r′ and r″, θ and θ′ are
-/// unit rows: 20 non-zeros of 55, see [`LocalState::jacobian`]), so
-/// Jᵀ F_qq J is formed as M = F_qq J (5 dense rows) and then Jᵀ M, one
-/// axpy per non-zero of J: ≈ 320 multiply-adds instead of ≈ 880 dense.
+/// J = ∂q/∂d is sparse: per position slot r′, r″, r‴ it has the 3-vector
+/// rows of (a, c2, p), (c2, p), (p) (see [`LocalState::jacobian`]) and θ,
+/// θ′ are unit rows, so M = F_qq J and the upper half of Jᵀ M are formed
+/// slot by slot (≈ 250 multiply-adds instead of ≈ 880 dense); the ∇²q_k
+/// are isotropic, rank-one and cross-product 3×3 blocks added in closed
+/// form. Unrolled scalar code on plain arrays: this runs at every sample
+/// of every step.
 pub fn compose(s: &LocalState, fq: &Vec5, fqq: &Mat5, grad: &mut Vec11, hess: &mut Mat11) {
     compose_up_to(s, fq, fqq, grad, hess, 3);
 }
 
 /// [`compose`] for an energy that uses r′ … r^(np) only (np = 1: a alone,
 /// 2: a and c2, 3: all): the Jacobian blocks of the unused invariants,
-/// whose derivatives are zero, are skipped.
+/// whose derivatives are zero, are skipped (their entries are written 0).
 pub fn compose_up_to(s: &LocalState, fq: &Vec5, fqq: &Mat5, grad: &mut Vec11, hess: &mut Mat11, np: usize) {
     // Compiled per np: fixed loop bounds keep the loops unrolled.
     match np {
@@ -167,59 +120,124 @@ pub fn compose_up_to(s: &LocalState, fq: &Vec5, fqq: &Mat5, grad: &mut Vec11, he
     }
 }
 
+/// The non-zero 3-vector blocks of J per position slot: (invariant, ∂q/∂slot).
+type SlotRows = [[(usize, [f64; 3]); 3]; 3];
+
+#[inline(always)]
+fn arr(v: Vector3<f64>) -> [f64; 3] {
+    [v[0], v[1], v[2]]
+}
+
 #[inline(always)]
 fn compose_n<const NP: usize>(s: &LocalState, fq: &Vec5, fqq: &Mat5, grad: &mut Vec11, hess: &mut Mat11) {
-    let np = NP;
-    let c = s.cross();
-    // The 3-vector blocks of J: (invariant, first slot, ∂q/∂slot).
-    let blocks: [(usize, usize, Vector3<f64>); 6] = [
-        (QA, R1, 2.0 * s.r1),
-        (QC2, R1, 2.0 * s.r2.cross(&c)),
-        (QC2, R2, 2.0 * c.cross(&s.r1)),
-        (QP, R1, s.r2.cross(&s.r3)),
-        (QP, R2, s.r3.cross(&s.r1)),
-        (QP, R3, c),
+    let (r1, r2, r3) = (&s.r1, &s.r2, &s.r3);
+    let c = r1.cross(r2);
+    let z = [0.0; 3];
+    // rows[slot][..count(slot)]: slot 0 (r′) is touched by a, c2, p; slot 1
+    // (r″) by c2, p; slot 2 (r‴) by p; only those below NP exist.
+    let (vc1, vc2) = if NP >= 2 { (arr(2.0 * r2.cross(&c)), arr(2.0 * c.cross(r1))) } else { (z, z) };
+    let (vp1, vp2, vp3) = if NP >= 3 { (arr(r2.cross(r3)), arr(r3.cross(r1)), arr(c)) } else { (z, z, z) };
+    let rows: SlotRows = [
+        [(QA, arr(2.0 * r1)), (QC2, vc1), (QP, vp1)],
+        [(QC2, vc2), (QP, vp2), (QP, z)],
+        [(QP, vp3), (QP, z), (QP, z)],
     ];
-    let blocks = &blocks[..[1, 1, 3, 6][np.min(3)]];
-    // The unit entries of J: (invariant, slot).
-    let units = [(QTH, TH), (QTH1, TH1)];
-    for &(k, off, v) in blocks {
-        let mut g = grad.fixed_rows_mut::<3>(off);
-        g += fq[k] * v;
+    // Rows of J touching slot `sl` (a compile-time count once NP is fixed).
+    let count = |sl: usize| NP.saturating_sub(sl);
+    let f: [f64; 5] = [fq[0], fq[1], fq[2], fq[3], fq[4]];
+    let ff = |k: usize, l: usize| fqq[(k, l)];
+    // ∇W = Jᵀ F_q.
+    let mut g = [0.0f64; 11];
+    for sl in 0..NP {
+        for &(k, v) in &rows[sl][..count(sl)] {
+            for a in 0..3 {
+                g[3 * sl + a] += f[k] * v[a];
+            }
+        }
     }
-    for &(k, slot) in &units {
-        grad[slot] += fq[k];
-    }
-    s.add_invariant_hessians_up_to(fq, hess, np);
-    // M = F_qq J, row k over the 11 slots.
+    g[TH] = f[QTH];
+    g[TH1] = f[QTH1];
+    // M = F_qq J (5 × 11).
     let mut m = [[0.0f64; 11]; 5];
     for (k, mk) in m.iter_mut().enumerate() {
-        for &(l, off, v) in blocks {
-            let f = fqq[(k, l)];
-            if f != 0.0 {
+        for sl in 0..NP {
+            for &(l, v) in &rows[sl][..count(sl)] {
+                let fl = ff(k, l);
                 for a in 0..3 {
-                    mk[off + a] += f * v[a];
+                    mk[3 * sl + a] += fl * v[a];
                 }
             }
         }
-        for &(l, slot) in &units {
-            mk[slot] += fqq[(k, l)];
-        }
+        mk[TH] = ff(k, QTH);
+        mk[TH1] = ff(k, QTH1);
     }
-    // Jᵀ M is symmetric: add its row i (Σ_k J[k][i] M[k]) as column i,
-    // which is contiguous in nalgebra's column-major storage.
-    for &(k, off, v) in blocks {
+    // Upper half of Jᵀ M: row (sl, a) is Σ_k J[k][(sl, a)] M[k].
+    let mut h = [[0.0f64; 11]; 11];
+    for sl in 0..NP {
         for a in 0..3 {
-            let mut col = hess.column_mut(off + a);
-            for (h, &mv) in col.iter_mut().zip(&m[k]) {
-                *h += v[a] * mv;
+            let i = 3 * sl + a;
+            let hi = &mut h[i];
+            for &(k, v) in &rows[sl][..count(sl)] {
+                let x = v[a];
+                for j in i..11 {
+                    hi[j] += x * m[k][j];
+                }
             }
         }
     }
-    for &(k, slot) in &units {
-        let mut col = hess.column_mut(slot);
-        for (h, &mv) in col.iter_mut().zip(&m[k]) {
-            *h += mv;
+    h[TH][TH] = m[QTH][TH];
+    h[TH][TH1] = m[QTH][TH1];
+    h[TH1][TH1] = m[QTH1][TH1];
+    // Σ_k F_k ∇²q_k. ∇²a = 2 I on r′.
+    let fa = f[QA];
+    for a in 0..3 {
+        h[R1 + a][R1 + a] += 2.0 * fa;
+    }
+    if NP >= 2 {
+        // ∇²c2 from c2 = |r′|²|r″|² − (r′·r″)²:
+        //   (r′,r′) 2|r″|² I − 2 r″r″ᵀ, (r″,r″) 2|r′|² I − 2 r′r′ᵀ,
+        //   (r′,r″) 4 r′r″ᵀ − 2 r″r′ᵀ − 2 (r′·r″) I.
+        let fc = f[QC2];
+        let (n1, n2, d12) = (r1.norm_squared(), r2.norm_squared(), r1.dot(r2));
+        for a in 0..3 {
+            for b in a..3 {
+                let e = if a == b { 1.0 } else { 0.0 };
+                h[R1 + a][R1 + b] += 2.0 * fc * (n2 * e - r2[a] * r2[b]);
+                h[R2 + a][R2 + b] += 2.0 * fc * (n1 * e - r1[a] * r1[b]);
+            }
+            for b in 0..3 {
+                let e = if a == b { 1.0 } else { 0.0 };
+                h[R1 + a][R2 + b] += fc * (4.0 * r1[a] * r2[b] - 2.0 * r2[a] * r1[b] - 2.0 * d12 * e);
+            }
         }
     }
+    if NP >= 3 {
+        // ∇²p: ∂²p/∂r′∂r″ = −[r‴]×, ∂²p/∂r′∂r‴ = [r″]×, ∂²p/∂r″∂r‴ = −[r′]×.
+        let fp = f[QP];
+        add_cross(&mut h, R1, R2, r3, -fp);
+        add_cross(&mut h, R1, R3, r2, fp);
+        add_cross(&mut h, R2, R3, r1, -fp);
+    }
+    // Write out, mirroring the upper half (the unused slots stay 0).
+    grad.as_mut_slice().copy_from_slice(&g);
+    let hs = hess.as_mut_slice();
+    for i in 0..11 {
+        hs[11 * i + i] = h[i][i];
+        for j in i + 1..11 {
+            hs[11 * j + i] = h[i][j];
+            hs[11 * i + j] = h[i][j];
+        }
+    }
+}
+
+/// h[(ro + a, co + b)] += s [v]×_(a,b) on a block above the diagonal.
+#[inline(always)]
+fn add_cross(h: &mut [[f64; 11]; 11], ro: usize, co: usize, v: &Vector3<f64>, s: f64) {
+    let (x, y, z) = (s * v[0], s * v[1], s * v[2]);
+    h[ro][co + 1] -= z;
+    h[ro][co + 2] += y;
+    h[ro + 1][co] += z;
+    h[ro + 1][co + 2] -= x;
+    h[ro + 2][co] -= y;
+    h[ro + 2][co + 1] += x;
 }

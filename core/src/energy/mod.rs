@@ -244,8 +244,6 @@ pub fn density_into(
     let mut fqq = Mat5::zeros();
     out.w = invariant_derivatives(s, c, state, terms, model, &mut fq, &mut fqq);
     if derivs {
-        out.grad = Vec11::zeros();
-        out.hess = Mat11::zeros();
         compose_up_to(s, &fq, &fqq, &mut out.grad, &mut out.hess, ActiveSlots::of(terms, model).positions);
     }
 }

@@ -477,7 +477,14 @@ impl BandLdlt {
         let mut d_max = 0.0f64;
         let mut indefinite = false;
         for j in 0..n {
-            let (d, growth) = self.eliminate(j);
+            // Interior columns of the common half-bandwidths (a rod with 3
+            // or 4 coordinates per control point: 11 or 15) use kernels
+            // compiled for that width (fixed lengths, unrolled).
+            let d = match kd {
+                11 if j + kd < n => self.eliminate_fixed::<11, 12>(j),
+                15 if j + kd < n => self.eliminate_fixed::<15, 16>(j),
+                _ => self.eliminate(j),
+            };
             let ajj = a.data[j * a.ldab + a.ku].abs();
             let ok = if negative.get(j).copied().unwrap_or(false) {
                 d < -LDLT_ROW_TOL
@@ -492,7 +499,7 @@ impl BandLdlt {
                 // 1000-point rod: d ≈ 1e-9 a_jj, coupled only weakly to
                 // what follows) passes; a pivot that would amplify its
                 // neighbours does not.
-                d > tol_pd * ajj && (!indefinite || d > tol_indef * ajj || growth * tol_indef <= ajj)
+                d > tol_pd * ajj && (!indefinite || d > tol_indef * ajj || self.growth(j) * tol_indef <= ajj)
             };
             if !ok {
                 return Err(LdltDecline::Pivot { row: j, d });
@@ -542,10 +549,9 @@ impl BandLdlt {
 
     /// Step j of the right-looking LDLᵀ: D_j = updated a_jj; the trailing
     /// block gets A[j+c..][j+c] −= A[j+c..][j] A[j+c][j] / D_j; column j is
-    /// then scaled to L[·][j] = A[·][j] / D_j. Returns D_j (unchecked) and
-    /// the growth max_c A[j+c][j]² / |D_j| of the update.
+    /// then scaled to L[·][j] = A[·][j] / D_j. Returns D_j (unchecked).
     #[inline]
-    fn eliminate(&mut self, j: usize) -> (f64, f64) {
+    fn eliminate(&mut self, j: usize) -> f64 {
         let (kd, ld) = (self.kd, self.ld);
         let km = kd.min(self.n - 1 - j);
         let (head, tail) = self.l.split_at_mut((j + 1) * ld);
@@ -554,10 +560,8 @@ impl BandLdlt {
         let inv = 1.0 / d;
         // Column j + c of the trailing block starts (c − 1) * ld into `tail`;
         // rows j + c ..= j + km of it are updated (lengths ≤ kd).
-        let mut growth = 0.0f64;
         for c in 1..=km {
             let t = col[c] * inv;
-            growth = growth.max((t * col[c]).abs());
             if t != 0.0 {
                 let dst = &mut tail[(c - 1) * ld..(c - 1) * ld + km - c + 1];
                 for (x, &v) in dst.iter_mut().zip(&col[c..=km]) {
@@ -568,7 +572,46 @@ impl BandLdlt {
         for v in &mut col[1..=km] {
             *v *= inv;
         }
-        (d, growth)
+        d
+    }
+
+    /// The growth max_c a_c² / |d_j| of elimination step j (column j of A
+    /// after the earlier steps), from the stored L[·][j] = a_c / d_j as
+    /// |d_j| max_c L_c². Asked only when a small pivot must be judged.
+    fn growth(&self, j: usize) -> f64 {
+        let km = self.kd.min(self.n - 1 - j);
+        let col = &self.l[j * self.ld..=j * self.ld + km];
+        col[0].abs() * col[1..].iter().fold(0.0f64, |m, &l| m.max(l * l))
+    }
+
+    /// [`Self::eliminate`] for a column with all KD sub-diagonal entries
+    /// (j + KD < n) at half-bandwidth KD = LD − 1. The same operations in
+    /// the same order, without the zero skip (0 · v leaves x unchanged for
+    /// the finite entries `copy_lower` admits).
+    #[inline(always)]
+    fn eliminate_fixed<const KD: usize, const LD: usize>(&mut self, j: usize) -> f64 {
+        debug_assert!(LD == KD + 1 && 2 * LD <= 32 && self.ld == LD && self.kd == KD && j + KD < self.n);
+        let (head, tail) = self.l.split_at_mut((j + 1) * LD);
+        let col: &mut [f64; LD] = (&mut head[j * LD..]).try_into().expect("column j has LD entries (j < n)");
+        let d = col[0];
+        let inv = 1.0 / d;
+        // Column j zero-padded, so that every update runs over KD entries
+        // (a fixed length the compiler vectorises): rows past the band get
+        // x − t · 0 = x, exactly (t is finite whenever the pivot is kept).
+        let mut cv = [0.0f64; 32];
+        cv[..LD].copy_from_slice(col);
+        for c in 1..LD {
+            let t = cv[c] * inv;
+            let dst: &mut [f64; KD] = (&mut tail[(c - 1) * LD..(c - 1) * LD + KD]).try_into().expect("column j + c has LD > KD entries");
+            let src: &[f64; KD] = cv[c..c + KD].try_into().expect("c + KD < 2 LD <= 32");
+            for (x, &v) in dst.iter_mut().zip(src) {
+                *x -= t * v;
+            }
+        }
+        for v in &mut col[1..] {
+            *v *= inv;
+        }
+        d
     }
 
     /// Smallest |D_j| / largest |D_j| of the last successful factorisation.
@@ -1306,6 +1349,20 @@ impl BandMatrix {
             return;
         }
         let ku = self.ku;
+        if hi - lo + 1 == m && idx.windows(2).all(|w| w[1] == w[0] + 1) {
+            // Consecutive indices (a rod's segment): row lo + a of column
+            // lo + b sits at ku + a − b, so each column is one contiguous run.
+            for b in 0..m {
+                let col = &mut self.data[(lo + b) * self.ldab + ku - b..(lo + b) * self.ldab + ku - b + m];
+                for (a, x) in col[..=b].iter_mut().enumerate() {
+                    *x += upper[a * stride + b];
+                }
+                for (x, &v) in col[b + 1..].iter_mut().zip(&upper[b * stride + b + 1..b * stride + m]) {
+                    *x += v;
+                }
+            }
+            return;
+        }
         for (b, &gj) in idx.iter().enumerate() {
             // Row gi of column gj sits at ku + gi - gj >= 0 (gj - gi <= hi - lo <= ku).
             let col = &mut self.data[gj * self.ldab..(gj + 1) * self.ldab];

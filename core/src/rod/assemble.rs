@@ -52,9 +52,14 @@ impl Rod {
     pub fn assemble_range(&self, first: usize, blocks: &mut [SegBlock], need: Need, parallel: bool) {
         assert!(first + blocks.len() <= self.n_segments(), "Rod::assemble_range: segment range out of bounds");
         if parallel {
-            blocks.par_iter_mut().enumerate().with_min_len(16).for_each(|(s, b)| self.segment(first + s, b, need));
+            blocks
+                .par_iter_mut()
+                .enumerate()
+                .with_min_len(16)
+                .for_each_init(Scratch::default, |sc, (s, b)| self.segment(first + s, b, need, sc));
         } else {
-            blocks.iter_mut().enumerate().for_each(|(s, b)| self.segment(first + s, b, need));
+            let mut sc = Scratch::default();
+            blocks.iter_mut().enumerate().for_each(|(s, b)| self.segment(first + s, b, need, &mut sc));
         }
     }
 
@@ -89,7 +94,10 @@ impl Rod {
         p
     }
 
-    fn segment(&self, seg: usize, out: &mut SegBlock, need: Need) {
+    /// One segment into `out`; `scratch` is reused across segments (T rows
+    /// are written before they are read, K is cleared here).
+    fn segment(&self, seg: usize, out: &mut SegBlock, need: Need, scratch: &mut Scratch) {
+        let Scratch { acc, e } = scratch;
         let dofs = self.dofs;
         let nl = 4 * dofs;
         out.energy = 0.0;
@@ -98,15 +106,14 @@ impl Rod {
         // Roll slots carry nothing without a roll coordinate.
         let (th, th1) = (dofs == 4 && act.theta, dofs == 4 && act.theta1);
         let np = act.positions;
-        let mut acc = ChainAcc::default();
-        let mut e = LocalEnergy::default();
+        acc.k = [[[0.0; 4]; 4]; 16];
         let c = &self.cache;
         let ctrl = &c.seg_ctrl[seg];
         for (i, s) in c.samples[c.seg_start[seg]..c.seg_start[seg + 1]].iter().enumerate() {
             let b = &s.basis;
             let ls = local_state(&self.q, dofs, ctrl, b);
             let state = self.frame_state(c.seg_start[seg] + i);
-            density_into(&ls, &s.consts, state, self.opts.terms, self.opts.model, true, &mut e);
+            density_into(&ls, &s.consts, state, self.opts.terms, self.opts.model, true, e);
             out.energy += s.w * e.w;
             // ∂U/∂q_(k,α) = w Σ_a β_k^a ∂W/∂d_(a,α).
             let g = &e.grad;
@@ -146,6 +153,14 @@ struct ChainAcc {
     /// T[r][l][γ] of the current sample (scratch: each sample writes the
     /// rows it reads, so it is not cleared between samples).
     t: [[[f64; 4]; 4]; 11],
+}
+
+/// Per-thread scratch of the segment kernel, reused across segments.
+#[derive(Default)]
+struct Scratch {
+    acc: ChainAcc,
+    /// The current sample's energy density and derivatives (overwritten).
+    e: LocalEnergy,
 }
 
 #[inline(always)]

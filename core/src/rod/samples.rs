@@ -63,14 +63,15 @@ pub(crate) fn local_state(q: &[f64], dofs: usize, ctrl: &[usize; 4], b: &[[f64; 
         th1: 0.0,
     };
     for k in 0..4 {
-        let base = ctrl[k] * dofs;
-        let x = Vector3::new(q[base], q[base + 1], q[base + 2]);
-        s.r1 += b[1][k] * x;
-        s.r2 += b[2][k] * x;
-        s.r3 += b[3][k] * x;
-        if dofs == 4 {
-            s.th += b[0][k] * q[base + 3];
-            s.th1 += b[1][k] * q[base + 3];
+        // One bounds check per control point.
+        let x = &q[ctrl[k] * dofs..ctrl[k] * dofs + dofs];
+        let p = Vector3::new(x[0], x[1], x[2]);
+        s.r1 += b[1][k] * p;
+        s.r2 += b[2][k] * p;
+        s.r3 += b[3][k] * p;
+        if let Some(&th) = x.get(3) {
+            s.th += b[0][k] * th;
+            s.th1 += b[1][k] * th;
         }
     }
     s
