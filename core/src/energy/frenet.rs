@@ -45,6 +45,7 @@ impl FrameKinematics for Frenet {
             theta1: terms.twist,
         }
     }
+    #[inline(always)]
     fn add_bend_twist(q: &Vec5, c: &SampleConsts, _state: &FrameState, terms: EnergyTerms, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
         let mut w = 0.0;
         if terms.bend {
@@ -126,6 +127,7 @@ impl FrameKinematics for Frenet {
 }
 
 /// Huber extension of √c2 below δ²: value, first and second derivative in c2.
+#[inline(always)]
 fn huber_sqrt(c2: f64, delta: f64) -> (f64, f64, f64) {
     if c2 >= delta * delta {
         let s = c2.sqrt();
@@ -135,6 +137,7 @@ fn huber_sqrt(c2: f64, delta: f64) -> (f64, f64, f64) {
     }
 }
 
+#[inline(always)]
 fn add_bend(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
     let (a, c2, th) = (q[QA], q[QC2], q[QTH]);
     let curved = c.kappa1 != 0.0 || c.kappa2 != 0.0;
@@ -188,6 +191,7 @@ fn add_bend(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
 /// Material twist ω with its gradient and Hessian in the invariants:
 /// ω = p c2 / (c2 + δ²)² + θ' a^(−1/2) (the regularised Frenet torsion of
 /// the module doc, whose slope vanishes at κ = 0).
+#[inline(always)]
 fn omega(q: &Vec5, delta: f64) -> (f64, Vec5, Mat5) {
     let (a, c2, p, th1) = (q[QA], q[QC2], q[QP], q[QTH1]);
     let d2 = delta * delta;
@@ -209,6 +213,7 @@ fn omega(q: &Vec5, delta: f64) -> (f64, Vec5, Mat5) {
     (w, g, h)
 }
 
+#[inline(always)]
 fn add_twist(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
     let (om, g, h) = omega(q, c.delta);
     let e = om - c.omega;

@@ -248,7 +248,9 @@ pub fn density_into(
     }
 }
 
-/// The energy density W alone (energy per rest length).
+/// The energy density W alone (energy per rest length). Everything below is
+/// inlined, so the derivatives nobody reads are dropped by the compiler
+/// (this runs at every sample of every step's divergence guard).
 #[inline]
 pub fn energy_density(s: &LocalState, c: &SampleConsts, state: &FrameState, terms: EnergyTerms, model: FrameModel) -> f64 {
     let (mut fq, mut fqq) = (Vec5::zeros(), Mat5::zeros());

@@ -4,6 +4,7 @@ use super::invariants::{Mat5, Vec5, QA};
 use super::SampleConsts;
 
 /// Adds F_s's derivatives with respect to the invariants; returns W_s.
+#[inline(always)]
 pub fn add(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
     let a = q[QA];
     let s = a.sqrt();

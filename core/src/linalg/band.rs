@@ -476,15 +476,13 @@ impl BandLdlt {
         let mut d_min = f64::INFINITY;
         let mut d_max = 0.0f64;
         let mut indefinite = false;
+        // Eliminate every column first, then judge the pivots in order: the
+        // verdict on pivot j depends on columns ≤ j only, which later steps
+        // do not touch, so it is the verdict of a check made in passing (a
+        // declined factorisation has only wasted the rest of the work).
+        self.eliminate_all();
         for j in 0..n {
-            // Interior columns of the common half-bandwidths (a rod with 3
-            // or 4 coordinates per control point: 11 or 15) use kernels
-            // compiled for that width (fixed lengths, unrolled).
-            let d = match kd {
-                11 if j + kd < n => self.eliminate_fixed::<11, 12>(j),
-                15 if j + kd < n => self.eliminate_fixed::<15, 16>(j),
-                _ => self.eliminate(j),
-            };
+            let d = self.l[j * ld];
             let ajj = a.data[j * a.ldab + a.ku].abs();
             let ok = if negative.get(j).copied().unwrap_or(false) {
                 d < -LDLT_ROW_TOL
@@ -584,6 +582,46 @@ impl BandLdlt {
         col[0].abs() * col[1..].iter().fold(0.0f64, |m, &l| m.max(l * l))
     }
 
+    /// Every elimination step. Interior columns (j + kd < n) of the common
+    /// half-bandwidths (a rod with 3 or 4 coordinates per control point:
+    /// 11 or 15) run a kernel compiled for that width, with 256-bit vectors
+    /// where the processor has them (the same operations in the same order:
+    /// no fused multiply-add, so the result is bit-identical).
+    fn eliminate_all(&mut self) {
+        let (n, kd) = (self.n, self.kd);
+        let interior = n.saturating_sub(kd);
+        match kd {
+            11 => self.eliminate_run::<11, 12>(interior),
+            15 => self.eliminate_run::<15, 16>(interior),
+            _ => (0..interior).for_each(|j| {
+                self.eliminate(j);
+            }),
+        }
+        for j in interior..n {
+            self.eliminate(j);
+        }
+    }
+
+    fn eliminate_run<const KD: usize, const LD: usize>(&mut self, end: usize) {
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the processor has AVX2 (checked just above).
+            unsafe { self.eliminate_run_avx2::<KD, LD>(end) };
+            return;
+        }
+        for j in 0..end {
+            self.eliminate_fixed::<KD, LD>(j);
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn eliminate_run_avx2<const KD: usize, const LD: usize>(&mut self, end: usize) {
+        for j in 0..end {
+            self.eliminate_fixed::<KD, LD>(j);
+        }
+    }
+
     /// [`Self::eliminate`] for a column with all KD sub-diagonal entries
     /// (j + KD < n) at half-bandwidth KD = LD − 1. The same operations in
     /// the same order, without the zero skip (0 · v leaves x unchanged for
@@ -665,15 +703,32 @@ impl BandLdlt {
         for (bj, col) in b.iter_mut().zip(self.l.chunks_exact(ld)) {
             *bj /= col[0];
         }
-        // Backward (dot products with the same columns).
+        // Backward (dot products with the same columns, in four partial
+        // sums: one running sum is a chain of kd dependent additions).
         for j in (0..n).rev() {
             let km = kd.min(n - 1 - j);
             let c = &self.l[j * ld + 1..=j * ld + km];
-            let s: f64 = b[j + 1..=j + km].iter().zip(c).map(|(x, m)| x * m).sum();
-            b[j] -= s;
+            b[j] -= dot4(&b[j + 1..=j + km], c);
         }
         Ok(())
     }
+}
+
+/// x · y in four interleaved partial sums (the lanes a vector unit keeps).
+#[inline(always)]
+fn dot4(x: &[f64], y: &[f64]) -> f64 {
+    let mut acc = [0.0f64; 4];
+    let (xc, yc) = (x.chunks_exact(4), y.chunks_exact(4));
+    let (xr, yr) = (xc.remainder(), yc.remainder());
+    for (a, b) in xc.zip(yc) {
+        for k in 0..4 {
+            acc[k] += a[k] * b[k];
+        }
+    }
+    for (k, (a, b)) in xr.iter().zip(yr).enumerate() {
+        acc[k] += a * b;
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
 /// A factorisation [`solve_refined`] can use.

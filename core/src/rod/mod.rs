@@ -485,13 +485,15 @@ impl Rod {
         let mut e = 0.0;
         for (seg, ctrl) in self.cache.seg_ctrl.iter().enumerate() {
             let (m, j) = (&self.cache.seg_mass[seg], &self.cache.seg_inertia[seg]);
+            // Symmetric: the diagonal once, each pair k < l twice.
             for k in 0..4 {
-                for l in 0..4 {
+                for l in k..4 {
                     let (a, b) = (ctrl[k] * d, ctrl[l] * d);
-                    e += m[k][l] * (v[a] * v[b] + v[a + 1] * v[b + 1] + v[a + 2] * v[b + 2]);
+                    let mut t = m[k][l] * (v[a] * v[b] + v[a + 1] * v[b + 1] + v[a + 2] * v[b + 2]);
                     if d == 4 {
-                        e += j[k][l] * v[a + 3] * v[b + 3];
+                        t += j[k][l] * v[a + 3] * v[b + 3];
                     }
+                    e += if k == l { t } else { 2.0 * t };
                 }
             }
         }
