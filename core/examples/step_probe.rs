@@ -76,6 +76,59 @@ fn main() {
         .split(',')
         .filter_map(|s| s.parse().ok())
         .collect();
+    // --rods N: N free pre-deformed table rods of 25 control points each
+    // (10,000 control points at N = 400), one thread against rayon's pool
+    // (params.parallel), interleaved; the medians of 40 steps, best of runs.
+    if let Some(nr) = arg("--rods").and_then(|v| v.parse::<usize>().ok()) {
+        let per = arg("--cp").and_then(|v| v.parse().ok()).unwrap_or(25);
+        let modes: &[bool] = if std::env::args().any(|a| a == "--par-only") { &[true] } else { &[false, true] };
+        let mut worlds: Vec<(World, Vec<(RodHandle, Vec<f64>)>)> = modes
+            .iter()
+            .map(|&par| {
+                let mut w = World::new(IntegrationParameters { dt: 1e-3, parallel: par, ..Default::default() });
+                let hs = (0..nr)
+                    .map(|i| {
+                        let r = table_rod::rod(per, EnergyTerms::default(), 0.0, steel());
+                        let mut q0 = table_rod::deformed(r.coords());
+                        for c in q0.chunks_exact_mut(4) {
+                            c[2] += 0.2 * i as f64; // side by side, 20 cm apart
+                        }
+                        let h = w.add_rod(r);
+                        w.rod_mut(h).unwrap().set_coords(&q0).unwrap();
+                        (h, q0)
+                    })
+                    .collect();
+                (w, hs)
+            })
+            .collect();
+        let mut best = [f64::INFINITY; 2];
+        for _ in 0..runs {
+            for (k, (w, hs)) in worlds.iter_mut().enumerate() {
+                let k = if modes.len() == 1 { 1 } else { k };
+                for (h, q0) in hs.iter() {
+                    reset(w, *h, q0);
+                }
+                let _ = w.step();
+                let mut t: Vec<f64> = (0..40)
+                    .map(|_| {
+                        let s = Instant::now();
+                        w.step().expect("the free rods step");
+                        s.elapsed().as_secs_f64()
+                    })
+                    .collect();
+                t.sort_by(|a, b| a.total_cmp(b));
+                best[k] = best[k].min(t[t.len() / 2]);
+            }
+        }
+        println!(
+            "{nr} rods × {per} cp: 1 thread {:.3} ms, {} threads {:.3} ms, speed-up {:.2}×",
+            best[0] * 1e3,
+            rayon::current_num_threads(),
+            best[1] * 1e3,
+            best[0] / best[1]
+        );
+        return;
+    }
     // --kernel N: smallest of N timings of the segment kernels alone
     // (Rod::assemble with Hessians) and of a whole step; minima of many short
     // timings are robust to other processes on a shared machine.
@@ -94,6 +147,13 @@ fn main() {
                 }
                 // The same kernels without Hessians: the share of the
                 // Hessian chain rule.
+                let mut pmin = f64::INFINITY;
+                for _ in 0..reps {
+                    let s = Instant::now();
+                    rod.assemble(&mut blocks, strandkit_core::rod::assemble::Need::Hessian, true);
+                    pmin = pmin.min(s.elapsed().as_secs_f64());
+                }
+                eprintln!("kernels on rayon's pool ({} threads): {:.1} µs", rayon::current_num_threads(), pmin * 1e6);
                 let mut gmin = f64::INFINITY;
                 for _ in 0..reps {
                     let s = Instant::now();

@@ -136,6 +136,32 @@ impl Rod {
     }
 }
 
+/// Segments `first .. first + len` of rod `rod` go to `blocks[offset ..
+/// offset + len]` of a batch.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SegRange {
+    pub rod: usize,
+    pub first: usize,
+    pub offset: usize,
+    pub len: usize,
+}
+
+/// Evaluates a batch of segment ranges (of several rods) into `blocks`
+/// (`ranges` sorted by offset, covering `blocks`). `parallel` spreads the
+/// whole batch over rayon's pool, across rod boundaries.
+pub(crate) fn assemble_ranges(rods: &[&Rod], ranges: &[SegRange], blocks: &mut [SegBlock], need: Need, parallel: bool) {
+    if parallel && ranges.len() > 1 {
+        blocks.par_iter_mut().enumerate().with_min_len(16).for_each_init(Scratch::default, |sc, (i, b)| {
+            let g = &ranges[ranges.partition_point(|g| g.offset + g.len <= i)];
+            rods[g.rod].segment(g.first + i - g.offset, b, need, sc);
+        });
+    } else {
+        for g in ranges {
+            rods[g.rod].assemble_range(g.first, &mut blocks[g.offset..g.offset + g.len], need, parallel);
+        }
+    }
+}
+
 /// The Hessian chain rule of the module doc for one segment, laid out so
 /// that every inner operation is a 4-wide axpy over the segment's control
 /// points l (basis rows b[·] are 4-vectors): with β^a = b^(a+1) for the

@@ -66,7 +66,7 @@ fn name_unknown(e: Error, describe: &impl Fn(usize) -> crate::error::Unknown) ->
         other => other,
     }
 }
-use crate::rod::assemble::Need;
+use crate::rod::assemble::{assemble_ranges, Need, SegRange};
 use crate::rod::{Rod, SegBlock};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -101,9 +101,14 @@ pub struct BeadRef {
 }
 
 /// Segments per kernel batch: one thread keeps 16 × 2.2 KB in L1; with
-/// rayon a batch must be large enough to split across the pool.
+/// rayon a batch must be large enough to pay for waking the pool, and
+/// below `PAR_MIN_SEGMENTS` in all the pool is not woken at all. Measured
+/// on 2 cores (BENCHMARKS.md §16): with batches of 512 segments a 400-point
+/// rod stepped 10 % slower on two threads than on one, 10,000 points 8 %
+/// faster; with 4096, 10,000 points (one rod or 400 rods) 14–20 % faster.
 const SEQ_BATCH: usize = 16;
-const PAR_BATCH: usize = 512;
+const PAR_BATCH: usize = 4096;
+const PAR_MIN_SEGMENTS: usize = 2048;
 
 /// Turns a segment's stiffness block K into c_k K + c_m M + c_d D on each
 /// axis (II.70–II.75, III.10), upper half only (M, J, D are symmetric, so
@@ -160,6 +165,8 @@ pub struct KktSystem {
     diag_min: f64,
     /// Kernel outputs of one batch of segments (reused).
     blocks: Vec<SegBlock>,
+    /// The (rod, segments) pieces of the current kernel batch.
+    ranges: Vec<SegRange>,
     rows: Vec<Row>,
     mv: Vec<f64>,
     /// When set, `assemble` keeps each rod's elastic forces P (rod-local
@@ -199,12 +206,8 @@ impl KktSystem {
         self.band.reshape(layout.n, bw, bw);
         self.rhs.clear();
         self.rhs.resize(layout.n, 0.0);
-        let mut energy = 0.0;
-        let blocks = &mut self.blocks;
         for (r, rod) in rods.iter().enumerate() {
             let d = rod.dofs;
-            let nl = 4 * d;
-            let cache = &rod.cache;
             if self.record_forces {
                 self.elastic_forces.resize_with(rods.len(), Vec::new);
                 let p = &mut self.elastic_forces[r];
@@ -223,46 +226,44 @@ impl KktSystem {
                         ext[r][local] + if k.momentum != 0.0 { k.momentum * self.mv[local] } else { 0.0 };
                 }
             }
-            // Kernels in batches that stay in cache, each scattered at once.
-            let nseg = rod.n_segments();
-            let batch = if parallel { PAR_BATCH } else { SEQ_BATCH }.min(nseg);
-            blocks.resize(batch, SegBlock::default());
-            let mut first = 0;
-            while first < nseg {
-                let m = batch.min(nseg - first);
-                rod.assemble_range(first, &mut blocks[..m], Need::Hessian, parallel);
-                for (s, blk) in (first..).zip(blocks[..m].iter_mut()) {
-                    energy += blk.energy;
-                    let ctrl = &cache.seg_ctrl[s];
-                    let mut idx = [0usize; 16];
-                    for kk in 0..4 {
-                        for a in 0..d {
-                            idx[kk * d + a] = layout.cp_index[r][ctrl[kk]] + a;
-                        }
-                    }
-                    if k.force == 1.0 {
-                        for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
-                            self.rhs[gi] -= g;
-                        }
-                    } else {
-                        for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
-                            self.rhs[gi] -= k.force * g;
-                        }
-                    }
-                    if self.record_forces {
-                        let p = &mut self.elastic_forces[r];
-                        for kk in 0..4 {
-                            for a in 0..d {
-                                p[ctrl[kk] * d + a] -= blk.grad[kk * d + a];
-                            }
-                        }
-                    }
-                    add_inertia(blk, d, k, &cache.seg_mass[s], &cache.seg_inertia[s], &cache.seg_drag[s]);
-                    self.band.add_sym_block(&idx[..nl], &blk.hess, 16);
+        }
+        // Kernels in batches that stay in cache, each scattered at once in
+        // rod and segment order. A batch spans rods, so that with rayon
+        // many small rods (a fabric's yarns) run in parallel too.
+        let mut energy = 0.0;
+        let mut blocks = std::mem::take(&mut self.blocks);
+        let mut ranges = std::mem::take(&mut self.ranges);
+        let total: usize = rods.iter().map(|r| r.n_segments()).sum();
+        let parallel = parallel && total >= PAR_MIN_SEGMENTS;
+        let batch = if parallel { PAR_BATCH } else { SEQ_BATCH };
+        blocks.resize(batch.min(total), SegBlock::default());
+        let (mut r, mut first) = (0, 0);
+        while r < rods.len() {
+            ranges.clear();
+            let mut filled = 0;
+            while filled < batch && r < rods.len() {
+                let nseg = rods[r].n_segments();
+                let m = (batch - filled).min(nseg - first);
+                if m > 0 {
+                    ranges.push(SegRange { rod: r, first, offset: filled, len: m });
                 }
+                filled += m;
                 first += m;
+                if first == nseg {
+                    r += 1;
+                    first = 0;
+                }
+            }
+            assemble_ranges(rods, &ranges, &mut blocks[..filled], Need::Hessian, parallel);
+            for g in &ranges {
+                for (s, blk) in (g.first..).zip(blocks[g.offset..g.offset + g.len].iter_mut()) {
+                    energy += blk.energy;
+                    self.scatter_segment(layout, g.rod, rods[g.rod], s, blk, k);
+                }
             }
         }
+        self.blocks = blocks;
+        self.ranges = ranges;
         // Point masses (beads): c_m m b_i b_j P and c_v m b_i P v(u), with
         // P = I − s sᵀ (s the unit sliding direction of a sliding bead, whose
         // motion along the rod is its own unknown; s = 0 for a fixed one).
@@ -321,6 +322,40 @@ impl KktSystem {
             }
         }
         Ok(energy)
+    }
+
+    /// One segment's block into the right-hand side (−c_f ∂U/∂q) and the
+    /// band (c_k K + c_m M + c_d D).
+    fn scatter_segment(&mut self, layout: &Layout, r: usize, rod: &Rod, s: usize, blk: &mut SegBlock, k: Coefficients) {
+        let d = rod.dofs;
+        let nl = 4 * d;
+        let cache = &rod.cache;
+        let ctrl = &cache.seg_ctrl[s];
+        let mut idx = [0usize; 16];
+        for kk in 0..4 {
+            for a in 0..d {
+                idx[kk * d + a] = layout.cp_index[r][ctrl[kk]] + a;
+            }
+        }
+        if k.force == 1.0 {
+            for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
+                self.rhs[gi] -= g;
+            }
+        } else {
+            for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
+                self.rhs[gi] -= k.force * g;
+            }
+        }
+        if self.record_forces {
+            let p = &mut self.elastic_forces[r];
+            for kk in 0..4 {
+                for a in 0..d {
+                    p[ctrl[kk] * d + a] -= blk.grad[kk * d + a];
+                }
+            }
+        }
+        add_inertia(blk, d, k, &cache.seg_mass[s], &cache.seg_inertia[s], &cache.seg_drag[s]);
+        self.band.add_sym_block(&idx[..nl], &blk.hess, 16);
     }
 
     /// Levenberg–Marquardt damping: A_ii += λ max(|A_ii|, floor) on the
