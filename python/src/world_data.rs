@@ -13,7 +13,7 @@ use strandkit_core::{Item, World};
 /// Keyword arguments: every field of the core's IntegrationParameters
 /// (None = its default; `params` lists them): `dt` time step (time unit,
 /// default 1e-3), `gravity` (length/time², 3 values, default 0),
-/// `parallel` (assemble with threads, default True), `relax_tolerance`
+/// `parallel` (assemble with threads when the world has ≥ 2048 segments, default True), `relax_tolerance`
 /// (relative: increment ≤ tol × rod length, default 1e-10),
 /// `relax_max_iterations` (default 500), `plastic_tolerance` (relax with
 /// plastic flow: largest offset increment per round, strain or curvature ×

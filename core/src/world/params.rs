@@ -10,7 +10,8 @@ pub struct IntegrationParameters {
     pub dt: f64,
     /// Gravity (length/time²); the body force is μ g per unit length.
     pub gravity: [f64; 3],
-    /// Assemble segments in parallel (rayon).
+    /// Assemble segments in parallel (rayon) when the world has enough of
+    /// them (≥ 2048 segments) to pay for waking the pool.
     pub parallel: bool,
     /// Quasi-static convergence: Newton increment ≤ tol × rod length (and
     /// tol radians on roll), constraint violation ≤ tol × rod length.
