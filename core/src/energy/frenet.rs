@@ -198,7 +198,7 @@ fn omega(q: &Vec5, delta: f64) -> (f64, Vec5, Mat5) {
     let id = 1.0 / (c2 + d2);
     let id2 = id * id;
     let isa = 1.0 / a.sqrt();
-    let ia = 1.0 / a;
+    let ia = isa * isa;
     let w = p * c2 * id2 + th1 * isa;
     let mut g = Vec5::zeros();
     g[QP] = c2 * id2;

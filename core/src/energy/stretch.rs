@@ -8,11 +8,13 @@ use super::SampleConsts;
 pub fn add(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
     let a = q[QA];
     let s = a.sqrt();
-    let l0 = c.speed0;
-    let e = s / l0 - 1.0 - c.eps_p;
+    // Two reciprocals instead of four divisions (this runs at every sample).
+    let (il0, is) = (1.0 / c.speed0, 1.0 / s);
+    let e = s * il0 - 1.0 - c.eps_p;
     // dε/da = 1/(2 s l0), d²ε/da² = −1/(4 l0 s³)
-    fq[QA] += c.ea * e / (2.0 * s * l0);
-    fqq[(QA, QA)] += c.ea * (1.0 / (4.0 * a * l0 * l0) - e / (4.0 * l0 * s * s * s));
+    let de = 0.5 * is * il0;
+    fq[QA] += c.ea * e * de;
+    fqq[(QA, QA)] += c.ea * (de * de - 0.5 * e * de * is * is);
     0.5 * c.ea * e * e
 }
 

@@ -614,24 +614,27 @@ impl BandLdlt {
     /// the finite entries `copy_lower` admits).
     #[inline(always)]
     fn eliminate_fixed<const KD: usize, const LD: usize>(&mut self, j: usize) -> f64 {
-        debug_assert!(LD == KD + 1 && 2 * LD <= 32 && self.ld == LD && self.kd == KD && j + KD < self.n);
+        debug_assert!(LD == KD + 1 && self.ld == LD && self.kd == KD && j + KD < self.n);
         let (head, tail) = self.l.split_at_mut((j + 1) * LD);
         let col: &mut [f64; LD] = (&mut head[j * LD..]).try_into().expect("column j has LD entries (j < n)");
         let d = col[0];
         let inv = 1.0 / d;
-        // Column j zero-padded, so that every update runs over KD entries
-        // (a fixed length the compiler vectorises): rows past the band get
-        // x − t · 0 = x, exactly (t is finite whenever the pivot is kept).
-        let mut cv = [0.0f64; 32];
-        cv[..LD].copy_from_slice(col);
-        for c in 1..LD {
-            let t = cv[c] * inv;
-            let dst: &mut [f64; KD] = (&mut tail[(c - 1) * LD..(c - 1) * LD + KD]).try_into().expect("column j + c has LD > KD entries");
-            let src: &[f64; KD] = cv[c..c + KD].try_into().expect("c + KD < 2 LD <= 32");
-            for (x, &v) in dst.iter_mut().zip(src) {
-                *x -= t * v;
-            }
+        // Column j + c gets rows j + c ..= j + KD: KD + 1 − c entries, a
+        // length known at compile time for each c (the macro unrolls c).
+        macro_rules! update {
+            ($($c:literal)*) => {$(
+                if $c < LD {
+                    let len = LD - $c;
+                    let t = col[$c] * inv;
+                    let dst = &mut tail[($c - 1) * LD..($c - 1) * LD + len];
+                    for (x, &v) in dst.iter_mut().zip(&col[$c..]) {
+                        *x -= t * v;
+                    }
+                }
+            )*};
         }
+        // c up to 15: the widest KD `eliminate_all` dispatches here.
+        update!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15);
         for v in &mut col[1..] {
             *v *= inv;
         }
