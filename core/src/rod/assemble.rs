@@ -115,11 +115,12 @@ impl Rod {
             let state = self.frame_state(c.seg_start[seg] + i);
             density_into(&ls, &s.consts, state, self.opts.terms, self.opts.model, true, e);
             out.energy += s.w * e.w;
-            // ∂U/∂q_(k,α) = w Σ_a β_k^a ∂W/∂d_(a,α).
+            // ∂U/∂q_(k,α) = w Σ_a β_k^a ∂W/∂d_(a,α), over all three position
+            // slots (fixed bounds; the inactive slots' entries are zero).
             let g = &e.grad;
             for k in 0..4 {
                 for al in 0..3 {
-                    let v: f64 = (0..np).map(|a| b[a + 1][k] * g[3 * a + al]).sum();
+                    let v = b[1][k] * g[al] + b[2][k] * g[3 + al] + b[3][k] * g[6 + al];
                     out.grad[k * dofs + al] += s.w * v;
                 }
                 if dofs == 4 {
