@@ -58,6 +58,9 @@ fn limits(l: &StrainLimits) -> [(f64, f64); 4] {
     [l.stretch, l.bend, l.bend, l.twist]
 }
 
+/// Relative excess over a yield limit taken as round-off (not a yield).
+const YIELD_ROUNDOFF: f64 = 1e-12;
+
 impl Rod {
     /// Relative strains ε_r = ε_e − ε⁰ at every sample (stretch
     /// dimensionless, curvatures and twist in 1/length), in sample order.
@@ -149,7 +152,13 @@ impl Rod {
             for m in 0..4 {
                 let e = ra[m] - pa[m];
                 // ε_+ = ε − ε_A+ > 0 or ε_− = ε − ε_A− < 0 is added to Δε_p.
-                let excess = if e > lim[m].1 { e - lim[m].1 } else if e < lim[m].0 { e - lim[m].0 } else { continue };
+                let (excess, limit) = if e > lim[m].1 { (e - lim[m].1, lim[m].1) } else if e < lim[m].0 { (e - lim[m].0, lim[m].0) } else { continue };
+                // A sample the previous round left at its limit sits there
+                // up to round-off: that is no yield (it would count the
+                // sample again, and the count would depend on round-off).
+                if excess.abs() <= YIELD_ROUNDOFF * limit.abs() {
+                    continue;
+                }
                 pa[m] += excess;
                 moved = true;
                 out.max_increment = out.max_increment.max(excess.abs() * if m == 0 { 1.0 } else { l0 });
