@@ -489,12 +489,15 @@ impl KktSystem {
                 self.diag_min = self.diag_min.min(a);
             }
         }
-        let bw = layout.bandwidth;
         for i in (0..n).filter(|&i| is_row[i]) {
+            // Row i read as column i (contiguous): the assembly writes every
+            // constraint entry with its transpose, so the KKT matrix is
+            // symmetric (the LDLᵀ path relies on it too).
+            let (i0, col) = self.band.column(i);
             let mut m = 0.0f64;
-            for j in i.saturating_sub(bw)..(i + bw + 1).min(n) {
-                if !is_row[j] {
-                    m = m.max((self.band.get(i, j) * self.scale[j]).abs());
+            for (&a, (&row, &s)) in col.iter().zip(is_row[i0..].iter().zip(&self.scale[i0..])) {
+                if !row {
+                    m = m.max((a * s).abs());
                 }
             }
             if m > 0.0 {
