@@ -29,7 +29,10 @@ clamped at x = 0.
    code's own converged run at every 0.1 s up to 1 s, the fastest setting
    of each that gets there (strandkit: trapezoidal or TR-BDF2 over a grid of control points
    and steps; PyElastica: elements at its example's dt = 7e-4 Δx or 2e-3 Δx).
-Not yet here: PyElastica's butterfly (issue 13 keeps it open).
+5. PyElastica's butterfly (a free rod started as a V, 40 s): the largest
+   energy drift and the time of the steps, PyElastica as its example (4
+   elements, dt = 0.01 Δx) and strandkit (8 control points, the V's corner
+   rounded by the spline) at the same step and at 4× it.
 """
 import argparse
 import json
@@ -61,6 +64,17 @@ PEND = {"L": 1.0, "r": 0.005, "rho": 1100.0, "E": 5e6, "g": 9.80665}
 # The tip is compared at t = 0.1, 0.2, …, 1 s (the largest distance counts:
 # one instant alone can be hit by errors that cancel there).
 PEND_EVERY, PEND_MARKS = 0.1, 10
+# PyElastica's examples/ButterflyCase: a free rod, straight at rest, started
+# as a V (two 1.5 m arms at 45°), no gravity, 40 s; energy conservation.
+BFLY = {"L": 3.0, "r": 0.25, "rho": 5000.0, "E": 1e4, "T": 40.0}
+
+
+def butterfly_nodes(n):
+    """The V through n + 1 nodes evenly spaced in arc length (z along the
+    span, x up), as the example builds it."""
+    s = np.linspace(0, BFLY["L"], n + 1)
+    a = math.radians(45.0)
+    return np.array([np.minimum(s, BFLY["L"] - s) * math.sin(a), np.zeros_like(s), s * math.cos(a)])
 
 
 def mode1(x):
@@ -182,9 +196,35 @@ def pe_worker():
                 tips.append(rod.position_collection[:, -1].tolist())
         return {"time": time.perf_counter() - t0, "tips": tips, "dt": dt}
 
+    def butterfly(n, dt_factor):
+        sim = ea.BaseSystemCollection()
+        pos, nrm = butterfly_nodes(n), np.array([0.0, 1.0, 0.0])
+        t = np.diff(pos, axis=1)
+        t /= np.linalg.norm(t, axis=0)
+        d = np.zeros((3, 3, n))
+        d[0], d[1], d[2] = nrm[:, None], np.cross(t.T, nrm).T, t
+        rod = ea.CosseratRod.straight_rod(n, np.zeros(3), np.array([0, 0, 1.0]), nrm, BFLY["L"], BFLY["r"], BFLY["rho"],
+                                          youngs_modulus=BFLY["E"], shear_modulus=BFLY["E"] / 1.5, position=pos, directors=d)
+        sim.append(rod)
+        sim.finalize()
+        energy = lambda: float(rod.compute_translational_energy() + rod.compute_rotational_energy()
+                               + rod.compute_bending_energy() + rod.compute_shear_energy())
+        e0, dev, st = energy(), 0.0, ea.PositionVerlet()
+        steps = int(BFLY["T"] / (dt_factor * BFLY["L"] / n))
+        dt, t = BFLY["T"] / steps, 0.0
+        wall = 0.0
+        for i in range(steps):
+            t0 = time.perf_counter()
+            t = st.step(sim, t, dt)
+            wall += time.perf_counter() - t0
+            if i % 10 == 0:
+                dev = max(dev, abs(energy() / e0 - 1))
+        return {"time": wall, "drift": dev, "dt": dt}
+
     for line in sys.stdin:
         req = json.loads(line)
-        out = {"per_step": per_step, "static": static, "vibration": vibration, "pendulum": pendulum}[req.pop("case")](**req)
+        out = {"per_step": per_step, "static": static, "vibration": vibration, "pendulum": pendulum,
+               "butterfly": butterfly}[req.pop("case")](**req)
         print(json.dumps(out), flush=True)
 
 
@@ -275,13 +315,36 @@ def sk_pendulum(n_cp, dt, scheme):
     return time.perf_counter() - t0, np.asarray(tips)
 
 
+def sk_butterfly(n_cp, dt, scheme):
+    """strandkit's butterfly: the control points of a straight rod moved
+    onto the V (the spline rounds the corner), straight at rest."""
+    import strandkit as sk
+
+    mat = sk.Material("butterfly", young=BFLY["E"], poisson=0.499, density=BFLY["rho"])
+    world = sk.World(dt=dt, scheme=scheme, parallel=False)
+    rod = world.add_rod(sk.straight((0, 0, 0), (0, 0, BFLY["L"]), section=sk.Section.circle(BFLY["r"]), material=mat,
+                                    n_control_points=n_cp))
+    cp = rod.control_points.copy()
+    s, a = cp[:, 2].copy(), math.radians(45.0)
+    cp[:, 2], cp[:, 0] = s * math.cos(a), np.minimum(s, BFLY["L"] - s) * math.sin(a)
+    rod.control_points = cp
+    e0, dev, wall = world.energy()["total"], 0.0, 0.0
+    for i in range(int(round(BFLY["T"] / dt))):
+        t0 = time.perf_counter()
+        world.step()
+        wall += time.perf_counter() - t0
+        if i % 10 == 0:
+            dev = max(dev, abs(world.energy()["total"] / e0 - 1))
+    return wall, dev
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--install", action="store_true", help="create benchmarks/.venv-pyelastica with PyElastica 1.0")
     ap.add_argument("--worker", action="store_true", help=argparse.SUPPRESS)
     ap.add_argument("--quick", action="store_true", help="fewer repetitions (a smoke run)")
     ap.add_argument("--json", help="also write the figures to this file")
-    ap.add_argument("--cases", default="1234", help="which of the numbered measures to run (default: all)")
+    ap.add_argument("--cases", default="12345", help="which of the numbered measures to run (default: all)")
     a = ap.parse_args()
     if a.worker:
         return pe_worker()
@@ -301,6 +364,8 @@ def main():
         free_vibration(pe, out)
     if "4" in a.cases:
         pendulum(pe, out)
+    if "5" in a.cases:
+        butterfly(pe, out)
     if a.json:
         Path(a.json).write_text(json.dumps(out, indent=1))
 
@@ -420,6 +485,19 @@ def pendulum(pe, out):
     if sk_best and pe_best:
         print(f"  ratio {pe_best[0] / sk_best[0]:.0f}×")
     out["pendulum"] = {"strandkit": sk_best, "pyelastica": pe_best}
+
+
+def butterfly(pe, out):
+    print("\n5. butterfly (PyElastica's example): largest energy drift over 40 s (timed: the steps only)")
+    r = pe("butterfly", n=4, dt_factor=0.01)
+    print(f"  PyElastica, its example (4 elements, dt = 0.01 Δx = {r['dt']:.2e} s): {r['time']:.3f} s, drift {r['drift'] * 100:.2f} %")
+    rows = {"pyelastica": r}
+    for scheme, dt in (("trapezoidal", r["dt"]), ("trapezoidal", 4 * r["dt"]), ("implicit_euler", r["dt"])):
+        wall, dev = sk_butterfly(8, dt, scheme)
+        print(f"  strandkit {scheme}, 8 cp, dt = {dt:.2e} s: {wall:.3f} s, drift {dev * 100:.3f} % "
+              f"({r['time'] / wall:.1f}× PyElastica's speed)")
+        rows[f"{scheme}@{dt:.2e}"] = {"time": wall, "drift": dev}
+    out["butterfly"] = rows
 
 
 if __name__ == "__main__":
