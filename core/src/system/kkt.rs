@@ -105,7 +105,7 @@ pub struct BeadRef {
 /// below `PAR_MIN_SEGMENTS` in all the pool is not woken at all. Measured
 /// on 2 cores (BENCHMARKS.md §16): with batches of 512 segments a 400-point
 /// rod stepped 10 % slower on two threads than on one, 10,000 points 8 %
-/// faster; with 4096, 10,000 points (one rod or 400 rods) 14–20 % faster.
+/// faster; with 4096, 10,000 points (one rod or 400 rods) 11–20 % faster.
 const SEQ_BATCH: usize = 16;
 const PAR_BATCH: usize = 4096;
 const PAR_MIN_SEGMENTS: usize = 2048;
