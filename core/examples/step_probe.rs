@@ -64,6 +64,17 @@ fn median_step(n: usize, row: char) -> (f64, usize) {
     (t[t.len() / 2], fails)
 }
 
+/// Smallest wall time of `reps` calls of `f` (seconds).
+fn fastest(reps: usize, mut f: impl FnMut()) -> f64 {
+    (0..reps)
+        .map(|_| {
+            let s = Instant::now();
+            f();
+            s.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
 fn arg(name: &str) -> Option<String> {
     std::env::args().skip_while(|a| a != name).nth(1)
 }
@@ -139,33 +150,16 @@ fn main() {
                 let _ = w.step();
                 let rod = w.rod(h).unwrap().clone();
                 let mut blocks = Vec::new();
-                let mut kmin = f64::INFINITY;
-                for _ in 0..reps {
-                    let s = Instant::now();
-                    rod.assemble(&mut blocks, strandkit_core::rod::assemble::Need::Hessian, false);
-                    kmin = kmin.min(s.elapsed().as_secs_f64());
-                }
-                // The same kernels without Hessians: the share of the
-                // Hessian chain rule.
-                let mut pmin = f64::INFINITY;
-                for _ in 0..reps {
-                    let s = Instant::now();
-                    rod.assemble(&mut blocks, strandkit_core::rod::assemble::Need::Hessian, true);
-                    pmin = pmin.min(s.elapsed().as_secs_f64());
-                }
+                use strandkit_core::rod::assemble::Need;
+                let kmin = fastest(reps, || rod.assemble(&mut blocks, Need::Hessian, false));
+                let pmin = fastest(reps, || rod.assemble(&mut blocks, Need::Hessian, true));
                 eprintln!("kernels on rayon's pool ({} threads): {:.1} µs", rayon::current_num_threads(), pmin * 1e6);
-                let mut gmin = f64::INFINITY;
-                for _ in 0..reps {
-                    let s = Instant::now();
-                    rod.assemble(&mut blocks, strandkit_core::rod::assemble::Need::Gradient, false);
-                    gmin = gmin.min(s.elapsed().as_secs_f64());
-                }
-                let mut emin = f64::INFINITY;
-                for _ in 0..reps {
-                    let s = Instant::now();
+                // Without Hessians (the share of the Hessian chain rule), and
+                // the energy alone (the divergence guard's pass).
+                let gmin = fastest(reps, || rod.assemble(&mut blocks, Need::Gradient, false));
+                let emin = fastest(reps, || {
                     std::hint::black_box(rod.elastic_energy());
-                    emin = emin.min(s.elapsed().as_secs_f64());
-                }
+                });
                 let mut smin = f64::INFINITY;
                 for i in 0..reps {
                     if i % 50 == 0 {

@@ -547,9 +547,10 @@ impl BandLdlt {
 
     /// Step j of the right-looking LDLᵀ: D_j = updated a_jj; the trailing
     /// block gets A[j+c..][j+c] −= A[j+c..][j] A[j+c][j] / D_j; column j is
-    /// then scaled to L[·][j] = A[·][j] / D_j. Returns D_j (unchecked).
+    /// then scaled to L[·][j] = A[·][j] / D_j (D_j stays at L[j][j],
+    /// unchecked).
     #[inline]
-    fn eliminate(&mut self, j: usize) -> f64 {
+    fn eliminate(&mut self, j: usize) {
         let (kd, ld) = (self.kd, self.ld);
         let km = kd.min(self.n - 1 - j);
         let (head, tail) = self.l.split_at_mut((j + 1) * ld);
@@ -570,7 +571,6 @@ impl BandLdlt {
         for v in &mut col[1..=km] {
             *v *= inv;
         }
-        d
     }
 
     /// The growth max_c a_c² / |d_j| of elimination step j (column j of A
@@ -589,22 +589,12 @@ impl BandLdlt {
     /// is bound by the pivot's division chain, not by vector width.)
     fn eliminate_all(&mut self) {
         let (n, kd) = (self.n, self.kd);
-        let interior = n.saturating_sub(kd);
-        match kd {
-            11 => self.eliminate_run::<11, 12>(interior),
-            15 => self.eliminate_run::<15, 16>(interior),
-            _ => (0..interior).for_each(|j| {
-                self.eliminate(j);
-            }),
-        }
-        for j in interior..n {
-            self.eliminate(j);
-        }
-    }
-
-    fn eliminate_run<const KD: usize, const LD: usize>(&mut self, end: usize) {
-        for j in 0..end {
-            self.eliminate_fixed::<KD, LD>(j);
+        for j in 0..n {
+            match kd {
+                11 if j + kd < n => self.eliminate_fixed::<11, 12>(j),
+                15 if j + kd < n => self.eliminate_fixed::<15, 16>(j),
+                _ => self.eliminate(j),
+            }
         }
     }
 
@@ -613,7 +603,7 @@ impl BandLdlt {
     /// the same order, without the zero skip (0 · v leaves x unchanged for
     /// the finite entries `copy_lower` admits).
     #[inline(always)]
-    fn eliminate_fixed<const KD: usize, const LD: usize>(&mut self, j: usize) -> f64 {
+    fn eliminate_fixed<const KD: usize, const LD: usize>(&mut self, j: usize) {
         debug_assert!(LD == KD + 1 && self.ld == LD && self.kd == KD && j + KD < self.n);
         let (head, tail) = self.l.split_at_mut((j + 1) * LD);
         let col: &mut [f64; LD] = (&mut head[j * LD..]).try_into().expect("column j has LD entries (j < n)");
@@ -638,7 +628,6 @@ impl BandLdlt {
         for v in &mut col[1..] {
             *v *= inv;
         }
-        d
     }
 
     /// Smallest |D_j| / largest |D_j| of the last successful factorisation.
