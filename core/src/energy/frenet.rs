@@ -56,14 +56,14 @@ impl FrameKinematics for Frenet {
         }
         w
     }
-    fn strains(q: &Vec5, c: &SampleConsts, _state: &FrameState) -> Strains {
+    fn strains(_s: &LocalState, q: &Vec5, c: &SampleConsts, _state: &FrameState) -> Strains {
         strains(q, c)
     }
-    fn rest_values(s0: &LocalState, delta: f64) -> (f64, f64, f64) {
+    fn rest_values(s0: &LocalState, _state: &FrameState, delta: f64) -> (f64, f64, f64) {
         rest_values(&s0.invariants(), delta)
     }
-    fn initial_state(_s0: &LocalState) -> FrameState {
-        FrameState::None
+    fn initial_states(_samples: &[(LocalState, f64)], _closed: bool) -> Vec<FrameState> {
+        Vec::new()
     }
     fn transport(_state: &mut FrameState, _s: &LocalState) {}
     /// d1 is at angle θ + φ_n about t, φ_n the angle of the Frenet normal

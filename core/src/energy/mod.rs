@@ -5,11 +5,14 @@
 //! The frame model (how bending and twist are measured, and what per-sample
 //! state it carries in time) is the [`FrameKinematics`] seam; [`FrameModel`]
 //! names the implementation a rod uses (serde) and dispatches to it. The
-//! Frenet + roll model of the thesis ([`frenet::Frenet`]) carries no state;
-//! the reference-frame model of SPEC §2.3 will carry a reference director
-//! per sample, transported after every accepted step.
+//! Frenet + roll model of the thesis ([`frenet::Frenet`]) carries no state
+//! and is written in the invariants; the reference-frame model of SPEC §2.3
+//! ([`reference::Reference`]) carries a reference director per sample,
+//! transported after every accepted step, and adds its energy in d directly.
 pub mod frenet;
 pub mod invariants;
+pub mod jet;
+pub mod reference;
 pub mod stretch;
 
 use invariants::{compose_up_to, LocalState, Mat11, Mat5, Vec11, Vec5};
@@ -40,6 +43,10 @@ pub enum FrameModel {
     #[default]
     #[serde(alias = "Frenet")]
     Frenet,
+    /// A reference director per sample carried in time by parallel
+    /// transport, θ measured from it (SPEC §2.3): twist is defined on
+    /// straight stretches (Greenhill, Michell, plectonemes).
+    Reference,
 }
 
 /// State a frame model keeps per sample and carries in time (transported
@@ -49,6 +56,7 @@ pub enum FrameModel {
 pub enum FrameState {
     #[default]
     None,
+    Reference(reference::RefFrame),
 }
 
 /// The derivative of a material angle ψ (the angle of director d1 about the
@@ -78,16 +86,26 @@ pub enum HoldCrossSection {
 pub trait FrameKinematics {
     /// Slots of d the bending and twist energies use.
     fn active_slots(terms: EnergyTerms) -> ActiveSlots;
-    /// Bending and twist energy density added to `fq`, `fqq` (derivatives
-    /// in the invariants of [`invariants`]); returns W.
+    /// The part of the bending and twist energy density written in the
+    /// invariants of [`invariants`], added to `fq`, `fqq`; returns it.
     fn add_bend_twist(q: &Vec5, c: &SampleConsts, state: &FrameState, terms: EnergyTerms, fq: &mut Vec5, fqq: &mut Mat5) -> f64;
-    /// Strains (κ1, κ2, ω) at a local state (ε is the stretch model's).
-    fn strains(q: &Vec5, c: &SampleConsts, state: &FrameState) -> Strains;
-    /// Rest values (κ1⁰, κ2⁰, ω⁰) of a rest local state, computed with the
-    /// energy's own formulas so that the rest shape is an exact equilibrium.
-    fn rest_values(s0: &LocalState, delta: f64) -> (f64, f64, f64);
-    /// The state of a sample at rest (built with the rod).
-    fn initial_state(s0: &LocalState) -> FrameState;
+    /// The part written directly in d, added to `out` (gradient and
+    /// Hessian only if `derivs`) after the invariant part was composed;
+    /// returns it. None by default.
+    fn add_direct(_s: &LocalState, _c: &SampleConsts, _state: &FrameState, _terms: EnergyTerms, _derivs: bool, _out: &mut LocalEnergy) -> f64 {
+        0.0
+    }
+    /// Strains (κ1, κ2, ω) at a local state with invariants q (ε is the
+    /// stretch model's).
+    fn strains(s: &LocalState, q: &Vec5, c: &SampleConsts, state: &FrameState) -> Strains;
+    /// Rest values (κ1⁰, κ2⁰, ω⁰) of a rest local state and its rest frame
+    /// state, computed with the energy's own formulas so that the rest
+    /// shape is an exact equilibrium.
+    fn rest_values(s0: &LocalState, state: &FrameState, delta: f64) -> (f64, f64, f64);
+    /// The states of a rod's samples at its rest shape, in order along
+    /// the rod (local state, rest weight); `closed` for a ring. Empty when
+    /// the model keeps none.
+    fn initial_states(samples: &[(LocalState, f64)], closed: bool) -> Vec<FrameState>;
     /// Carries a sample's state to the new configuration after an accepted step.
     fn transport(state: &mut FrameState, s: &LocalState);
     /// The angle of director d1 about the tangent from `reference` (unit,
@@ -115,37 +133,44 @@ impl FrameModel {
     pub fn active_slots(self, terms: EnergyTerms) -> ActiveSlots {
         match self {
             FrameModel::Frenet => frenet::Frenet::active_slots(terms),
+            FrameModel::Reference => reference::Reference::active_slots(terms),
         }
     }
-    pub fn initial_state(self, s0: &LocalState) -> FrameState {
+    pub fn initial_states(self, samples: &[(LocalState, f64)], closed: bool) -> Vec<FrameState> {
         match self {
-            FrameModel::Frenet => frenet::Frenet::initial_state(s0),
+            FrameModel::Frenet => frenet::Frenet::initial_states(samples, closed),
+            FrameModel::Reference => reference::Reference::initial_states(samples, closed),
         }
     }
     pub fn transport(self, state: &mut FrameState, s: &LocalState) {
         match self {
             FrameModel::Frenet => frenet::Frenet::transport(state, s),
+            FrameModel::Reference => reference::Reference::transport(state, s),
         }
     }
     pub fn material_angle(self, s: &LocalState, state: &FrameState, reference: &Vector3<f64>, delta: f64) -> crate::error::Result<MaterialAngle> {
         match self {
             FrameModel::Frenet => frenet::Frenet::material_angle(s, state, reference, delta),
+            FrameModel::Reference => reference::Reference::material_angle(s, state, reference, delta),
         }
     }
     pub fn hold_cross_section(self, s: &LocalState, delta: f64) -> HoldCrossSection {
         match self {
             FrameModel::Frenet => frenet::Frenet::hold_cross_section(s, delta),
+            FrameModel::Reference => reference::Reference::hold_cross_section(s, delta),
         }
     }
     pub fn material_frame(self, s: &LocalState, state: &FrameState, delta: f64) -> crate::error::Result<MaterialFrame> {
         match self {
             FrameModel::Frenet => frenet::Frenet::material_frame(s, state, delta),
+            FrameModel::Reference => reference::Reference::material_frame(s, state, delta),
         }
     }
     /// Model name as used by the Python `model=` keyword.
     pub fn name(self) -> &'static str {
         match self {
             FrameModel::Frenet => "frenet",
+            FrameModel::Reference => "reference",
         }
     }
 }
@@ -246,6 +271,16 @@ pub fn density_into(
     if derivs {
         compose_up_to(s, &fq, &fqq, &mut out.grad, &mut out.hess, ActiveSlots::of(terms, model).positions);
     }
+    out.w += direct(s, c, state, terms, model, derivs, out);
+}
+
+/// The model's part written directly in d (after the composed part).
+#[inline(always)]
+fn direct(s: &LocalState, c: &SampleConsts, state: &FrameState, terms: EnergyTerms, model: FrameModel, derivs: bool, out: &mut LocalEnergy) -> f64 {
+    match model {
+        FrameModel::Frenet => frenet::Frenet::add_direct(s, c, state, terms, derivs, out),
+        FrameModel::Reference => reference::Reference::add_direct(s, c, state, terms, derivs, out),
+    }
 }
 
 /// The energy density W alone (energy per rest length). Everything below is
@@ -254,7 +289,11 @@ pub fn density_into(
 #[inline]
 pub fn energy_density(s: &LocalState, c: &SampleConsts, state: &FrameState, terms: EnergyTerms, model: FrameModel) -> f64 {
     let (mut fq, mut fqq) = (Vec5::zeros(), Mat5::zeros());
-    invariant_derivatives(s, c, state, terms, model, &mut fq, &mut fqq)
+    let w = invariant_derivatives(s, c, state, terms, model, &mut fq, &mut fqq);
+    match model {
+        FrameModel::Frenet => w,
+        FrameModel::Reference => w + reference::Reference::add_direct(s, c, state, terms, false, &mut LocalEnergy::default()),
+    }
 }
 
 /// W and its derivatives with respect to the invariants (a, c2, p, θ, θ′).
@@ -267,6 +306,7 @@ fn invariant_derivatives(s: &LocalState, c: &SampleConsts, state: &FrameState, t
     }
     w + match model {
         FrameModel::Frenet => frenet::Frenet::add_bend_twist(&q, c, state, terms, fq, fqq),
+        FrameModel::Reference => reference::Reference::add_bend_twist(&q, c, state, terms, fq, fqq),
     }
 }
 
@@ -274,7 +314,8 @@ fn invariant_derivatives(s: &LocalState, c: &SampleConsts, state: &FrameState, t
 pub fn strains(s: &LocalState, c: &SampleConsts, state: &FrameState, model: FrameModel) -> Strains {
     let q = s.invariants();
     let mut out = match model {
-        FrameModel::Frenet => frenet::Frenet::strains(&q, c, state),
+        FrameModel::Frenet => frenet::Frenet::strains(s, &q, c, state),
+        FrameModel::Reference => reference::Reference::strains(s, &q, c, state),
     };
     out.eps = stretch::strain(&q, c);
     out
@@ -282,8 +323,9 @@ pub fn strains(s: &LocalState, c: &SampleConsts, state: &FrameState, model: Fram
 
 /// Rest values (κ1⁰, κ2⁰, ω⁰) of a rest local state, computed with the same
 /// formulas as the energy so that the rest shape is an exact equilibrium.
-pub fn rest_values(s0: &LocalState, delta: f64, model: FrameModel) -> (f64, f64, f64) {
+pub fn rest_values(s0: &LocalState, state: &FrameState, delta: f64, model: FrameModel) -> (f64, f64, f64) {
     match model {
-        FrameModel::Frenet => frenet::Frenet::rest_values(s0, delta),
+        FrameModel::Frenet => frenet::Frenet::rest_values(s0, state, delta),
+        FrameModel::Reference => reference::Reference::rest_values(s0, state, delta),
     }
 }

@@ -167,17 +167,18 @@ impl Rod {
     /// The frame model's state of every sample at the current shape (empty
     /// when the model keeps none).
     fn initial_frames(&self) -> Vec<FrameState> {
-        let states: Vec<FrameState> = self
+        let samples: Vec<(LocalState, f64)> = self
             .cache
             .samples
             .iter()
-            .map(|s| self.opts.model.initial_state(&samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis)))
+            .map(|s| (samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis), s.w))
             .collect();
-        if states.iter().all(|s| *s == FrameState::None) {
-            Vec::new()
-        } else {
-            states
-        }
+        self.opts.model.initial_states(&samples, self.is_closed())
+    }
+
+    /// A closed rod (periodic knots: a ring).
+    pub fn is_closed(&self) -> bool {
+        self.knots.kind() == crate::spline::KnotKind::Periodic
     }
 
     /// The frame model's state at sample `i`.
@@ -294,8 +295,24 @@ impl Rod {
                 }
             }
         }
-        if !self.frames.is_empty() && self.frames.len() != ns {
-            return Err(Error::invalid("frame states", self.frames.len(), format!("0 or {ns} (one per sample)")));
+        let keeps = self.opts.model != FrameModel::Frenet;
+        if (keeps && self.frames.len() != ns) || (!keeps && !self.frames.is_empty()) {
+            return Err(Error::invalid("frame states", self.frames.len(), format!("{} for the {} model", if keeps { ns } else { 0 }, self.opts.model.name())));
+        }
+        for f in &self.frames {
+            let ok = match f {
+                FrameState::Reference(r) => {
+                    let (d1, t) = (Vector3::from(r.d1), Vector3::from(r.t));
+                    r.d1.iter().chain(&r.t).chain(&r.k).chain([&r.omega]).all(|x| x.is_finite())
+                        && (d1.norm() - 1.0).abs() < 1e-9
+                        && (t.norm() - 1.0).abs() < 1e-9
+                        && d1.dot(&t).abs() < 1e-9
+                }
+                FrameState::None => false,
+            };
+            if !ok {
+                return Err(Error::invalid("frame state", format!("{f:?}"), "a reference frame with unit, orthogonal d1 and t and finite values"));
+            }
         }
         Ok(())
     }
@@ -379,9 +396,13 @@ impl Rod {
     }
 
     /// Replace coordinates (e.g. to pre-deform a rod); checks length and finiteness.
+    /// Sets the coordinates. The frame model's per-sample state is carried
+    /// to the new shape as after a step (a reference director follows its
+    /// tangent by the smallest rotation).
     pub fn set_coords(&mut self, q: &[f64]) -> Result<()> {
         check_vec("coordinates", q, self.q.len())?;
         self.q.copy_from_slice(q);
+        self.transport_frames();
         Ok(())
     }
     pub fn set_velocities(&mut self, v: &[f64]) -> Result<()> {

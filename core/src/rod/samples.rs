@@ -4,7 +4,7 @@
 //! the blended section, rest curvatures and twist, and the per-segment
 //! consistent mass, roll inertia and drag blocks (II.70–II.75, III.10).
 use super::Rod;
-use crate::energy::{self, invariants::LocalState, SampleConsts, Strains};
+use crate::energy::{self, invariants::LocalState, FrameState, SampleConsts, Strains};
 use crate::error::{Error, Result};
 use crate::quadrature::gauss_legendre;
 use crate::section::Section;
@@ -115,6 +115,9 @@ impl Cache {
         } else {
             1.0 / c.rest_length
         };
+        // The frame model's states at the rest shape (reference directors
+        // along the rod): the rest values are measured in them.
+        let rest_states = rod.opts.model.initial_states(&raw.iter().map(|r| (r.4, r.3)).collect::<Vec<_>>(), rod.is_closed());
         c.seg_mass = vec![[[0.0; 4]; 4]; nseg];
         c.seg_inertia = vec![[[0.0; 4]; 4]; nseg];
         c.seg_drag = vec![[[0.0; 4]; 4]; nseg];
@@ -126,7 +129,8 @@ impl Cache {
             let sec = Section::blend([&secs[ctrl[0]], &secs[ctrl[1]], &secs[ctrl[2]], &secs[ctrl[3]]], basis[0])?;
             let p = sec.props()?;
             let delta = kappa_eps * speed0 * speed0 * speed0;
-            let (k1, k2, om) = energy::rest_values(&s0, delta, rod.opts.model);
+            let state = rest_states.get(idx).unwrap_or(&FrameState::None);
+            let (k1, k2, om) = energy::rest_values(&s0, state, delta, rod.opts.model);
             let c0 = s0.invariants()[crate::energy::invariants::QC2].sqrt();
             // |C⁰| below 1e-8 δ is the round-off of a straight rest shape
             // (its curvature energy would be 1e-16 of the threshold's): no

@@ -1,0 +1,383 @@
+//! Bending and twist in the reference-frame model (SPEC §2.3): each sample
+//! keeps a reference director d1° ⟂ t°, the tangent t° it belongs to, the
+//! old tangent's arc-length derivative t°_s (as k = (t°_s·d1°, t°_s·d2°))
+//! and the twist rate ω° of the reference field there. In a step the
+//! director is the smallest rotation of d1° onto the current tangent t
+//! (time-parallel transport, as Discrete Elastic Rods and Meier–Popp–Wall
+//! 2014 carry it), so everything is defined where the curvature vanishes:
+//!
+//!   κb = t × t_s = r′×r″/|r′|³     (curvature binormal)
+//!   d1 = d1° − (d1°·t)/(1 + t°·t) (t° + t),  d2 = t × d1
+//!   κ1 = κb·m1, κ2 = κb·m2,  m1 = cos θ d1 + sin θ d2,  m2 = t × m1
+//!   ω  = θ′/|r′| + ω_ref,  ω_ref = ω° + (t × t°)·(t°_s + t_s)/(1 + t°·t)
+//!
+//! The last line is the twist rate of the transported field (the smallest
+//! rotation's angular rate along s, projected on t); its first variation
+//! at t = t° is (t° × t°_s)·δt, the local formula of SPEC §2.3, so the
+//! energy of a sample depends on that sample's (r′, r″, θ, θ′) only and
+//! the band is unchanged. In the old frame's basis (d1°, d2°, t°), with
+//! p = r′ and q = r″ in that basis, C = p × q and s = |p|:
+//!
+//!   κb·d1 = (C1 − p1 C3/(s + p3)) / s³,   κb·d2 = (C2 − p2 C3/(s + p3)) / s³
+//!   ω_ref − ω° = (p2 k1 − p1 k2 − C3/s²) / (s + p3)
+//!
+//! rational in six variables; their exact gradient and Hessian come from
+//! [`super::jet`]. W_b = ½ EI1 (κ1 − κ1⁰)² + ½ EI2 (κ2 − κ2⁰)²,
+//! W_t = ½ GJ (ω − ω⁰)² per unit rest length, as in the Frenet model (the
+//! same EI1 ↔ d1 convention: κ1 = κ b·d1).
+use super::invariants::{LocalState, Mat5, Vec5, R1, R2, TH, TH1};
+use super::jet::{Jet, N};
+use super::{ActiveSlots, EnergyTerms, FrameKinematics, FrameState, HoldCrossSection, LocalEnergy, MaterialAngle, MaterialFrame, SampleConsts, Strains};
+use crate::error::{Error, Result};
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+use std::ops::{Add, Mul, Sub};
+
+/// The reference-frame model (SPEC §2.3).
+pub struct Reference;
+
+/// What a sample carries in time in the reference-frame model.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RefFrame {
+    /// Reference director d1° (unit, ⟂ `t`).
+    pub d1: [f64; 3],
+    /// The unit tangent d1° belongs to.
+    pub t: [f64; 3],
+    /// That tangent's arc-length derivative in (d1°, d2°) components (1/length).
+    pub k: [f64; 2],
+    /// Twist rate of the reference field at the sample (rad/length).
+    pub omega: f64,
+}
+
+impl RefFrame {
+    fn basis(&self) -> [Vector3<f64>; 3] {
+        let (d1, t) = (Vector3::from(self.d1), Vector3::from(self.t));
+        [d1, t.cross(&d1), t]
+    }
+}
+
+/// What the kinematics needs of a number type: f64 for values, [`Jet`]
+/// for values with exact first and second derivatives.
+trait Scalar: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Mul<f64, Output = Self> + Add<f64, Output = Self> {
+    fn recip(self) -> Self;
+    fn sqrt(self) -> Self;
+}
+impl Scalar for f64 {
+    fn recip(self) -> f64 {
+        1.0 / self
+    }
+    fn sqrt(self) -> f64 {
+        f64::sqrt(self)
+    }
+}
+impl Scalar for Jet {
+    fn recip(self) -> Jet {
+        Jet::recip(self)
+    }
+    fn sqrt(self) -> Jet {
+        Jet::sqrt(self)
+    }
+}
+
+/// κb·d1, κb·d2, ω_ref − ω° and 1/|r′| from p = r′, q = r″ in the old
+/// frame's basis (module doc).
+struct Kin<T> {
+    x: T,
+    y: T,
+    dw: T,
+    inv_speed: T,
+}
+
+#[inline(always)]
+fn kinematics<T: Scalar>(p: [T; 3], q: [T; 3], k: [f64; 2], bend: bool, twist: bool) -> Kin<T> {
+    let a = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
+    let s = a.sqrt();
+    let inv_speed = s.recip();
+    let c3 = p[0] * q[1] - p[1] * q[0];
+    // 1 + t°·t = (s + p3)/s: zero only if the tangent turned half a turn
+    // since the last transport (checked in `transport`, see there).
+    let id = (s + p[2]).recip();
+    let ia = inv_speed * inv_speed;
+    let (mut x, mut y, mut dw) = (c3 * 0.0, c3 * 0.0, c3 * 0.0);
+    if bend {
+        let c1 = p[1] * q[2] - p[2] * q[1];
+        let c2 = p[2] * q[0] - p[0] * q[2];
+        let t1 = c3 * id;
+        let is3 = ia * inv_speed;
+        x = (c1 - p[0] * t1) * is3;
+        y = (c2 - p[1] * t1) * is3;
+    }
+    if twist {
+        dw = (p[1] * k[0] - p[0] * k[1] - c3 * ia) * id;
+    }
+    Kin { x, y, dw, inv_speed }
+}
+
+/// p, q of a local state in the old frame's basis.
+fn local(s: &LocalState, f: &RefFrame) -> ([f64; 3], [f64; 3], [Vector3<f64>; 3]) {
+    let e = f.basis();
+    (
+        [e[0].dot(&s.r1), e[1].dot(&s.r1), e[2].dot(&s.r1)],
+        [e[0].dot(&s.r2), e[1].dot(&s.r2), e[2].dot(&s.r2)],
+        e,
+    )
+}
+
+fn frame_of(state: &FrameState) -> &RefFrame {
+    match state {
+        FrameState::Reference(f) => f,
+        // A rod's frame states are built by its own model (Rod::new,
+        // Cache::build); a missing state is a programming error.
+        FrameState::None => panic!("reference-frame model evaluated without its per-sample state"),
+    }
+}
+
+/// Values (κ1, κ2, ω) at a local state.
+fn strain_values(s: &LocalState, f: &RefFrame) -> (f64, f64, f64) {
+    let (p, q, _) = local(s, f);
+    let kin = kinematics(p, q, f.k, true, true);
+    let (sn, cs) = s.th.sin_cos();
+    (cs * kin.x + sn * kin.y, cs * kin.y - sn * kin.x, s.th1 * kin.inv_speed + f.omega + kin.dw)
+}
+
+/// The transported director d1 at tangent t.
+fn transported_d1(f: &RefFrame, t: &Vector3<f64>) -> Vector3<f64> {
+    let (d1o, to) = (Vector3::from(f.d1), Vector3::from(f.t));
+    let d1 = d1o - (to + t) * (d1o.dot(t) / (1.0 + to.dot(t)));
+    // Re-orthonormalised: round-off would otherwise accumulate step by step.
+    (d1 - t * d1.dot(t)).normalize()
+}
+
+/// A unit vector ⟂ t (the axis t has the smallest component on, projected).
+fn any_normal(t: &Vector3<f64>) -> Vector3<f64> {
+    let i = (0..3).min_by(|&a, &b| t[a].abs().total_cmp(&t[b].abs())).unwrap_or(0);
+    let mut e = Vector3::zeros();
+    e[i] = 1.0;
+    (e - t * t[i]).normalize()
+}
+
+/// Unit tangent and its arc-length derivative t_s = (r″ − (t·r″) t)/|r′|².
+fn tangent_and_rate(s: &LocalState) -> (Vector3<f64>, Vector3<f64>) {
+    let a = s.r1.norm_squared();
+    let t = s.r1 / a.sqrt();
+    (t, (s.r2 - t * t.dot(&s.r2)) / a)
+}
+
+/// The state of a sample with director `d1` (⟂ t) and reference twist `omega`.
+fn frame_at(s: &LocalState, d1: Vector3<f64>, omega: f64) -> RefFrame {
+    let (t, ts) = tangent_and_rate(s);
+    let d2 = t.cross(&d1);
+    RefFrame { d1: d1.into(), t: t.into(), k: [ts.dot(&d1), ts.dot(&d2)], omega }
+}
+
+/// Rotation of v about the unit axis n by angle φ (v ⟂ n).
+fn rotate_perp(v: &Vector3<f64>, n: &Vector3<f64>, phi: f64) -> Vector3<f64> {
+    let (sn, cs) = phi.sin_cos();
+    v * cs + n.cross(v) * sn
+}
+
+impl FrameKinematics for Reference {
+    /// Rest states along a rod: the first director ⟂ t, each next one the
+    /// previous carried to its tangent by the smallest rotation (a discrete
+    /// Bishop frame, twist ω° = 0). On a closed rod the loop's holonomy
+    /// (the angle the carried director misses the first one by) is spread
+    /// as a uniform reference twist, so that the field closes up.
+    fn initial_states(samples: &[(LocalState, f64)], closed: bool) -> Vec<FrameState> {
+        let mut d1s: Vec<Vector3<f64>> = Vec::with_capacity(samples.len());
+        for (i, (s, _)) in samples.iter().enumerate() {
+            let t = s.r1.normalize();
+            let d1 = if i == 0 {
+                any_normal(&t)
+            } else {
+                let prev = &samples[i - 1].0;
+                let f = RefFrame { d1: d1s[i - 1].into(), t: prev.r1.normalize().into(), k: [0.0; 2], omega: 0.0 };
+                transported_d1(&f, &t)
+            };
+            d1s.push(d1);
+        }
+        let mut omega = 0.0;
+        if closed && samples.len() > 1 {
+            // Carry the last director once more, to the first tangent, and
+            // measure the angle from the first director to it about t.
+            let (s0, sl) = (&samples[0].0, &samples[samples.len() - 1].0);
+            let t0 = s0.r1.normalize();
+            let f = RefFrame { d1: d1s[samples.len() - 1].into(), t: sl.r1.normalize().into(), k: [0.0; 2], omega: 0.0 };
+            let back = transported_d1(&f, &t0);
+            let miss = t0.cross(&d1s[0]).dot(&back).atan2(d1s[0].dot(&back));
+            // The field rotated by −miss·(s/L) about t closes; its twist is
+            // −miss/L (the rest weights sum to the rest length L).
+            let length: f64 = samples.iter().map(|(_, w)| w).sum();
+            omega = -miss / length;
+            let mut arc = 0.0;
+            for (d1, (s, w)) in d1s.iter_mut().zip(samples) {
+                arc += 0.5 * w;
+                *d1 = rotate_perp(d1, &s.r1.normalize(), omega * arc);
+                arc += 0.5 * w;
+            }
+        }
+        samples.iter().zip(d1s).map(|((s, _), d1)| FrameState::Reference(frame_at(s, d1, omega))).collect()
+    }
+
+    /// Energy density of bending and twist with its derivatives in d,
+    /// added to `out` (which holds the stretch part). Returns W.
+    fn add_direct(s: &LocalState, c: &SampleConsts, state: &FrameState, terms: EnergyTerms, derivs: bool, out: &mut LocalEnergy) -> f64 {
+        let (bend, twist) = (terms.bend, terms.twist);
+        if !bend && !twist {
+            return 0.0;
+        }
+        let f = frame_of(state);
+        let (p, q, e) = local(s, f);
+        if !derivs {
+            let (sn, cs) = s.th.sin_cos();
+            let kin = kinematics(p, q, f.k, bend, twist);
+            let mut w = 0.0;
+            if bend {
+                let e1 = cs * kin.x + sn * kin.y - c.kappa1;
+                let e2 = cs * kin.y - sn * kin.x - c.kappa2;
+                w += 0.5 * (c.ei1 * e1 * e1 + c.ei2 * e2 * e2);
+            }
+            if twist {
+                let e3 = s.th1 * kin.inv_speed + f.omega + kin.dw - c.omega;
+                w += 0.5 * c.gj * e3 * e3;
+            }
+            return w;
+        }
+        let pj: [Jet; 3] = std::array::from_fn(|i| Jet::var(i, p[i]));
+        let qj: [Jet; 3] = std::array::from_fn(|i| Jet::var(3 + i, q[i]));
+        let kin = kinematics(pj, qj, f.k, bend, twist);
+        // Derivatives in (p, q) (6), θ and θ′, then rotated to (r′, r″).
+        let mut g6 = [0.0f64; N];
+        let mut h66 = [[0.0f64; N]; N];
+        let (mut g_th, mut g_th1) = (0.0, 0.0);
+        let mut h6_th = [0.0f64; N];
+        let mut h6_th1 = [0.0f64; N];
+        let (mut h_thth, mut h_th1th1) = (0.0, 0.0);
+        let mut w = 0.0;
+        if bend {
+            let (sn, cs) = s.th.sin_cos();
+            // κ1 = cos θ x + sin θ y, κ2 = cos θ y − sin θ x; ∂κ1/∂θ = κ2, ∂κ2/∂θ = −κ1.
+            let k1 = kin.x * cs + kin.y * sn;
+            let k2 = kin.y * cs - kin.x * sn;
+            let (e1, e2) = (k1.v - c.kappa1, k2.v - c.kappa2);
+            let (a1, a2) = (c.ei1, c.ei2);
+            w += 0.5 * (a1 * e1 * e1 + a2 * e2 * e2);
+            g_th += a1 * e1 * k2.v - a2 * e2 * k1.v;
+            h_thth += a1 * (k2.v * k2.v - e1 * k1.v) + a2 * (k1.v * k1.v - e2 * k2.v);
+            for i in 0..N {
+                g6[i] += a1 * e1 * k1.g[i] + a2 * e2 * k2.g[i];
+                h6_th[i] += a1 * (k2.v * k1.g[i] + e1 * k2.g[i]) - a2 * (k1.v * k2.g[i] + e2 * k1.g[i]);
+                for j in 0..N {
+                    h66[i][j] += a1 * (k1.g[i] * k1.g[j] + e1 * k1.h[i][j]) + a2 * (k2.g[i] * k2.g[j] + e2 * k2.h[i][j]);
+                }
+            }
+        }
+        if twist {
+            let om = kin.inv_speed * s.th1 + kin.dw + f.omega;
+            let e3 = om.v - c.omega;
+            let is = kin.inv_speed;
+            w += 0.5 * c.gj * e3 * e3;
+            g_th1 += c.gj * e3 * is.v;
+            h_th1th1 += c.gj * is.v * is.v;
+            for i in 0..N {
+                g6[i] += c.gj * e3 * om.g[i];
+                h6_th1[i] += c.gj * (is.v * om.g[i] + e3 * is.g[i]);
+                for j in 0..N {
+                    h66[i][j] += c.gj * (om.g[i] * om.g[j] + e3 * om.h[i][j]);
+                }
+            }
+        }
+        // Back to world components: r′ = Σ_i p_i e_i, so ∂/∂r′ = Σ_i e_i ∂/∂p_i.
+        let slot = |i: usize| if i < 3 { (R1, i) } else { (R2, i - 3) };
+        let grad = out.grad.as_mut_slice();
+        for (i, &gi) in g6.iter().enumerate() {
+            let (o, b) = slot(i);
+            for a in 0..3 {
+                grad[o + a] += e[b][a] * gi;
+            }
+        }
+        grad[TH] += g_th;
+        grad[TH1] += g_th1;
+        // H_world = Eᵀ H E per 3×3 block (E rows: e0, e1, e2).
+        let mut tmp = [[0.0f64; 6]; N]; // H E: row i, world column (slot, a)
+        for i in 0..N {
+            for j in 0..N {
+                let (_, b) = slot(j);
+                let col = if j < 3 { 0 } else { 3 };
+                for a in 0..3 {
+                    tmp[i][col + a] += h66[i][j] * e[b][a];
+                }
+            }
+        }
+        let h = &mut out.hess;
+        for i in 0..N {
+            let (oi, bi) = slot(i);
+            for a in 0..3 {
+                let ei = e[bi][a];
+                for cb in 0..6 {
+                    let oc = if cb < 3 { R1 + cb } else { R2 + cb - 3 };
+                    h[(oi + a, oc)] += ei * tmp[i][cb];
+                }
+                h[(oi + a, TH)] += ei * h6_th[i];
+                h[(TH, oi + a)] += ei * h6_th[i];
+                h[(oi + a, TH1)] += ei * h6_th1[i];
+                h[(TH1, oi + a)] += ei * h6_th1[i];
+            }
+        }
+        h[(TH, TH)] += h_thth;
+        h[(TH1, TH1)] += h_th1th1;
+        w
+    }
+
+    /// Bending and twist use r′, r″ (never r‴), θ and θ′.
+    fn active_slots(terms: EnergyTerms) -> ActiveSlots {
+        let any = terms.bend || terms.twist;
+        ActiveSlots { positions: if any { 2 } else { 0 }, theta: terms.bend, theta1: terms.twist }
+    }
+    /// Nothing in the invariants: the whole bending and twist energy is
+    /// [`Reference::add_direct`].
+    fn add_bend_twist(_q: &Vec5, _c: &SampleConsts, _state: &FrameState, _terms: EnergyTerms, _fq: &mut Vec5, _fqq: &mut Mat5) -> f64 {
+        0.0
+    }
+    fn strains(s: &LocalState, _q: &Vec5, _c: &SampleConsts, state: &FrameState) -> Strains {
+        let (kappa1, kappa2, omega) = strain_values(s, frame_of(state));
+        Strains { eps: 0.0, kappa1, kappa2, omega }
+    }
+    fn rest_values(s0: &LocalState, state: &FrameState, _delta: f64) -> (f64, f64, f64) {
+        strain_values(s0, frame_of(state))
+    }
+    /// The transported director, its tangent's rate and the reference
+    /// twist of the transported field (the same formula as the energy, so
+    /// the energy is continuous across a transport).
+    fn transport(state: &mut FrameState, s: &LocalState) {
+        let FrameState::Reference(f) = state else { return };
+        let (t, _) = tangent_and_rate(s);
+        if !t.iter().all(|x| x.is_finite()) {
+            return; // a degenerate tangent: keep the last good state
+        }
+        let (p, q, _) = local(s, f);
+        let dw = kinematics(p, q, f.k, false, true).dw;
+        let d1 = transported_d1(f, &t);
+        *f = frame_at(s, d1, f.omega + dw);
+    }
+    fn material_angle(_s: &LocalState, _state: &FrameState, _reference: &Vector3<f64>, _delta: f64) -> Result<MaterialAngle> {
+        Err(Error::input(
+            "material roll constraints are not available with the reference-frame model yet: clamp the roll coordinate instead (World::clamp holds θ, the angle from the transported director)",
+        ))
+    }
+    /// θ is the section's angle from the transported director, which does
+    /// not turn while the tangent is held: fixing θ holds the section.
+    fn hold_cross_section(_s: &LocalState, _delta: f64) -> HoldCrossSection {
+        HoldCrossSection::RollCoordinate
+    }
+    fn material_frame(s: &LocalState, state: &FrameState, _delta: f64) -> Result<MaterialFrame> {
+        let f = frame_of(state);
+        let (t, _) = tangent_and_rate(s);
+        if !t.iter().all(|x| x.is_finite()) {
+            return Err(Error::singular("material frame: the tangent is undefined there (zero speed)"));
+        }
+        let d1 = transported_d1(f, &t);
+        let (sn, cs) = s.th.sin_cos();
+        let m1 = d1 * cs + t.cross(&d1) * sn;
+        Ok(MaterialFrame { d1: m1, d2: t.cross(&m1), d3: t })
+    }
+}
