@@ -154,7 +154,7 @@ mod tests {
             for k in 0..N {
                 let hk = (ja.g[k] - jb.g[k]) / (2.0 * h);
                 assert!((hk - j.h[i][k]).abs() < 1e-7, "hessian {i},{k}: {hk} vs {}", j.h[i][k]);
-                assert_eq!(j.h[i][k], j.h[k][i]);
+                assert!((j.h[i][k] - j.h[k][i]).abs() <= 1e-15 * j.h[i][k].abs().max(1.0), "symmetry {i},{k}");
             }
         }
     }
