@@ -18,9 +18,18 @@ pub fn rod(n: usize, terms: EnergyTerms, drag: f64, material: Material) -> Rod {
         .control_points(n)
         .section(Section::circle(RADIUS).unwrap())
         .material(material)
-        .options(RodOptions { samples_per_segment: 5, terms, drag, ..Default::default() })
+        .options(RodOptions { samples_per_segment: 5, terms, drag, model: model(), ..Default::default() })
         .build()
         .unwrap()
+}
+
+/// The frame model named by `--model frenet|reference` on the command
+/// line (default: the rod default, Frenet).
+pub fn model() -> strandkit_core::FrameModel {
+    match std::env::args().skip_while(|a| a != "--model").nth(1).as_deref() {
+        Some("reference") => strandkit_core::FrameModel::Reference,
+        _ => strandkit_core::FrameModel::Frenet,
+    }
 }
 
 /// Smooth 3-D pre-deformation (1 mm bend in y, 0.5 mm in z, 5 mrad roll).

@@ -266,7 +266,7 @@ impl FrameKinematics for Reference {
             for i in 0..N {
                 g6[i] += a1 * e1 * k1.g[i] + a2 * e2 * k2.g[i];
                 h6_th[i] += a1 * (k2.v * k1.g[i] + e1 * k2.g[i]) - a2 * (k1.v * k2.g[i] + e2 * k1.g[i]);
-                for j in 0..N {
+                for j in i..N {
                     h66[i][j] += a1 * (k1.g[i] * k1.g[j] + e1 * k1.h[i][j]) + a2 * (k2.g[i] * k2.g[j] + e2 * k2.h[i][j]);
                 }
             }
@@ -281,9 +281,14 @@ impl FrameKinematics for Reference {
             for i in 0..N {
                 g6[i] += c.gj * e3 * om.g[i];
                 h6_th1[i] += c.gj * (is.v * om.g[i] + e3 * is.g[i]);
-                for j in 0..N {
+                for j in i..N {
                     h66[i][j] += c.gj * (om.g[i] * om.g[j] + e3 * om.h[i][j]);
                 }
+            }
+        }
+        for i in 0..N {
+            for j in 0..i {
+                h66[i][j] = h66[j][i];
             }
         }
         // Back to world components: r′ = Σ_i p_i e_i, so ∂/∂r′ = Σ_i e_i ∂/∂p_i.
