@@ -499,7 +499,7 @@ impl PyRod {
         let o = self.with(py, |r| Ok(*r.options()))?;
         convert::from_json(py, &serde_json::to_value(o).unwrap_or_default())
     }
-    /// Frame model ("frenet").
+    /// Frame model ("frenet" | "reference").
     #[getter]
     fn model(&self, py: Python<'_>) -> PyResult<String> {
         let m = self.with(py, |r| Ok(r.frame_model()))?;
@@ -763,7 +763,9 @@ builder_fn!(
     /// (1/length, 0 = 1/rest length), `stretch`, `bend`, `twist` (energy
     /// terms on/off, default True), `poisson_update` (sections contract
     /// with stretch, II.59, default False), `model` (frame model:
-    /// "frenet"); any other RodOptions field by name.
+    /// "frenet", the thesis' Frenet + roll, default; or "reference", a
+    /// transported reference director per sample, SPEC §2.3, for twist on
+    /// straight stretches); any other RodOptions field by name.
     straight(start: [f64; 3], end: [f64; 3]) => |c| {
         build(c.apply(RodBuilder::straight(Vector3::from(start), Vector3::from(end)))?)
     }

@@ -402,7 +402,7 @@ class Rod:
     def mesh(self, *, rings_per_segment=6, points_per_ring=12, radius_scale=1.0, caps=True):
         """Tube mesh (generalised cylinder): (vertices (N,3), normals (N,3), triangles (T,3) int)."""
     model: Any
-    """Frame model ("frenet")."""
+    """Frame model ("frenet" | "reference")."""
     momentum: Any
     """Linear momentum (mass × length/time), shape (3,)."""
     n_control_points: Any
