@@ -36,7 +36,7 @@ pub fn uniform_params(rod: &Rod, n: usize) -> Result<Vec<f64>> {
 }
 
 /// A unit vector ⟂ t (the start of the propagation when no reference is given).
-fn perpendicular(t: &Vector3<f64>) -> Vector3<f64> {
+pub(crate) fn perpendicular(t: &Vector3<f64>) -> Vector3<f64> {
     let helper = if t.x.abs() < 0.9 { Vector3::x() } else { Vector3::y() };
     (helper - t * t.dot(&helper)).normalize()
 }

@@ -166,6 +166,17 @@ impl FrameModel {
             FrameModel::Reference => reference::Reference::material_frame(s, state, delta),
         }
     }
+    /// Whether a rod of this model keeps a state per sample.
+    pub fn keeps_state(self) -> bool {
+        !matches!(self, FrameModel::Frenet)
+    }
+    /// Whether `state` is a sound state of this model (snapshot checks).
+    pub fn accepts(self, state: &FrameState) -> bool {
+        match (self, state) {
+            (FrameModel::Reference, FrameState::Reference(r)) => r.is_valid(),
+            _ => false,
+        }
+    }
     /// Model name as used by the Python `model=` keyword.
     pub fn name(self) -> &'static str {
         match self {

@@ -50,6 +50,14 @@ pub struct RefFrame {
 }
 
 impl RefFrame {
+    /// Finite, with unit and orthogonal d1° and t° (a snapshot's check).
+    pub fn is_valid(&self) -> bool {
+        let (d1, t) = (Vector3::from(self.d1), Vector3::from(self.t));
+        self.d1.iter().chain(&self.t).chain(&self.k).chain([&self.omega]).all(|x| x.is_finite())
+            && (d1.norm() - 1.0).abs() < 1e-9
+            && (t.norm() - 1.0).abs() < 1e-9
+            && d1.dot(&t).abs() < 1e-9
+    }
     fn basis(&self) -> [Vector3<f64>; 3] {
         let (d1, t) = (Vector3::from(self.d1), Vector3::from(self.t));
         [d1, t.cross(&d1), t]
@@ -148,14 +156,6 @@ fn transported_d1(f: &RefFrame, t: &Vector3<f64>) -> Vector3<f64> {
     (d1 - t * d1.dot(t)).normalize()
 }
 
-/// A unit vector ⟂ t (the axis t has the smallest component on, projected).
-fn any_normal(t: &Vector3<f64>) -> Vector3<f64> {
-    let i = (0..3).min_by(|&a, &b| t[a].abs().total_cmp(&t[b].abs())).unwrap_or(0);
-    let mut e = Vector3::zeros();
-    e[i] = 1.0;
-    (e - t * t[i]).normalize()
-}
-
 /// Unit tangent and its arc-length derivative t_s = (r″ − (t·r″) t)/|r′|².
 fn tangent_and_rate(s: &LocalState) -> (Vector3<f64>, Vector3<f64>) {
     let a = s.r1.norm_squared();
@@ -187,7 +187,7 @@ impl FrameKinematics for Reference {
         for (i, (s, _)) in samples.iter().enumerate() {
             let t = s.r1.normalize();
             let d1 = if i == 0 {
-                any_normal(&t)
+                crate::frames::perpendicular(&t)
             } else {
                 let prev = &samples[i - 1].0;
                 let f = RefFrame { d1: d1s[i - 1].into(), t: prev.r1.normalize().into(), k: [0.0; 2], omega: 0.0 };
@@ -228,17 +228,14 @@ impl FrameKinematics for Reference {
         let f = frame_of(state);
         let (p, q, e) = local(s, f);
         if !derivs {
-            let (sn, cs) = s.th.sin_cos();
-            let kin = kinematics(p, q, f.k, bend, twist);
+            let (k1, k2, om) = strain_values(s, f);
             let mut w = 0.0;
             if bend {
-                let e1 = cs * kin.x + sn * kin.y - c.kappa1;
-                let e2 = cs * kin.y - sn * kin.x - c.kappa2;
+                let (e1, e2) = (k1 - c.kappa1, k2 - c.kappa2);
                 w += 0.5 * (c.ei1 * e1 * e1 + c.ei2 * e2 * e2);
             }
             if twist {
-                let e3 = s.th1 * kin.inv_speed + f.omega + kin.dw - c.omega;
-                w += 0.5 * c.gj * e3 * e3;
+                w += 0.5 * c.gj * (om - c.omega).powi(2);
             }
             return w;
         }

@@ -295,24 +295,12 @@ impl Rod {
                 }
             }
         }
-        let keeps = self.opts.model != FrameModel::Frenet;
+        let (model, keeps) = (self.opts.model, self.opts.model.keeps_state());
         if (keeps && self.frames.len() != ns) || (!keeps && !self.frames.is_empty()) {
-            return Err(Error::invalid("frame states", self.frames.len(), format!("{} for the {} model", if keeps { ns } else { 0 }, self.opts.model.name())));
+            return Err(Error::invalid("frame states", self.frames.len(), format!("{} for the {} model", if keeps { ns } else { 0 }, model.name())));
         }
-        for f in &self.frames {
-            let ok = match f {
-                FrameState::Reference(r) => {
-                    let (d1, t) = (Vector3::from(r.d1), Vector3::from(r.t));
-                    r.d1.iter().chain(&r.t).chain(&r.k).chain([&r.omega]).all(|x| x.is_finite())
-                        && (d1.norm() - 1.0).abs() < 1e-9
-                        && (t.norm() - 1.0).abs() < 1e-9
-                        && d1.dot(&t).abs() < 1e-9
-                }
-                FrameState::None => false,
-            };
-            if !ok {
-                return Err(Error::invalid("frame state", format!("{f:?}"), "a reference frame with unit, orthogonal d1 and t and finite values"));
-            }
+        if let Some(f) = self.frames.iter().find(|f| !model.accepts(f)) {
+            return Err(Error::invalid("frame state", format!("{f:?}"), format!("a sound state of the {} model (finite, unit and orthogonal directors)", model.name())));
         }
         Ok(())
     }
@@ -395,8 +383,8 @@ impl Rod {
         (&mut self.q, &mut self.v)
     }
 
-    /// Replace coordinates (e.g. to pre-deform a rod); checks length and finiteness.
-    /// Sets the coordinates. The frame model's per-sample state is carried
+    /// Replace coordinates (e.g. to pre-deform a rod); checks length and
+    /// finiteness. The frame model's per-sample state is carried
     /// to the new shape as after a step (a reference director follows its
     /// tangent by the smallest rotation).
     pub fn set_coords(&mut self, q: &[f64]) -> Result<()> {
