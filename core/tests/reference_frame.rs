@@ -29,7 +29,8 @@ fn cst<D: DualNum<Primitive = f64> + Copy>(v: [f64; 3]) -> V3<D> {
 /// W(d) from SPEC §2.3 in world components (no local basis): t = r′/|r′|,
 /// t_s = (r″ − (t·r″) t)/|r′|², κb = t × t_s, d1 = d1° − (d1°·t)/(1 + t°·t)
 /// (t° + t), m1 = cos θ d1 + sin θ (t × d1), m2 = t × m1, κ_i = κb·m_i,
-/// ω = θ′/|r′| + ω° + (t × t°)·(t°_s + t_s)/(1 + t°·t).
+/// ω = (θ′ + ω°_u + (t × t°)·(t°_u + t_u)/(1 + t°·t))/|r′| with the state's
+/// rates per unit u (t_u = |r′| t_s).
 fn w_spec<D: DualNum<Primitive = f64> + Copy>(x: &[D], c: &SampleConsts, f: &RefFrame, terms: EnergyTerms) -> D {
     let r1 = [x[0], x[1], x[2]];
     let r2 = [x[3], x[4], x[5]];
@@ -59,8 +60,8 @@ fn w_spec<D: DualNum<Primitive = f64> + Copy>(x: &[D], c: &SampleConsts, f: &Ref
         w += e1 * e1 * (0.5 * c.ei1) + e2 * e2 * (0.5 * c.ei2);
     }
     if terms.twist {
-        let wref = dot(cross(t, to), lin(tos, one, ts, one)) / den + f.omega;
-        let e = th1 / speed + wref - c.omega;
+        let wref_u = dot(cross(t, to), lin(tos, one, ts, speed)) / den + f.omega;
+        let e = (th1 + wref_u) / speed - c.omega;
         w += e * e * (0.5 * c.gj);
     }
     w

@@ -245,14 +245,18 @@ impl PyRod {
     fn set_excess_link(&mut self, py: Python<'_>, turns: f64) -> PyResult<()> {
         self.with_mut(py, |r| guard(|| r.set_excess_link(turns)))
     }
-    /// Twist Tw of a closed rod (turns): (1/2π)∮τ ds with the exact Frenet
-    /// torsion, plus the imposed excess link. SingularError if the ring
-    /// has an inflection.
+    /// Twist Tw of a closed rod (turns), plus the imposed excess link.
+    /// model="frenet": (1/2π)∮τ ds with the exact Frenet torsion
+    /// (SingularError if the ring has an inflection); model="reference":
+    /// (1/2π)∮ω ds with the material twist of the energy, defined
+    /// everywhere, and Tw + Wr is conserved while the ring deforms (up to
+    /// ±2 per strand passage: rods do not touch themselves yet).
     fn twist(&self, py: Python<'_>) -> PyResult<f64> {
         self.with(py, |r| guard(|| r.twist()))
     }
     /// Writhe Wr of a closed rod's centreline (turns), the Gauss double
-    /// integral (cost: the square of 8 points per segment).
+    /// integral (cost: the square of 8 points per segment; the diagonal
+    /// kink handled so it converges as fast as the curve is smooth).
     fn writhe(&self, py: Python<'_>) -> PyResult<f64> {
         self.with(py, |r| guard(|| r.writhe()))
     }

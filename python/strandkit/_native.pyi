@@ -434,7 +434,7 @@ class Rod:
     def to_json(self):
         """The rod as JSON (serde; floats round-trip exactly)."""
     def twist(self):
-        """Twist Tw of a closed rod (turns): (1/2π)∮τ ds with the exact Frenet torsion, plus the imposed excess link."""
+        """Twist Tw of a closed rod (turns), plus the imposed excess link."""
     def u_at_arc_length(self, s):
         """The abscissa u at rest arc length s (length unit, 0 ≤ s ≤ rest_length): a material coordinate that deformation does not move, e.g."""
     u_end: Any
@@ -448,7 +448,7 @@ class Rod:
     world: Any
     """The world holding this rod, or None."""
     def writhe(self):
-        """Writhe Wr of a closed rod's centreline (turns), the Gauss double integral (cost: the square of 8 points per segment)."""
+        """Writhe Wr of a closed rod's centreline (turns), the Gauss double integral (cost: the square of 8 points per segment; the diagonal kink handled so it converges as fast as the curve is smooth)."""
 
 @final
 class Section:

@@ -9,13 +9,13 @@ import strandkit as sk
 L, R, NU = 1.0, 0.005, 0.5
 
 
-def twisted_ring(tw, **world):
+def twisted_ring(tw, model="frenet", **world):
     """repro_twisted_ring_blowup.py: a ring with rest twist 2π Tw / L
     (Tw = 4.5 > Michell's 2.6), slightly perturbed out of plane."""
     rad = L / (2 * np.pi)
     mat = sk.Material("m", young=1 / (np.pi * R**4 / 4), poisson=NU, density=1 / (np.pi * R * R))  # EI = 1, μ = 1
     rod = sk.curve(lambda s: (rad * np.cos(s / rad), rad * np.sin(s / rad), 0.0), L, section=R, material=mat,
-                   n_control_points=40, knots="periodic")
+                   n_control_points=40, knots="periodic", model=model)
     rest = rod.strains()
     off = np.zeros_like(rest)
     off[:, 1:3] = -rest[:, 1:3]

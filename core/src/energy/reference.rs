@@ -1,7 +1,11 @@
 //! Bending and twist in the reference-frame model (SPEC §2.3): each sample
 //! keeps a reference director d1° ⟂ t°, the tangent t° it belongs to, the
-//! old tangent's arc-length derivative t°_s (as k = (t°_s·d1°, t°_s·d2°))
-//! and the twist rate ω° of the reference field there. In a step the
+//! old tangent's derivative t°_u in the spline parameter u (as
+//! k = (t°_u·d1°, t°_u·d2°)) and the reference field's twist per unit u,
+//! ω°_u. Rates per u, not per arc length: transport is a rotation at fixed
+//! u, so per-u rates add exactly when the rod stretches (per arc length
+//! they would mix the old and the new |r′|, and ∮ ω ds would drift from
+//! Lk − Wr by the strain). In a step the
 //! director is the smallest rotation of d1° onto the current tangent t
 //! (time-parallel transport, as Discrete Elastic Rods and Meier–Popp–Wall
 //! 2014 carry it), so everything is defined where the curvature vanishes:
@@ -9,17 +13,18 @@
 //!   κb = t × t_s = r′×r″/|r′|³     (curvature binormal)
 //!   d1 = d1° − (d1°·t)/(1 + t°·t) (t° + t),  d2 = t × d1
 //!   κ1 = κb·m1, κ2 = κb·m2,  m1 = cos θ d1 + sin θ d2,  m2 = t × m1
-//!   ω  = θ′/|r′| + ω_ref,  ω_ref = ω° + (t × t°)·(t°_s + t_s)/(1 + t°·t)
+//!   ω  = (θ′ + ω_u)/|r′|,  ω_u = ω°_u + (t × t°)·(t°_u + t_u)/(1 + t°·t)
 //!
-//! The last line is the twist rate of the transported field (the smallest
-//! rotation's angular rate along s, projected on t); its first variation
-//! at t = t° is (t° × t°_s)·δt, the local formula of SPEC §2.3, so the
+//! The last line is the twist per u of the transported field (the smallest
+//! rotation's angular rate along u, projected on t); its first variation
+//! at t = t° is (t° × t°_s)·δt per arc length, the local formula of SPEC
+//! §2.3, so the
 //! energy of a sample depends on that sample's (r′, r″, θ, θ′) only and
 //! the band is unchanged. In the old frame's basis (d1°, d2°, t°), with
 //! p = r′ and q = r″ in that basis, C = p × q and s = |p|:
 //!
 //!   κb·d1 = (C1 − p1 C3/(s + p3)) / s³,   κb·d2 = (C2 − p2 C3/(s + p3)) / s³
-//!   ω_ref − ω° = (p2 k1 − p1 k2 − C3/s²) / (s + p3)
+//!   ω_u − ω°_u = (p2 k1 − p1 k2 − C3/s) / (s + p3)
 //!
 //! rational in six variables; their exact gradient and Hessian come from
 //! [`super::jet`]. W_b = ½ EI1 (κ1 − κ1⁰)² + ½ EI2 (κ2 − κ2⁰)²,
@@ -43,9 +48,11 @@ pub struct RefFrame {
     pub d1: [f64; 3],
     /// The unit tangent d1° belongs to.
     pub t: [f64; 3],
-    /// That tangent's arc-length derivative in (d1°, d2°) components (1/length).
+    /// That tangent's derivative in the parameter u, in (d1°, d2°)
+    /// components (1/u).
     pub k: [f64; 2],
-    /// Twist rate of the reference field at the sample (rad/length).
+    /// Twist of the reference field at the sample per unit u (rad/u; per
+    /// unit length it is this over |r′|).
     pub omega: f64,
 }
 
@@ -116,7 +123,7 @@ fn kinematics<T: Scalar>(p: [T; 3], q: [T; 3], k: [f64; 2], bend: bool, twist: b
         y = (c2 - p[1] * t1) * is3;
     }
     if twist {
-        dw = (p[1] * k[0] - p[0] * k[1] - c3 * ia) * id;
+        dw = (p[1] * k[0] - p[0] * k[1] - c3 * inv_speed) * id;
     }
     Kin { x, y, dw, inv_speed }
 }
@@ -145,7 +152,7 @@ fn strain_values(s: &LocalState, f: &RefFrame) -> (f64, f64, f64) {
     let (p, q, _) = local(s, f);
     let kin = kinematics(p, q, f.k, true, true);
     let (sn, cs) = s.th.sin_cos();
-    (cs * kin.x + sn * kin.y, cs * kin.y - sn * kin.x, s.th1 * kin.inv_speed + f.omega + kin.dw)
+    (cs * kin.x + sn * kin.y, cs * kin.y - sn * kin.x, (s.th1 + f.omega + kin.dw) * kin.inv_speed)
 }
 
 /// The transported director d1 at tangent t.
@@ -156,14 +163,15 @@ fn transported_d1(f: &RefFrame, t: &Vector3<f64>) -> Vector3<f64> {
     (d1 - t * d1.dot(t)).normalize()
 }
 
-/// Unit tangent and its arc-length derivative t_s = (r″ − (t·r″) t)/|r′|².
+/// Unit tangent and its u-derivative t_u = (r″ − (t·r″) t)/|r′|.
 fn tangent_and_rate(s: &LocalState) -> (Vector3<f64>, Vector3<f64>) {
-    let a = s.r1.norm_squared();
-    let t = s.r1 / a.sqrt();
-    (t, (s.r2 - t * t.dot(&s.r2)) / a)
+    let speed = s.r1.norm();
+    let t = s.r1 / speed;
+    (t, (s.r2 - t * t.dot(&s.r2)) / speed)
 }
 
-/// The state of a sample with director `d1` (⟂ t) and reference twist `omega`.
+/// The state of a sample with director `d1` (⟂ t) and reference twist
+/// `omega` per unit u.
 fn frame_at(s: &LocalState, d1: Vector3<f64>, omega: f64) -> RefFrame {
     let (t, ts) = tangent_and_rate(s);
     let d2 = t.cross(&d1);
@@ -205,7 +213,7 @@ impl FrameKinematics for Reference {
             let back = transported_d1(&f, &t0);
             let miss = t0.cross(&d1s[0]).dot(&back).atan2(d1s[0].dot(&back));
             // The field rotated by −miss·(s/L) about t closes; its twist is
-            // −miss/L (the rest weights sum to the rest length L).
+            // −miss/L per length (the rest weights sum to the rest length L).
             let length: f64 = samples.iter().map(|(_, w)| w).sum();
             omega = -miss / length;
             let mut arc = 0.0;
@@ -215,7 +223,7 @@ impl FrameKinematics for Reference {
                 arc += 0.5 * w;
             }
         }
-        samples.iter().zip(d1s).map(|((s, _), d1)| FrameState::Reference(frame_at(s, d1, omega))).collect()
+        samples.iter().zip(d1s).map(|((s, _), d1)| FrameState::Reference(frame_at(s, d1, omega * s.r1.norm()))).collect()
     }
 
     /// Energy density of bending and twist with its derivatives in d,
@@ -269,7 +277,7 @@ impl FrameKinematics for Reference {
             }
         }
         if twist {
-            let om = kin.inv_speed * s.th1 + kin.dw + f.omega;
+            let om = (kin.dw + (s.th1 + f.omega)) * kin.inv_speed;
             let e3 = om.v - c.omega;
             let is = kin.inv_speed;
             w += 0.5 * c.gj * e3 * e3;

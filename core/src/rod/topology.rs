@@ -5,7 +5,10 @@
 //! the centreline) and Tw = (1/2π) ∮ ω ds. In the Frenet model the material
 //! frame is the Frenet frame turned by the periodic roll θ, so
 //! Tw = (1/2π) ∮ τ ds (∮ θ' = 0 on a ring) and its link is the Frenet
-//! ribbon's, an integer fixed while the ring has no inflection. An imposed
+//! ribbon's, an integer fixed while the ring has no inflection. In the
+//! reference model Tw integrates the material twist of the energy; Lk is
+//! conserved because the reference directors are transported continuously
+//! (SPEC §2.3), whatever the ring's inflections. An imposed
 //! excess link ΔLk turns the material frame ΔLk more times around the ring
 //! than its rest shape does: it enters the energy as the rest twist
 //! ω⁰ − 2π ΔLk / L (uniform in rest arc length), and Tw includes it.
@@ -19,6 +22,17 @@ use std::f64::consts::PI;
 /// Largest number of quadrature points of the writhe's double sum (its cost
 /// is their square).
 pub const MAX_WRITHE_POINTS: usize = 200_000;
+
+/// A quadrature point of the centreline: point, unit tangent, weight (or
+/// speed) in current arc length, Frenet torsion where the curve bends,
+/// unit binormal (zero where straight).
+struct CentrelinePoint {
+    p: Vector3<f64>,
+    t: Vector3<f64>,
+    w: f64,
+    tau: Option<f64>,
+    binormal: Vector3<f64>,
+}
 
 impl Rod {
     fn require_ring(&self, what: &str) -> Result<()> {
@@ -57,11 +71,34 @@ impl Rod {
         2.0 * PI * self.excess_link / rest_length
     }
 
-    /// Quadrature points of the current centreline: (point, unit tangent,
-    /// current arc-length weight, Frenet torsion if the curve bends there,
-    /// unit binormal or zero).
-    #[allow(clippy::type_complexity)]
-    fn centreline_points(&self, per_segment: usize) -> Result<Vec<(Vector3<f64>, Vector3<f64>, f64, Option<f64>, Vector3<f64>)>> {
+    /// Point, unit tangent, current speed |r′| and Frenet data at u in `seg`.
+    fn centreline_at(&self, seg: usize, u: f64) -> CentrelinePoint {
+        let ctrl = self.knots.segment_ctrl(seg);
+        let b = self.knots.basis(seg, u);
+        let s = super::samples::local_state(&self.q, self.dofs, &ctrl, &b);
+        let p = super::samples::point(&self.q, self.dofs, &ctrl, &b[0]);
+        let speed = s.r1.norm();
+        let c = s.cross();
+        let c2 = c.norm_squared();
+        // τ = (r′×r″)·r‴ / |r′×r″|², defined where the curve bends.
+        let tau = (c2 > 1e-24 * speed.powi(6)).then(|| c.dot(&s.r3) / c2);
+        let binormal = if c2 > 0.0 { c / c2.sqrt() } else { Vector3::zeros() };
+        CentrelinePoint { p: Vector3::new(p[0], p[1], p[2]), t: s.r1 / speed, w: speed, tau, binormal }
+    }
+
+    /// Gauss points of the current centreline on [a, b] within segment
+    /// `seg`, their weights in current arc length.
+    fn centreline_points_on(&self, seg: usize, a: f64, b: f64, gx: &[f64], gw: &[f64]) -> impl Iterator<Item = CentrelinePoint> + '_ {
+        let (gx, gw) = (gx.to_vec(), gw.to_vec());
+        (0..gx.len()).map(move |k| {
+            let mut c = self.centreline_at(seg, 0.5 * (a + b) + 0.5 * (b - a) * gx[k]);
+            c.w *= gw[k] * 0.5 * (b - a);
+            c
+        })
+    }
+
+    /// Gauss points of every segment (`per_segment` each, segment by segment).
+    fn centreline_points(&self, per_segment: usize) -> Result<Vec<CentrelinePoint>> {
         let n = self.n_segments().saturating_mul(per_segment);
         if n > MAX_WRITHE_POINTS {
             return Err(Error::invalid("writhe quadrature points", n, format!("at most {MAX_WRITHE_POINTS} (the double sum costs their square)")));
@@ -70,56 +107,74 @@ impl Rod {
         let mut out = Vec::with_capacity(n);
         for seg in 0..self.n_segments() {
             let (u0, u1) = self.knots.segment_interval(seg);
-            let ctrl = self.knots.segment_ctrl(seg);
-            for (x, w) in gx.iter().zip(gw.iter()) {
-                let u = 0.5 * (u0 + u1) + 0.5 * (u1 - u0) * x;
-                let b = self.knots.basis(seg, u);
-                let s = super::samples::local_state(&self.q, self.dofs, &ctrl, &b);
-                let p = super::samples::point(&self.q, self.dofs, &ctrl, &b[0]);
-                let speed = s.r1.norm();
-                let c = s.cross();
-                let c2 = c.norm_squared();
-                // τ = (r'×r'')·r''' / |r'×r''|², defined where the curve bends.
-                let tau = (c2 > 1e-24 * speed.powi(6)).then(|| c.dot(&s.r3) / c2);
-                let binormal = if c2 > 0.0 { c / c2.sqrt() } else { Vector3::zeros() };
-                out.push((Vector3::new(p[0], p[1], p[2]), s.r1 / speed, w * 0.5 * (u1 - u0) * speed, tau, binormal));
-            }
+            out.extend(self.centreline_points_on(seg, u0, u1, &gx, &gw));
         }
         Ok(out)
     }
 
     /// Writhe of a closed rod's centreline (turns): the Gauss double
-    /// integral on 8 Gauss points per segment (the integrand is smooth,
-    /// its diagonal limit finite, so the product rule converges fast).
+    /// integral, 8 Gauss points per segment. The integrand is continuous
+    /// but has a kink |s₁ − s₂| on the diagonal, where a product rule
+    /// converges as h² only; so on a segment paired with itself the inner
+    /// integral is split at s₁ (each side smooth) and the rule converges as
+    /// fast as the curve is smooth.
     pub fn writhe(&self) -> Result<f64> {
         self.require_ring("writhe")?;
-        let pts = self.centreline_points(8)?;
+        const PER: usize = 8;
+        let pts = self.centreline_points(PER)?;
+        let kernel = |a: &CentrelinePoint, b: &CentrelinePoint| {
+            let d = a.p - b.p;
+            let r = d.norm();
+            a.t.cross(&b.t).dot(&d) / (r * r * r) * a.w * b.w
+        };
         let mut sum = 0.0;
-        for (i, (p1, t1, w1, _, _)) in pts.iter().enumerate() {
-            for (p2, t2, w2, _, _) in &pts[i + 1..] {
-                let d = p1 - p2;
-                let r = d.norm();
-                sum += 2.0 * t1.cross(t2).dot(&d) / (r * r * r) * w1 * w2; // (i, j) and (j, i)
+        // Distinct segments: the product rule, (i, j) and (j, i) at once.
+        for (i, p1) in pts.iter().enumerate() {
+            for p2 in &pts[(i / PER + 1) * PER..] {
+                sum += 2.0 * kernel(p1, p2);
+            }
+        }
+        // A segment with itself: for each outer point u, Gauss on [u0, u] and on [u, u1].
+        let (gx, gw) = gauss_legendre(PER)?;
+        for (seg, outer) in pts.chunks(PER).enumerate() {
+            let (u0, u1) = self.knots.segment_interval(seg);
+            for (x, o) in gx.iter().zip(outer) {
+                let u = 0.5 * (u0 + u1) + 0.5 * (u1 - u0) * x;
+                for inner in self.centreline_points_on(seg, u0, u, &gx, &gw).chain(self.centreline_points_on(seg, u, u1, &gx, &gw)) {
+                    sum += kernel(o, &inner);
+                }
             }
         }
         Ok(sum / (4.0 * PI))
     }
 
-    /// Twist of a closed rod (turns): (1/2π) ∮ τ ds with the exact Frenet
-    /// torsion (not the regularised one of the energy), plus the imposed
-    /// excess link. Errors where the ring has an inflection (τ undefined).
+    /// Twist of a closed rod (turns), plus the imposed excess link. Frenet
+    /// model: (1/2π) ∮ τ ds with the exact Frenet torsion (not the
+    /// regularised one of the energy); errors where the ring has an
+    /// inflection (τ undefined). Reference model: (1/2π) ∮ ω ds with the
+    /// material twist ω = θ′/|r′| + ω_ref of the energy (SPEC §2.3) on the
+    /// energy's quadrature, defined everywhere (∮ θ′ du = 0 on a ring).
     pub fn twist(&self) -> Result<f64> {
         self.require_ring("twist")?;
+        if self.opts.model == crate::energy::FrameModel::Reference {
+            let strains = self.strains();
+            let mut sum = 0.0;
+            for (s, st) in self.cache.samples.iter().zip(&strains) {
+                let ls = super::samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis);
+                // s.w is the rest arc-length weight; the current one scales by |r′| / |r′⁰|.
+                sum += s.w / s.consts.speed0 * ls.r1.norm() * st.omega;
+            }
+            return Ok(sum / (2.0 * PI) + self.excess_link);
+        }
         let undefined = || Error::singular("twist: the ring has an inflection (straight somewhere), so its Frenet torsion (and the Frenet model's twist) is undefined there");
         let mut sum = 0.0;
         let pts = self.centreline_points(8)?;
-        for (k, (_, _, w, tau, _)) in pts.iter().enumerate() {
+        for (k, c) in pts.iter().enumerate() {
             // An inflection between two points flips the binormal.
-            let (b0, b1) = (pts[k].4, pts[(k + 1) % pts.len()].4);
-            if b0.dot(&b1) <= 0.0 {
+            if c.binormal.dot(&pts[(k + 1) % pts.len()].binormal) <= 0.0 {
                 return Err(undefined());
             }
-            sum += w * tau.ok_or_else(undefined)?;
+            sum += c.w * c.tau.ok_or_else(undefined)?;
         }
         Ok(sum / (2.0 * PI) + self.excess_link)
     }
