@@ -19,6 +19,7 @@
 use nalgebra::Vector3;
 use strandkit::constraint::{ConstraintKind, Row, Side};
 use strandkit::prelude::*;
+use strandkit::energy::FrameModel;
 use strandkit::spline::KnotVector;
 
 /// Deterministic pseudo-random numbers in [-1, 1).
@@ -35,7 +36,7 @@ fn material() -> Material {
 }
 
 /// A curved, rolled rod of 8 control points: open (clamped knots) or closed.
-fn rod(closed: bool, seed: u64) -> Rod {
+fn rod(closed: bool, seed: u64, model: FrameModel) -> Rod {
     let n = 8;
     let mut rng = Lcg(seed);
     let mut q = Vec::with_capacity(4 * n);
@@ -45,7 +46,7 @@ fn rod(closed: bool, seed: u64) -> Rod {
         q.extend([x + 0.05 * rng.next(), y + 0.05 * rng.next(), z + 0.05 * rng.next(), 0.7 * rng.next()]);
     }
     let knots = if closed { KnotVector::periodic(n).unwrap() } else { KnotVector::clamped(n).unwrap() };
-    Rod::new(knots, 4, q, vec![Section::circle(0.01).unwrap()], material(), RodOptions::default()).unwrap()
+    Rod::new(knots, 4, q, vec![Section::circle(0.01).unwrap()], material(), RodOptions { model, ..Default::default() }).unwrap()
 }
 
 /// How the example's rods are arranged.
@@ -114,10 +115,15 @@ fn examples(name: &str) -> Vec<Example> {
 /// The rods of an example (the same one twice for one-rod kinds and for
 /// two points of one rod).
 fn rods_for(r: Rods) -> Vec<Rod> {
+    rods_with(r, FrameModel::Frenet)
+}
+
+/// The rods of an example in a given frame model.
+fn rods_with(r: Rods, m: FrameModel) -> Vec<Rod> {
     match r {
-        Rods::Open | Rods::SameRod => vec![rod(false, 1)],
-        Rods::Closed => vec![rod(true, 2)],
-        Rods::Two => vec![rod(false, 3), rod(true, 4)],
+        Rods::Open | Rods::SameRod => vec![rod(false, 1, m)],
+        Rods::Closed => vec![rod(true, 2, m)],
+        Rods::Two => vec![rod(false, 3, m), rod(true, 4, m)],
     }
 }
 
@@ -153,9 +159,14 @@ fn every_registered_kind_has_examples() {
 
 #[test]
 fn jacobians_match_central_differences() {
+    // Both frame models: the kinds that ask the model (material roll,
+    // curvature, relative orientation) differ between them. In the
+    // reference model a coordinate change transports the directors; the
+    // state after +h and back differs at second order only.
+    for model in [FrameModel::Frenet, FrameModel::Reference] {
     for info in ConstraintKind::CATALOGUE {
         for e in examples(info.name) {
-            let mut rods = rods_for(e.rods);
+            let mut rods = rods_with(e.rods, model);
             let mut kind = e.kind.clone();
             kind.validate(&pair(&rods)).unwrap();
             kind.project(&pair(&rods)).unwrap();
@@ -200,8 +211,9 @@ fn jacobians_match_central_differences() {
                     assert!((fd - col).abs() <= 1e-6 * scale.max(col.abs()), "{} abscissa column: {col} vs FD {fd}", info.name);
                 }
             }
-            println!("{:22} {:?}: worst relative Jacobian error {worst:.1e}", info.name, e.rods);
+            println!("{:22} {:?} {model:?}: worst relative Jacobian error {worst:.1e}", info.name, e.rods);
         }
+    }
     }
 }
 
@@ -225,9 +237,10 @@ fn touched_control_points_cover_every_entry() {
 #[test]
 fn reported_reaction_is_the_multipliers_through_the_jacobian() {
     let mut rng = Lcg(77);
+    for model in [FrameModel::Frenet, FrameModel::Reference] {
     for info in ConstraintKind::CATALOGUE {
         for e in examples(info.name) {
-            let rods = rods_for(e.rods);
+            let rods = rods_with(e.rods, model);
             let p2 = pair(&rods);
             let rows = linearize(&e.kind, &rods);
             let lambda: Vec<f64> = (0..rows.len()).map(|_| 100.0 * rng.next()).collect();
@@ -273,6 +286,7 @@ fn reported_reaction_is_the_multipliers_through_the_jacobian() {
                 assert!((f[0] + f[1]).norm() <= 1e-9 * scale, "{}: sides do not balance: {:?} {:?}", info.name, f[0], f[1]);
             }
         }
+    }
     }
 }
 

@@ -260,3 +260,65 @@ fn twisted_ring_keeps_its_link_while_it_writhes() {
     assert!(writhe > 0.5, "the ring should writhe (|Wr| {writhe})");
     assert!(drift < 1e-6, "Lk drifted by {drift} turns");
 }
+
+/// Bad input in the reference model: a kinked rod (its tangent reverses
+/// between neighbouring samples: coincident control points), a shape
+/// change that turns a tangent by more than 150° at once, a non-finite
+/// imposed link, and turning the end of a rod without roll coordinate:
+/// clear errors, nothing changed.
+#[test]
+fn reference_model_bad_input_is_refused_clearly() {
+    use strandkit::spline::KnotVector;
+    let options = RodOptions { model: FrameModel::Reference, ..Default::default() };
+    let section = vec![Section::circle(0.01).unwrap()];
+    let material = Material::new("m", 1e7, NU, 1000.0).unwrap();
+    // Control points 0, 1, 2, 2, 2, 1, 0: the curve goes out and comes back.
+    let mut q = Vec::new();
+    for x in [0.0, 1.0, 2.0, 2.0, 2.0, 1.0, 0.0] {
+        q.extend([x, if x < 2.0 && q.len() > 12 { 0.5 } else { 0.0 }, 0.0, 0.0]);
+    }
+    let err = Rod::new(KnotVector::clamped(7).unwrap(), 4, q.clone(), section.clone(), material.clone(), options.clone()).unwrap_err();
+    println!("kinked rod: {err}");
+    assert!(matches!(err, Error::InvalidInput { .. }) && err.to_string().contains("kink"), "{err}");
+    // The same control points in the Frenet model build (it has no directors to carry).
+    assert!(Rod::new(KnotVector::clamped(7).unwrap(), 4, q, section, material, RodOptions::default()).is_ok());
+
+    // A straight rod folded back on itself in one assignment.
+    let (mut w, h, _) = twisted(10, 0.0, false, FrameModel::Reference);
+    let rod = w.rod_mut(h).unwrap();
+    let before = rod.coords().to_vec();
+    let mut folded = before.clone();
+    for c in folded.chunks_mut(4).skip(5) {
+        c[0] = 2.0 * 0.55 - c[0];
+        c[1] += 0.05;
+    }
+    let err = rod.set_coords(&folded).unwrap_err();
+    println!("folded in one move: {err}");
+    assert!(err.to_string().contains("150°") && rod.coords() == before.as_slice());
+
+    // A non-finite imposed link.
+    let mut ring = straight_rest_ring(12, 0.0, 0.0, 0.0);
+    for bad in [f64::NAN, f64::INFINITY] {
+        let err = ring.set_excess_link(bad).unwrap_err();
+        assert!(matches!(err, Error::InvalidInput { .. }) && ring.excess_link() == 0.0, "{err}");
+    }
+
+    // Turning the end of a rod without roll coordinate.
+    let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0))
+        .with_roll(false)
+        .section(Section::circle(0.01).unwrap())
+        .material(Material::new("m", 1e7, NU, 1000.0).unwrap())
+        .options(RodOptions { model: FrameModel::Reference, ..Default::default() })
+        .build();
+    match rod {
+        Err(e) => println!("reference model without roll: {e}"),
+        Ok(rod) => {
+            let (_, u1) = rod.domain();
+            let mut w = World::new(IntegrationParameters::default());
+            let h = w.add_rod(rod);
+            let err = w.add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: [true; 4], target: [1.0, 0.0, 0.0, 6.0] }), 0.0).unwrap_err();
+            println!("turning an end without roll: {err}");
+            assert!(matches!(err, Error::InvalidInput { .. }) && w.constraints().count() == 0, "{err}");
+        }
+    }
+}

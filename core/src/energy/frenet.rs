@@ -62,8 +62,8 @@ impl FrameKinematics for Frenet {
     fn rest_values(s0: &LocalState, _state: &FrameState, delta: f64) -> (f64, f64, f64) {
         rest_values(&s0.invariants(), delta)
     }
-    fn initial_states(_samples: &[(LocalState, f64)], _closed: bool) -> Vec<FrameState> {
-        Vec::new()
+    fn initial_states(_samples: &[(LocalState, f64)], _closed: bool) -> Result<Vec<FrameState>> {
+        Ok(Vec::new())
     }
     fn transport(_state: &mut FrameState, _s: &LocalState) {}
     /// d1 is at angle θ + φ_n about t, φ_n the angle of the Frenet normal
@@ -71,7 +71,7 @@ impl FrameKinematics for Frenet {
     /// φ_b = atan2(C·e2, C·e1), C = r' × r''; wrapped to (−π, π]. The
     /// derivative includes the turning of (e1, e2) with the tangent:
     /// ∂ψ/∂r' gains (t·r)/(|P r| |r'|) e2 (P = I − t tᵀ).
-    fn material_angle(s: &LocalState, _state: &FrameState, reference: &Vector3<f64>, delta: f64) -> Result<MaterialAngle> {
+    fn material_angle(s: &LocalState, _at_sample: &LocalState, _state: &FrameState, reference: &Vector3<f64>, delta: f64) -> Result<MaterialAngle> {
         let speed = s.r1.norm();
         let t = s.r1 / speed;
         let e1p = reference - t * reference.dot(&t);
@@ -92,7 +92,7 @@ impl FrameKinematics for Frenet {
         let g_c = (e2 * c1 - e1 * c2) / cc;
         let d_r1 = s.r2.cross(&g_c) + e2 * (t.dot(reference) / (pr * speed));
         let d_r2 = g_c.cross(&s.r1);
-        Ok(MaterialAngle { angle: s.th + c2.atan2(c1) - 0.5 * PI, d_r1, d_r2, d_th: 1.0 })
+        Ok(MaterialAngle { angle: s.th + c2.atan2(c1) - 0.5 * PI, d_r1, d_r2, d_th: 1.0, ..Default::default() })
     }
     /// Where the rod is curved above the regularisation threshold the roll
     /// coordinate is measured from a Frenet normal that turns with the rod,

@@ -61,13 +61,18 @@ pub enum FrameState {
 
 /// The derivative of a material angle ψ (the angle of director d1 about the
 /// tangent, measured from a fixed reference projected ⟂ t) with respect to
-/// the local derivative vector: ψ, ∂ψ/∂r', ∂ψ/∂r'', ∂ψ/∂θ.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// the local derivative vector: ψ, ∂ψ/∂r', ∂ψ/∂r'', ∂ψ/∂θ at u, and
+/// ∂ψ/∂r' at the sample whose state the model read (the reference model
+/// carries its director from there; zero in the Frenet model), with that
+/// sample's basis derivatives on the same four control points.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MaterialAngle {
     pub angle: f64,
     pub d_r1: Vector3<f64>,
     pub d_r2: Vector3<f64>,
     pub d_th: f64,
+    pub d_r1_sample: Vector3<f64>,
+    pub sample_b1: [f64; 4],
 }
 
 /// How a clamp holds the cross-section at an abscissa (asked of the model by
@@ -105,13 +110,18 @@ pub trait FrameKinematics {
     /// The states of a rod's samples at its rest shape, in order along
     /// the rod (local state, rest weight); `closed` for a ring. Empty when
     /// the model keeps none.
-    fn initial_states(samples: &[(LocalState, f64)], closed: bool) -> Vec<FrameState>;
+    fn initial_states(samples: &[(LocalState, f64)], closed: bool) -> crate::error::Result<Vec<FrameState>>;
     /// Carries a sample's state to the new configuration after an accepted step.
     fn transport(state: &mut FrameState, s: &LocalState);
+    /// Whether `state` can be carried to the local state `s` (a tangent
+    /// defined, not turned by a half turn since the last transport).
+    fn transportable(_state: &FrameState, _s: &LocalState) -> bool {
+        true
+    }
     /// The angle of director d1 about the tangent from `reference` (unit,
     /// not parallel to the tangent), with its exact derivative. `delta`:
     /// the curvature regularisation δ = κ_ε |r0'|³ of the sample nearest u.
-    fn material_angle(s: &LocalState, state: &FrameState, reference: &Vector3<f64>, delta: f64) -> crate::error::Result<MaterialAngle>;
+    fn material_angle(s: &LocalState, at_sample: &LocalState, state: &FrameState, reference: &Vector3<f64>, delta: f64) -> crate::error::Result<MaterialAngle>;
     /// How a clamp at this local state holds the cross-section.
     fn hold_cross_section(s: &LocalState, delta: f64) -> HoldCrossSection;
     /// The material frame (d1, d2, d3) at a local state: d3 the unit
@@ -136,10 +146,16 @@ impl FrameModel {
             FrameModel::Reference => reference::Reference::active_slots(terms),
         }
     }
-    pub fn initial_states(self, samples: &[(LocalState, f64)], closed: bool) -> Vec<FrameState> {
+    pub fn initial_states(self, samples: &[(LocalState, f64)], closed: bool) -> crate::error::Result<Vec<FrameState>> {
         match self {
             FrameModel::Frenet => frenet::Frenet::initial_states(samples, closed),
             FrameModel::Reference => reference::Reference::initial_states(samples, closed),
+        }
+    }
+    pub fn transportable(self, state: &FrameState, s: &LocalState) -> bool {
+        match self {
+            FrameModel::Frenet => frenet::Frenet::transportable(state, s),
+            FrameModel::Reference => reference::Reference::transportable(state, s),
         }
     }
     pub fn transport(self, state: &mut FrameState, s: &LocalState) {
@@ -148,10 +164,10 @@ impl FrameModel {
             FrameModel::Reference => reference::Reference::transport(state, s),
         }
     }
-    pub fn material_angle(self, s: &LocalState, state: &FrameState, reference: &Vector3<f64>, delta: f64) -> crate::error::Result<MaterialAngle> {
+    pub fn material_angle(self, s: &LocalState, at_sample: &LocalState, state: &FrameState, reference: &Vector3<f64>, delta: f64) -> crate::error::Result<MaterialAngle> {
         match self {
-            FrameModel::Frenet => frenet::Frenet::material_angle(s, state, reference, delta),
-            FrameModel::Reference => reference::Reference::material_angle(s, state, reference, delta),
+            FrameModel::Frenet => frenet::Frenet::material_angle(s, at_sample, state, reference, delta),
+            FrameModel::Reference => reference::Reference::material_angle(s, at_sample, state, reference, delta),
         }
     }
     pub fn hold_cross_section(self, s: &LocalState, delta: f64) -> HoldCrossSection {

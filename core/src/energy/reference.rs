@@ -41,6 +41,9 @@ use std::ops::{Add, Mul, Sub};
 /// The reference-frame model (SPEC §2.3).
 pub struct Reference;
 
+/// cos 150°, negated: neighbouring samples' tangents must stay within 150°.
+const KINK_COS: f64 = 0.866;
+
 /// What a sample carries in time in the reference-frame model.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RefFrame {
@@ -190,10 +193,20 @@ impl FrameKinematics for Reference {
     /// Bishop frame, twist ω° = 0). On a closed rod the loop's holonomy
     /// (the angle the carried director misses the first one by) is spread
     /// as a uniform reference twist, so that the field closes up.
-    fn initial_states(samples: &[(LocalState, f64)], closed: bool) -> Vec<FrameState> {
+    /// A tangent that is undefined or turns by more than 150° between
+    /// neighbouring samples (a kink: coincident control points) is refused —
+    /// the smallest rotation is ill-conditioned there.
+    fn initial_states(samples: &[(LocalState, f64)], closed: bool) -> Result<Vec<FrameState>> {
         let mut d1s: Vec<Vector3<f64>> = Vec::with_capacity(samples.len());
         for (i, (s, _)) in samples.iter().enumerate() {
             let t = s.r1.normalize();
+            let kinked = i > 0 && !(samples[i - 1].0.r1.normalize().dot(&t) > -KINK_COS);
+            if !t.iter().all(|x| x.is_finite()) || kinked {
+                return Err(Error::input(format!(
+                    "reference-frame model: the rod's tangent {} at sample {i} (a kink: coincident control points?); the reference directors cannot be carried across it",
+                    if kinked { "turns by more than 150° between neighbouring samples" } else { "is undefined" }
+                )));
+            }
             let d1 = if i == 0 {
                 crate::frames::perpendicular(&t)
             } else {
@@ -223,7 +236,7 @@ impl FrameKinematics for Reference {
                 arc += 0.5 * w;
             }
         }
-        samples.iter().zip(d1s).map(|((s, _), d1)| FrameState::Reference(frame_at(s, d1, omega * s.r1.norm()))).collect()
+        Ok(samples.iter().zip(d1s).map(|((s, _), d1)| FrameState::Reference(frame_at(s, d1, omega * s.r1.norm()))).collect())
     }
 
     /// Energy density of bending and twist with its derivatives in d,
@@ -369,10 +382,43 @@ impl FrameKinematics for Reference {
         let d1 = transported_d1(f, &t);
         *f = frame_at(s, d1, f.omega + dw);
     }
-    fn material_angle(_s: &LocalState, _state: &FrameState, _reference: &Vector3<f64>, _delta: f64) -> Result<MaterialAngle> {
-        Err(Error::input(
-            "material roll constraints are not available with the reference-frame model yet: clamp the roll coordinate instead (World::clamp holds θ, the angle from the transported director)",
-        ))
+    /// The angle ψ of the material director m1 about t from `reference`
+    /// (projected ⟂ t): ψ = θ + α, α the angle of the director carried from
+    /// the sample's state to the sample's current tangent t_s (in time) and
+    /// on to t at u (along the rod), both by smallest rotations. Going via
+    /// t_s makes ψ independent of when the sample was last transported.
+    /// With δt = (I − t tᵀ) δr′/|r′|: the outer rotation turns the director
+    /// about t by (t × t_s)·δt/(1 + t_s·t), the projected reference by
+    /// −(t·ref)/|ref⊥| e2·δt; a change of t_s turns it by the change of the
+    /// spherical triangle (t°, t_s, t)'s area A, tan(A/2) = t°·(t_s × t) /
+    /// (1 + t°·t_s + t_s·t + t·t°). ψ does not depend on r″. Defined
+    /// wherever the reference is not along the tangent, straight or bent.
+    /// The smallest rotation from t° to t is ill-conditioned as t → −t°:
+    /// refused beyond 150° (a step that far is not resolved anyway).
+    fn transportable(state: &FrameState, s: &LocalState) -> bool {
+        let FrameState::Reference(f) = state else { return true };
+        let t = s.r1.normalize();
+        t.iter().all(|x| x.is_finite()) && Vector3::from(f.t).dot(&t) > -KINK_COS
+    }
+    fn material_angle(s: &LocalState, at_sample: &LocalState, state: &FrameState, reference: &Vector3<f64>, _delta: f64) -> Result<MaterialAngle> {
+        let f = frame_of(state);
+        let (speed, speed_s) = (s.r1.norm(), at_sample.r1.norm());
+        let (t, ts) = (s.r1 / speed, at_sample.r1 / speed_s);
+        let e1p = reference - t * reference.dot(&t);
+        let pr = e1p.norm();
+        if !(pr >= 1e-6 * reference.norm()) || !t.iter().chain(ts.iter()).all(|x| x.is_finite()) {
+            return Err(Error::invalid("material roll reference", format!("{:?}", reference.as_slice()), "a direction not parallel to the tangent"));
+        }
+        let (e1, to) = (e1p / pr, Vector3::from(f.t));
+        let e2 = t.cross(&e1);
+        let at_ts = RefFrame { d1: transported_d1(f, &ts).into(), t: ts.into(), k: [0.0; 2], omega: 0.0 };
+        let d1 = transported_d1(&at_ts, &t);
+        let alpha = d1.dot(&e2).atan2(d1.dot(&e1));
+        let d_r1 = (t.cross(&ts) / (1.0 + ts.dot(&t)) + e2 * (t.dot(reference) / pr)) / speed;
+        let (n, d) = (to.dot(&ts.cross(&t)), 1.0 + to.dot(&ts) + ts.dot(&t) + t.dot(&to));
+        let da = (t.cross(&to) * d - (to + t) * n) * (2.0 / (n * n + d * d));
+        let d_r1_sample = (da - ts * ts.dot(&da)) / speed_s;
+        Ok(MaterialAngle { angle: s.th + alpha, d_r1, d_r2: Vector3::zeros(), d_th: 1.0, d_r1_sample, sample_b1: [0.0; 4] })
     }
     /// θ is the section's angle from the transported director, which does
     /// not turn while the tangent is held: fixing θ holds the section.

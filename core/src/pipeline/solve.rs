@@ -223,7 +223,14 @@ pub(crate) fn constraint_work(world: &World) -> f64 {
 /// The second half of [`commit`]: every Poisson update possible and the
 /// divergence guard satisfied, or everything since [`begin`] undone.
 pub(crate) fn finish(world: &mut World, budget: Option<f64>) -> Result<()> {
-    let refused = world.rods.iter().find_map(|(_, r)| r.check_poisson().err());
+    let refused = world.rods.iter().find_map(|(h, r)| {
+        r.check_poisson().err().or_else(|| {
+            r.transport_obstacle().map(|why| Error::NonFinite {
+                rod: Some(h.into()),
+                detail: format!("{why} in one step: the reference directors cannot follow (reduce dt, or World(adaptive_dt=True)); the world is unchanged"),
+            })
+        })
+    });
     let mut growth = world.growth;
     let refused = refused.or_else(|| budget.and_then(|b| divergence(world, b, &mut growth)));
     if let Some(e) = refused {

@@ -160,13 +160,13 @@ impl Rod {
             cache: Cache::default(),
         };
         rod.prepare()?;
-        rod.frames = rod.initial_frames();
+        rod.frames = rod.initial_frames()?;
         Ok(rod)
     }
 
     /// The frame model's state of every sample at the current shape (empty
     /// when the model keeps none).
-    fn initial_frames(&self) -> Vec<FrameState> {
+    fn initial_frames(&self) -> Result<Vec<FrameState>> {
         let samples: Vec<(LocalState, f64)> = self
             .cache
             .samples
@@ -200,6 +200,19 @@ impl Rod {
         }
     }
 
+    /// Where the frame model's states cannot be carried to the current
+    /// shape (the reference model: a sample's tangent turned by more than
+    /// 150° since the last transport), said in words; checked before a step
+    /// is accepted and by `set_coords`.
+    pub(crate) fn transport_obstacle(&self) -> Option<String> {
+        let model = self.opts.model;
+        self.frames.iter().enumerate().find_map(|(i, st)| {
+            let s = &self.cache.samples[i];
+            let ls = samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis);
+            (!model.transportable(st, &ls)).then(|| format!("the tangent at sample {i} (u = {}) turned by more than 150°", s.u))
+        })
+    }
+
     /// The frame model of this rod.
     pub fn frame_model(&self) -> FrameModel {
         self.opts.model
@@ -213,7 +226,13 @@ impl Rod {
         let s = samples::local_state(&self.q, self.dofs, &ctrl, &b);
         let s0 = samples::local_state(&self.q_rest, self.dofs, &ctrl, &b);
         let delta = self.curvature_threshold() * s0.r1.norm().powi(3);
-        self.opts.model.material_angle(&s, self.frame_state(self.nearest_sample(u)), reference, delta)
+        // The nearest sample lies in u's segment: the same four control points.
+        let i = self.nearest_sample(u);
+        let sample = &self.cache.samples[i];
+        let at_sample = samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[sample.seg], &sample.basis);
+        let mut m = self.opts.model.material_angle(&s, &at_sample, self.frame_state(i), reference, delta)?;
+        m.sample_b1 = sample.basis[1];
+        Ok(m)
     }
 
     /// The material frame (d1, d2, d3) at abscissa u, as the frame model
@@ -389,7 +408,11 @@ impl Rod {
     /// tangent by the smallest rotation).
     pub fn set_coords(&mut self, q: &[f64]) -> Result<()> {
         check_vec("coordinates", q, self.q.len())?;
-        self.q.copy_from_slice(q);
+        let before = std::mem::replace(&mut self.q, q.to_vec());
+        if let Some(why) = self.transport_obstacle() {
+            self.q = before; // refused: the rod is as it was
+            return Err(Error::input(format!("coordinates: {why} from the current shape; the reference directors cannot follow (move it in smaller changes)")));
+        }
         self.transport_frames();
         Ok(())
     }

@@ -117,7 +117,7 @@ impl Cache {
         };
         // The frame model's states at the rest shape (reference directors
         // along the rod): the rest values are measured in them.
-        let rest_states = rod.opts.model.initial_states(&raw.iter().map(|r| (r.4, r.3)).collect::<Vec<_>>(), rod.is_closed());
+        let rest_states = rod.opts.model.initial_states(&raw.iter().map(|r| (r.4, r.3)).collect::<Vec<_>>(), rod.is_closed())?;
         c.seg_mass = vec![[[0.0; 4]; 4]; nseg];
         c.seg_inertia = vec![[[0.0; 4]; 4]; nseg];
         c.seg_drag = vec![[[0.0; 4]; 4]; nseg];

@@ -8,6 +8,7 @@ use crate::constraint::catalogue::{FieldInfo, FieldType::*, KindInfo};
 use crate::constraint::{unit, ConstraintLaw, Reaction, Row, Side};
 use crate::error::{Error, Result};
 use crate::rod::Rod;
+use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 use std::f64::consts::PI;
 
@@ -58,7 +59,7 @@ impl ConstraintLaw for MaterialRoll {
         let row = &mut rows[0];
         for k in 0..4 {
             for a in 0..3 {
-                row.push(ctrl[k] * 4 + a, b[1][k] * m.d_r1[a] + b[2][k] * m.d_r2[a]);
+                row.push(ctrl[k] * 4 + a, b[1][k] * m.d_r1[a] + b[2][k] * m.d_r2[a] + m.sample_b1[k] * m.d_r1_sample[a]);
             }
             row.push(ctrl[k] * 4 + 3, b[0][k] * m.d_th);
         }
@@ -73,7 +74,10 @@ impl ConstraintLaw for MaterialRoll {
         let m = rod.material_angle(self.u, &unit(&self.reference, "material roll reference")?)?;
         let s = rod.local_state(self.u)?;
         let t = s.r1.normalize();
-        let rigid = (s.r1.cross(&m.d_r1) + s.r2.cross(&m.d_r2)) * lambda[0];
+        let (ctrl, _) = rod.basis_at(self.u)?;
+        let q = rod.coords();
+        let r1_sample: Vector3<f64> = (0..4).map(|k| Vector3::new(q[ctrl[k] * 4], q[ctrl[k] * 4 + 1], q[ctrl[k] * 4 + 2]) * m.sample_b1[k]).sum();
+        let rigid = (s.r1.cross(&m.d_r1) + s.r2.cross(&m.d_r2) + r1_sample.cross(&m.d_r1_sample)) * lambda[0];
         Ok(Reaction::torque(rigid - t * t.dot(&rigid) + t * (m.d_th * lambda[0])))
     }
 }
