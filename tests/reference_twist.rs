@@ -322,3 +322,77 @@ fn reference_model_bad_input_is_refused_clearly() {
         }
     }
 }
+
+/// Twist under tension (SPEC §9.1): a straight rod of length L held along
+/// x under tension F (dead load on the far end, which slides along the
+/// axis) buckles at the end torque M_c = 2√(B F) when L√(F/B) → ∞. At
+/// L√(F/B) = 20 the clamped–clamped value is 2.0248 √(B F) (the smallest
+/// torque at which B w'''' − i M w''' − F w'' = 0 with w = w' = 0 at both
+/// ends has a solution; computed once with scipy, +1.24 %). Bisection on
+/// the end twist, the torque read from the end's reaction.
+#[test]
+fn twist_buckling_under_tension_at_two_root_bf() {
+    let (len, r, e, nu) = (1.0f64, 0.002f64, 1e7f64, NU);
+    let b = e * std::f64::consts::PI * r.powi(4) / 4.0;
+    let force = 400.0 * b / (len * len); // L √(F/B) = 20
+    let m_inf = 2.0 * (b * force).sqrt();
+    let m_finite = 2.0248 * (b * force).sqrt();
+    let run = |phi: f64| {
+        let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(len, 0.0, 0.0))
+            .control_points(60)
+            .with_roll(true)
+            .section(Section::circle(r).unwrap())
+            .material(Material::new("rubber", e, nu, 1000.0).unwrap())
+            .options(RodOptions { model: FrameModel::Reference, ..Default::default() })
+            .build()
+            .unwrap();
+        let (u0, u1) = rod.domain();
+        let mut w = World::new(IntegrationParameters::default());
+        let h = w.add_rod(rod);
+        w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true; 4], target: [0.0; 4] }), 0.0).unwrap();
+        w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
+        let end = w.add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: [false, true, true, true], target: [0.0, 0.0, 0.0, phi] }), 0.0).unwrap();
+        w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u1, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
+        w.add_load(Load::PointForce(PointForce { rod: h, u: u1, force: [force, 0.0, 0.0] })).unwrap();
+        let stable = w.relax().unwrap().stable.expect("relax judges the stability of a static equilibrium");
+        (stable, w.reaction(end).unwrap().torque[0].abs())
+    };
+    let gj = b / (1.0 + nu);
+    let phi_guess = m_inf * len / gj;
+    let (mut lo, mut hi) = (0.7 * phi_guess, 1.5 * phi_guess);
+    assert!(run(lo).0 && !run(hi).0, "stable at 0.7 Φ(M_c), unstable at 1.5 Φ(M_c)");
+    while hi - lo > 1e-4 * phi_guess {
+        let mid = 0.5 * (lo + hi);
+        if run(mid).0 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let (_, m) = run(lo);
+    println!(
+        "tension F = {force:.4e} N: buckling torque {m:.5e} N m at Φ = {lo:.3} rad ({:.2} turns); 2√(BF) = {m_inf:.5e} ({:+.2} %), clamped L√(F/B) = 20: {m_finite:.5e} ({:+.2} %)",
+        lo / std::f64::consts::TAU,
+        100.0 * (m / m_inf - 1.0),
+        100.0 * (m / m_finite - 1.0)
+    );
+    assert!((m / m_inf - 1.0).abs() < 0.03, "M_c {m} vs 2√(BF) {m_inf}");
+    assert!((m / m_finite - 1.0).abs() < 0.01, "M_c {m} vs the clamped-length value {m_finite}");
+}
+
+/// Robustness: a 40,000-control-point twisted straight rod (both ends
+/// clamped, the far one turned by half a turn, below the held rod's
+/// buckling twist) relaxes to the uniform twist: energy ½ GJ Φ²/L within
+/// 1e-6.
+#[test]
+fn forty_thousand_control_point_twisted_rod_relaxes() {
+    let (_, gj) = stiffnesses();
+    let phi = std::f64::consts::PI;
+    let (mut w, h, _) = twisted(40_000, phi, false, FrameModel::Reference);
+    let t0 = std::time::Instant::now();
+    let report = w.relax().unwrap();
+    let energy = w.rod(h).unwrap().elastic_energy();
+    let expected = 0.5 * gj * phi * phi / LENGTH;
+    println!("40k cp: {} solves, {:.2} s, energy {energy:.9e} vs {expected:.9e} J", report.iterations, t0.elapsed().as_secs_f64());
+    assert!((energy / expected - 1.0).abs() < 1e-6, "energy {energy} vs {expected}");
+}
