@@ -1,10 +1,7 @@
-//! Second-order jets in six variables: a value with its exact gradient and
-//! Hessian, carried through +, −, ×, 1/x and √x by the chain rule. The
-//! reference-frame energy ([`super::reference`]) is a short rational
-//! expression in the six components of (r′, r″) in the sample's old frame;
-//! evaluating it on jets gives its exact derivatives without writing out
-//! the Hessian of every intermediate by hand (each operation is the
-//! textbook product or composition rule, unit-tested below).
+//! Second-order jets in six variables (test only): a value with its exact
+//! gradient and Hessian, carried through +, −, ×, 1/x and √x by the chain
+//! rule — the plain evaluation of the reference-frame strains in (r′, r″)
+//! that [`super::qlinear`]'s structured one is checked against.
 use std::ops::{Add, Mul, Neg, Sub};
 
 /// Number of variables.

@@ -11,7 +11,9 @@
 //! transported after every accepted step, and adds its energy in d directly.
 pub mod frenet;
 pub mod invariants;
-pub mod jet;
+#[cfg(test)]
+mod jet;
+pub mod qlinear;
 pub mod reference;
 pub mod stretch;
 

@@ -26,17 +26,20 @@
 //!   κb·d1 = (C1 − p1 C3/(s + p3)) / s³,   κb·d2 = (C2 − p2 C3/(s + p3)) / s³
 //!   ω_u − ω°_u = (p2 k1 − p1 k2 − C3/s) / (s + p3)
 //!
-//! rational in six variables; their exact gradient and Hessian come from
-//! [`super::jet`]. W_b = ½ EI1 (κ1 − κ1⁰)² + ½ EI2 (κ2 − κ2⁰)²,
+//! rational in six variables and linear in q; their exact gradient and
+//! Hessian come from [`super::qlinear`] (second-order jets in p only,
+//! checked against six-variable jets). W_b = ½ EI1 (κ1 − κ1⁰)² + ½ EI2 (κ2 − κ2⁰)²,
 //! W_t = ½ GJ (ω − ω⁰)² per unit rest length, as in the Frenet model (the
 //! same EI1 ↔ d1 convention: κ1 = κ b·d1).
-use super::invariants::{LocalState, Mat5, Vec5, R1, R2, TH, TH1};
-use super::jet::{Jet, N};
+use super::invariants::{LocalState, Mat5, Vec5, R1, TH, TH1};
+use super::qlinear;
+
+/// Number of local variables (p, q).
+const N: usize = 6;
 use super::{ActiveSlots, EnergyTerms, FrameKinematics, FrameState, HoldCrossSection, LocalEnergy, MaterialAngle, MaterialFrame, SampleConsts, Strains};
 use crate::error::{Error, Result};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
-use std::ops::{Add, Mul, Sub};
 
 /// The reference-frame model (SPEC §2.3).
 pub struct Reference;
@@ -74,40 +77,18 @@ impl RefFrame {
     }
 }
 
-/// What the kinematics needs of a number type: f64 for values, [`Jet`]
-/// for values with exact first and second derivatives.
-trait Scalar: Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Mul<f64, Output = Self> + Add<f64, Output = Self> {
-    fn recip(self) -> Self;
-    fn sqrt(self) -> Self;
-}
-impl Scalar for f64 {
-    fn recip(self) -> f64 {
-        1.0 / self
-    }
-    fn sqrt(self) -> f64 {
-        f64::sqrt(self)
-    }
-}
-impl Scalar for Jet {
-    fn recip(self) -> Jet {
-        Jet::recip(self)
-    }
-    fn sqrt(self) -> Jet {
-        Jet::sqrt(self)
-    }
-}
-
 /// κb·d1, κb·d2, ω_ref − ω° and 1/|r′| from p = r′, q = r″ in the old
 /// frame's basis (module doc).
-struct Kin<T> {
-    x: T,
-    y: T,
-    dw: T,
-    inv_speed: T,
+/// Values only: the derivatives come from [`qlinear::kinematics`].
+struct Kin {
+    x: f64,
+    y: f64,
+    dw: f64,
+    inv_speed: f64,
 }
 
 #[inline(always)]
-fn kinematics<T: Scalar>(p: [T; 3], q: [T; 3], k: [f64; 2], bend: bool, twist: bool) -> Kin<T> {
+fn kinematics(p: [f64; 3], q: [f64; 3], k: [f64; 2], bend: bool, twist: bool) -> Kin {
     let a = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
     let s = a.sqrt();
     let inv_speed = s.recip();
@@ -116,7 +97,7 @@ fn kinematics<T: Scalar>(p: [T; 3], q: [T; 3], k: [f64; 2], bend: bool, twist: b
     // since the last transport (checked in `transport`, see there).
     let id = (s + p[2]).recip();
     let ia = inv_speed * inv_speed;
-    let (mut x, mut y, mut dw) = (c3 * 0.0, c3 * 0.0, c3 * 0.0);
+    let (mut x, mut y, mut dw) = (0.0, 0.0, 0.0);
     if bend {
         let c1 = p[1] * q[2] - p[2] * q[1];
         let c2 = p[2] * q[0] - p[0] * q[2];
@@ -129,6 +110,52 @@ fn kinematics<T: Scalar>(p: [T; 3], q: [T; 3], k: [f64; 2], bend: bool, twist: b
         dw = (p[1] * k[0] - p[0] * k[1] - c3 * inv_speed) * id;
     }
     Kin { x, y, dw, inv_speed }
+}
+
+/// A strain's value, gradient in (p, q) and Hessian blocks (pp packed, pq;
+/// qq = 0: every strain is linear in q, see [`qlinear`]).
+struct Strain6 {
+    v: f64,
+    g: [f64; N],
+    hpp: [f64; 6],
+    hpq: [[f64; 3]; 3],
+}
+
+impl Strain6 {
+    #[inline(always)]
+    fn of(s: &qlinear::QLinear, q: &[f64; 3]) -> Strain6 {
+        let (v, g, hpp, hpq) = s.eval(q);
+        Strain6 { v, g, hpp, hpq }
+    }
+    /// a·self + b·o.
+    #[inline(always)]
+    fn combine(&self, a: f64, o: &Strain6, b: f64) -> Strain6 {
+        Strain6 {
+            v: a * self.v + b * o.v,
+            g: std::array::from_fn(|i| a * self.g[i] + b * o.g[i]),
+            hpp: std::array::from_fn(|k| a * self.hpp[k] + b * o.hpp[k]),
+            hpq: std::array::from_fn(|i| std::array::from_fn(|j| a * self.hpq[i][j] + b * o.hpq[i][j])),
+        }
+    }
+    /// h += k (∇S ∇Sᵀ + e ∇²S) on the upper half, for ½ k e² with e = S − S⁰.
+    #[inline(always)]
+    fn add_hessian(&self, k: f64, e: f64, h: &mut [[f64; N]; N]) {
+        let ke = k * e;
+        for i in 0..N {
+            let kg = k * self.g[i];
+            for j in i..N {
+                h[i][j] += kg * self.g[j];
+            }
+        }
+        for a in 0..3 {
+            for b in a..3 {
+                h[a][b] += ke * self.hpp[qlinear::hp(a, b)];
+            }
+            for j in 0..3 {
+                h[a][3 + j] += ke * self.hpq[a][j];
+            }
+        }
+    }
 }
 
 /// p, q of a local state in the old frame's basis.
@@ -260,9 +287,7 @@ impl FrameKinematics for Reference {
             }
             return w;
         }
-        let pj: [Jet; 3] = std::array::from_fn(|i| Jet::var(i, p[i]));
-        let qj: [Jet; 3] = std::array::from_fn(|i| Jet::var(3 + i, q[i]));
-        let kin = kinematics(pj, qj, f.k, bend, twist);
+        let kin = qlinear::kinematics(p, f.k, bend, twist);
         // Derivatives in (p, q) (6), θ and θ′, then rotated to (r′, r″).
         let mut g6 = [0.0f64; N];
         let mut h66 = [[0.0f64; N]; N];
@@ -274,8 +299,9 @@ impl FrameKinematics for Reference {
         if bend {
             let (sn, cs) = s.th.sin_cos();
             // κ1 = cos θ x + sin θ y, κ2 = cos θ y − sin θ x; ∂κ1/∂θ = κ2, ∂κ2/∂θ = −κ1.
-            let k1 = kin.x * cs + kin.y * sn;
-            let k2 = kin.y * cs - kin.x * sn;
+            let (x, y) = (Strain6::of(&kin.x, &q), Strain6::of(&kin.y, &q));
+            let k1 = x.combine(cs, &y, sn);
+            let k2 = y.combine(cs, &x, -sn);
             let (e1, e2) = (k1.v - c.kappa1, k2.v - c.kappa2);
             let (a1, a2) = (c.ei1, c.ei2);
             w += 0.5 * (a1 * e1 * e1 + a2 * e2 * e2);
@@ -284,66 +310,67 @@ impl FrameKinematics for Reference {
             for i in 0..N {
                 g6[i] += a1 * e1 * k1.g[i] + a2 * e2 * k2.g[i];
                 h6_th[i] += a1 * (k2.v * k1.g[i] + e1 * k2.g[i]) - a2 * (k1.v * k2.g[i] + e2 * k1.g[i]);
-                for j in i..N {
-                    h66[i][j] += a1 * (k1.g[i] * k1.g[j] + e1 * k1.h[i][j]) + a2 * (k2.g[i] * k2.g[j] + e2 * k2.h[i][j]);
-                }
             }
+            k1.add_hessian(a1, e1, &mut h66);
+            k2.add_hessian(a2, e2, &mut h66);
         }
         if twist {
-            let om = (kin.dw + (s.th1 + f.omega)) * kin.inv_speed;
-            let e3 = om.v - c.omega;
+            // Ω = (θ′ + ω°_u + w)/|p|: its f and G_j times 1/|p|.
             let is = kin.inv_speed;
+            let om = qlinear::QLinear { f: is.scale(s.th1 + f.omega).add(kin.w.f.mul(is)), gq: kin.w.gq.map(|g| g.mul(is)) };
+            let om = Strain6::of(&om, &q);
+            let e3 = om.v - c.omega;
             w += 0.5 * c.gj * e3 * e3;
             g_th1 += c.gj * e3 * is.v;
             h_th1th1 += c.gj * is.v * is.v;
             for i in 0..N {
                 g6[i] += c.gj * e3 * om.g[i];
-                h6_th1[i] += c.gj * (is.v * om.g[i] + e3 * is.g[i]);
-                for j in i..N {
-                    h66[i][j] += c.gj * (om.g[i] * om.g[j] + e3 * om.h[i][j]);
-                }
+                // ∂Ω/∂θ′ = 1/|p|, a function of p only.
+                h6_th1[i] += c.gj * (is.v * om.g[i] + e3 * if i < 3 { is.g[i] } else { 0.0 });
             }
+            om.add_hessian(c.gj, e3, &mut h66);
         }
-        for i in 0..N {
-            for j in 0..i {
-                h66[i][j] = h66[j][i];
-            }
-        }
-        // Back to world components: r′ = Σ_i p_i e_i, so ∂/∂r′ = Σ_i e_i ∂/∂p_i.
-        let slot = |i: usize| if i < 3 { (R1, i) } else { (R2, i - 3) };
+        // Back to world components: r′ = Σ_b p_b e_b, so ∂/∂r′ = Σ_b e_b ∂/∂p_b,
+        // and each 3×3 Hessian block X becomes Eᵀ X E (E's rows e_b).
+        let rot = |v: &[f64]| -> [f64; 3] { std::array::from_fn(|a| e[0][a] * v[0] + e[1][a] * v[1] + e[2][a] * v[2]) };
         let grad = out.grad.as_mut_slice();
-        for (i, &gi) in g6.iter().enumerate() {
-            let (o, b) = slot(i);
+        for blk in 0..2 {
+            let gw = rot(&g6[3 * blk..3 * blk + 3]);
             for a in 0..3 {
-                grad[o + a] += e[b][a] * gi;
+                grad[R1 + 3 * blk + a] += gw[a];
             }
         }
         grad[TH] += g_th;
         grad[TH1] += g_th1;
-        // H_world = Eᵀ H E per 3×3 block (E rows: e0, e1, e2).
-        let mut tmp = [[0.0f64; 6]; N]; // H E: row i, world column (slot, a)
-        for i in 0..N {
-            for j in 0..N {
-                let (_, b) = slot(j);
-                let col = if j < 3 { 0 } else { 3 };
-                for a in 0..3 {
-                    tmp[i][col + a] += h66[i][j] * e[b][a];
+        let h = &mut out.hess;
+        for (bi, bj) in [(0, 0), (0, 1), (1, 1)] {
+            // X = h66 block (bi, bj), the upper half stored for diagonal blocks.
+            let x = |r: usize, c: usize| if bi == bj && c < r { h66[3 * bi + c][3 * bj + r] } else { h66[3 * bi + r][3 * bj + c] };
+            // T = X E, then W = Eᵀ T.
+            let mut t = [[0.0f64; 3]; 3];
+            for r in 0..3 {
+                for c in 0..3 {
+                    t[r][c] = x(r, 0) * e[0][c] + x(r, 1) * e[1][c] + x(r, 2) * e[2][c];
+                }
+            }
+            for a in 0..3 {
+                for c in 0..3 {
+                    let wv = e[0][a] * t[0][c] + e[1][a] * t[1][c] + e[2][a] * t[2][c];
+                    h[(R1 + 3 * bi + a, R1 + 3 * bj + c)] += wv;
+                    if bi != bj {
+                        h[(R1 + 3 * bj + c, R1 + 3 * bi + a)] += wv;
+                    }
                 }
             }
         }
-        let h = &mut out.hess;
-        for i in 0..N {
-            let (oi, bi) = slot(i);
+        for blk in 0..2 {
+            let (ht, ht1) = (rot(&h6_th[3 * blk..3 * blk + 3]), rot(&h6_th1[3 * blk..3 * blk + 3]));
             for a in 0..3 {
-                let ei = e[bi][a];
-                for cb in 0..6 {
-                    let oc = if cb < 3 { R1 + cb } else { R2 + cb - 3 };
-                    h[(oi + a, oc)] += ei * tmp[i][cb];
-                }
-                h[(oi + a, TH)] += ei * h6_th[i];
-                h[(TH, oi + a)] += ei * h6_th[i];
-                h[(oi + a, TH1)] += ei * h6_th1[i];
-                h[(TH1, oi + a)] += ei * h6_th1[i];
+                let i = R1 + 3 * blk + a;
+                h[(i, TH)] += ht[a];
+                h[(TH, i)] += ht[a];
+                h[(i, TH1)] += ht1[a];
+                h[(TH1, i)] += ht1[a];
             }
         }
         h[(TH, TH)] += h_thth;
