@@ -396,3 +396,24 @@ fn forty_thousand_control_point_twisted_rod_relaxes() {
     println!("40k cp: {} solves, {:.2} s, energy {energy:.9e} vs {expected:.9e} J", report.iterations, t0.elapsed().as_secs_f64());
     assert!((energy / expected - 1.0).abs() < 1e-6, "energy {energy} vs {expected}");
 }
+
+/// Opening a ring (rupture) in the reference model: the opened rod keeps
+/// the parent's directors and rest values, and the imposed link as a
+/// rest-twist offset, so a writhed, twisted ring opens without changing
+/// its energy beyond the cut segment's quadrature.
+#[test]
+fn an_opened_twisted_ring_keeps_its_energy() {
+    let mut w = World::new(IntegrationParameters { dt: 2e-4, ..Default::default() });
+    let h = w.add_rod(straight_rest_ring(40, 0.0, 3.0, 1e-5));
+    for _ in 0..1000 {
+        w.step().unwrap();
+    }
+    let ring = w.rod(h).unwrap();
+    assert!(ring.writhe().unwrap().abs() > 0.01, "the ring should have started writhing");
+    let e = ring.elastic_energy();
+    let (a, b) = ring.domain();
+    let strandkit::rod::Cut::Opened(open) = ring.cut_at(a + 0.3137 * (b - a)).unwrap() else { panic!("a ring opens into one rod") };
+    let e_open = open.elastic_energy();
+    println!("ring {e:.9e} J, opened {e_open:.9e} J ({:+.1e})", e_open / e - 1.0);
+    assert!((e_open / e - 1.0).abs() < 1e-4, "{e_open} vs {e}");
+}

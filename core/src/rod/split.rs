@@ -99,6 +99,19 @@ impl Rod {
         // takes the state of the old sample nearest its abscissa.
         if !self.frames.is_empty() {
             rod.frames = rod.sample_params().into_iter().map(|s| self.frames[self.nearest_sample(old_abscissa(s))].clone()).collect();
+            // Rest values are measured in the rest directors, which the
+            // piece's own construction would restart (a Bishop frame from
+            // its first sample): keep the parent's, interpolated like the
+            // offsets, so that the copied directors and the rest values
+            // still agree. A ring's link shift leaves them (cut_at carries
+            // it as a plastic offset).
+            let shift = self.link_twist_shift(self.rest_length());
+            let old_rest: Vec<Strains> = self.cache.samples.iter().map(|s| Strains { eps: 0.0, kappa1: s.rest[0], kappa2: s.rest[1], omega: s.rest[2] + shift }).collect();
+            for (k, s) in rod.sample_params().into_iter().enumerate() {
+                let r = interpolate(old_u, &old_rest, old_abscissa(s));
+                rod.cache.samples[k].rest = [r.kappa1, r.kappa2, r.omega];
+            }
+            rod.cache.refresh_plastic(&rod.plastic);
         }
         Ok(rod)
     }
