@@ -16,10 +16,15 @@ const NU: f64 = 0.5;
 /// Returns the world, the rod and the far end's position constraint (θ is
 /// its fourth axis).
 fn twisted(n_ctrl: usize, phi: f64, slide: bool, model: FrameModel) -> (World, RodHandle, ConstraintHandle) {
+    twisted_with(n_ctrl, RADIUS, phi, slide, model)
+}
+
+/// [`twisted`] with a section radius `radius` (m).
+fn twisted_with(n_ctrl: usize, radius: f64, phi: f64, slide: bool, model: FrameModel) -> (World, RodHandle, ConstraintHandle) {
     let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(LENGTH, 0.0, 0.0))
         .control_points(n_ctrl)
         .with_roll(true)
-        .section(Section::circle(RADIUS).unwrap())
+        .section(Section::circle(radius).unwrap())
         .material(Material::new("rubber", 1e7, NU, 1000.0).unwrap())
         .options(RodOptions { model, ..Default::default() })
         .build()
@@ -32,6 +37,21 @@ fn twisted(n_ctrl: usize, phi: f64, slide: bool, model: FrameModel) -> (World, R
     let end = w.add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: [!slide, true, true, true], target: [LENGTH, 0.0, 0.0, phi] }), 0.0).unwrap();
     w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u1, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
     (w, h, end)
+}
+
+/// The stability threshold between `lo` (stable) and `hi` (unstable), both
+/// checked, by bisection to `tol`.
+fn threshold(mut lo: f64, mut hi: f64, tol: f64, stable: impl Fn(f64) -> bool) -> f64 {
+    assert!(stable(lo) && !stable(hi), "the straight/circular state must be stable at {lo} and unstable at {hi}");
+    while hi - lo > tol {
+        let mid = 0.5 * (lo + hi);
+        if stable(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }
 
 /// EI and GJ of the section (N m²).
@@ -86,18 +106,7 @@ fn greenhill_twist_buckling_within_one_percent() {
     // The Frenet model cannot see it: its regularised torsion leaves a
     // straight rod's twist uncoupled from bending (issue 14's motivation).
     assert!(stable(2.0 * phi_c, FrameModel::Frenet), "the Frenet model has no twist-bending coupling on a straight rod");
-    let stable = |phi: f64| stable(phi, FrameModel::Reference);
-    let (mut lo, mut hi) = (0.5 * phi_c, 1.5 * phi_c);
-    assert!(stable(lo) && !stable(hi), "the straight twisted rod must be stable at Φ_c/2 and unstable at 1.5 Φ_c");
-    while hi - lo > 1e-4 * phi_c {
-        let mid = 0.5 * (lo + hi);
-        if stable(mid) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    let found = 0.5 * (lo + hi);
+    let found = threshold(0.5 * phi_c, 1.5 * phi_c, 1e-4 * phi_c, |phi| stable(phi, FrameModel::Reference));
     println!("Greenhill: Φ_c found {found:.5} rad, theory {phi_c:.5} rad ({:+.3} %)", 100.0 * (found / phi_c - 1.0));
     assert!((found / phi_c - 1.0).abs() < 0.01, "Φ_c {found} vs {phi_c}");
 }
@@ -203,8 +212,6 @@ fn michell_twisted_ring_within_two_percent() {
         w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: t0.into() }), 0.0).unwrap();
         w.add_constraint(h, ConstraintKind::Position(Position { u: 0.5 * (u0 + u1), axes: [false, false, true, false], target: [0.0; 4] }), 0.0).unwrap();
         let report = w.relax().unwrap();
-        let rod = w.rod(h).unwrap();
-        // At the circle the twist is the imposed link (no writhe).
         let stable = report.stable.expect("relax judges the stability of a static equilibrium");
         if stable {
             // Still the circle: its twist is the imposed link, no writhe.
@@ -213,17 +220,7 @@ fn michell_twisted_ring_within_two_percent() {
         }
         stable
     };
-    let (mut lo, mut hi) = (0.5 * tw_c, 1.5 * tw_c);
-    assert!(stable(lo) && !stable(hi), "the twisted ring must be stable at Tw_c/2 and unstable at 1.5 Tw_c");
-    while hi - lo > 1e-4 * tw_c {
-        let mid = 0.5 * (lo + hi);
-        if stable(mid) {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    let found = 0.5 * (lo + hi);
+    let found = threshold(0.5 * tw_c, 1.5 * tw_c, 1e-4 * tw_c, stable);
     println!("Michell: Tw_c found {found:.5} turns, theory {tw_c:.5} ({:+.3} %)", 100.0 * (found / tw_c - 1.0));
     assert!((found / tw_c - 1.0).abs() < 0.02, "Tw_c {found} vs {tw_c}");
 }
@@ -332,43 +329,22 @@ fn reference_model_bad_input_is_refused_clearly() {
 /// the end twist, the torque read from the end's reaction.
 #[test]
 fn twist_buckling_under_tension_at_two_root_bf() {
-    let (len, r, e, nu) = (1.0f64, 0.002f64, 1e7f64, NU);
+    let (len, r, e, nu) = (LENGTH, 0.002f64, 1e7f64, NU); // twisted_with's rubber
     let b = e * std::f64::consts::PI * r.powi(4) / 4.0;
     let force = 400.0 * b / (len * len); // L √(F/B) = 20
     let m_inf = 2.0 * (b * force).sqrt();
     let m_finite = 2.0248 * (b * force).sqrt();
     let run = |phi: f64| {
-        let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(len, 0.0, 0.0))
-            .control_points(60)
-            .with_roll(true)
-            .section(Section::circle(r).unwrap())
-            .material(Material::new("rubber", e, nu, 1000.0).unwrap())
-            .options(RodOptions { model: FrameModel::Reference, ..Default::default() })
-            .build()
-            .unwrap();
-        let (u0, u1) = rod.domain();
-        let mut w = World::new(IntegrationParameters::default());
-        let h = w.add_rod(rod);
-        w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true; 4], target: [0.0; 4] }), 0.0).unwrap();
-        w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
-        let end = w.add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: [false, true, true, true], target: [0.0, 0.0, 0.0, phi] }), 0.0).unwrap();
-        w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u1, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
+        let (mut w, h, end) = twisted_with(60, r, phi, true, FrameModel::Reference);
+        let u1 = w.rod(h).unwrap().domain().1;
         w.add_load(Load::PointForce(PointForce { rod: h, u: u1, force: [force, 0.0, 0.0] })).unwrap();
         let stable = w.relax().unwrap().stable.expect("relax judges the stability of a static equilibrium");
         (stable, w.reaction(end).unwrap().torque[0].abs())
     };
     let gj = b / (1.0 + nu);
     let phi_guess = m_inf * len / gj;
-    let (mut lo, mut hi) = (0.7 * phi_guess, 1.5 * phi_guess);
-    assert!(run(lo).0 && !run(hi).0, "stable at 0.7 Φ(M_c), unstable at 1.5 Φ(M_c)");
-    while hi - lo > 1e-4 * phi_guess {
-        let mid = 0.5 * (lo + hi);
-        if run(mid).0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
+    // Just on the stable side of the threshold: the torque it holds.
+    let lo = threshold(0.7 * phi_guess, 1.5 * phi_guess, 1e-4 * phi_guess, |phi| run(phi).0) - 0.5e-4 * phi_guess;
     let (_, m) = run(lo);
     println!(
         "tension F = {force:.4e} N: buckling torque {m:.5e} N m at Φ = {lo:.3} rad ({:.2} turns); 2√(BF) = {m_inf:.5e} ({:+.2} %), clamped L√(F/B) = 20: {m_finite:.5e} ({:+.2} %)",
