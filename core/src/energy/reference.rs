@@ -94,7 +94,7 @@ fn kinematics(p: [f64; 3], q: [f64; 3], k: [f64; 2], bend: bool, twist: bool) ->
     let inv_speed = s.recip();
     let c3 = p[0] * q[1] - p[1] * q[0];
     // 1 + t°·t = (s + p3)/s: zero only if the tangent turned half a turn
-    // since the last transport (checked in `transport`, see there).
+    // since the last transport (refused beyond 150°: `transportable`).
     let id = (s + p[2]).recip();
     let ia = inv_speed * inv_speed;
     let (mut x, mut y, mut dw) = (0.0, 0.0, 0.0);
