@@ -5,10 +5,10 @@
 //! ω°_u. Rates per u, not per arc length: transport is a rotation at fixed
 //! u, so per-u rates add exactly when the rod stretches (per arc length
 //! they would mix the old and the new |r′|, and ∮ ω ds would drift from
-//! Lk − Wr by the strain). In a step the
-//! director is the smallest rotation of d1° onto the current tangent t
-//! (time-parallel transport, as Discrete Elastic Rods and Meier–Popp–Wall
-//! 2014 carry it), so everything is defined where the curvature vanishes:
+//! Lk − Wr by the strain). In a step the director is the smallest rotation
+//! of d1° onto the current tangent t (time-parallel transport, as Discrete
+//! Elastic Rods and Meier–Popp–Wall 2014 carry it), so everything is
+//! defined where the curvature vanishes:
 //!
 //!   κb = t × t_s = r′×r″/|r′|³     (curvature binormal)
 //!   d1 = d1° − (d1°·t)/(1 + t°·t) (t° + t),  d2 = t × d1
@@ -16,11 +16,10 @@
 //!   ω  = (θ′ + ω_u)/|r′|,  ω_u = ω°_u + (t × t°)·(t°_u + t_u)/(1 + t°·t)
 //!
 //! The last line is the twist per u of the transported field (the smallest
-//! rotation's angular rate along u, projected on t); its first variation
-//! at t = t° is (t° × t°_s)·δt per arc length, the local formula of SPEC
-//! §2.3, so the
-//! energy of a sample depends on that sample's (r′, r″, θ, θ′) only and
-//! the band is unchanged. In the old frame's basis (d1°, d2°, t°), with
+//! rotation's angular rate along u, projected on t); its first variation at
+//! t = t° is (t° × t°_s)·δt per arc length, the local formula of SPEC §2.3,
+//! so the energy of a sample depends on that sample's (r′, r″, θ, θ′) only
+//! and the band is unchanged. In the old frame's basis (d1°, d2°, t°), with
 //! p = r′ and q = r″ in that basis, C = p × q and s = |p|:
 //!
 //!   κb·d1 = (C1 − p1 C3/(s + p3)) / s³,   κb·d2 = (C2 − p2 C3/(s + p3)) / s³
@@ -28,9 +27,10 @@
 //!
 //! rational in six variables and linear in q; their exact gradient and
 //! Hessian come from [`super::qlinear`] (second-order jets in p only,
-//! checked against six-variable jets). W_b = ½ EI1 (κ1 − κ1⁰)² + ½ EI2 (κ2 − κ2⁰)²,
-//! W_t = ½ GJ (ω − ω⁰)² per unit rest length, as in the Frenet model (the
-//! same EI1 ↔ d1 convention: κ1 = κ b·d1).
+//! checked against six-variable jets).
+//! W_b = ½ EI1 (κ1 − κ1⁰)² + ½ EI2 (κ2 − κ2⁰)², W_t = ½ GJ (ω − ω⁰)² per
+//! unit rest length, as in the Frenet model (the same EI1 ↔ d1 convention:
+//! κ1 = κ b·d1).
 use super::invariants::{LocalState, Mat5, Vec5, R1, TH, TH1};
 use super::qlinear;
 
