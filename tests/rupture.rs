@@ -24,10 +24,6 @@ fn max_mismatch(rod: &Rod, piece_at: impl Fn(f64) -> (Vec<f64>, Vector3<f64>)) -
     worst
 }
 
-fn deformed_helix(knots: KnotKind) -> Rod {
-    deformed_helix_in(knots, strandkit::energy::FrameModel::Frenet)
-}
-
 fn deformed_helix_in(knots: KnotKind, model: strandkit::energy::FrameModel) -> Rod {
     let mut rod = RodBuilder::helix(0.1, 0.05, 1.5)
         .control_points(24)

@@ -55,9 +55,6 @@ impl Jet {
         let s = self.v.sqrt();
         self.compose(s, 0.5 / s, -0.25 / (s * self.v))
     }
-    pub fn scale(self, k: f64) -> Jet {
-        self * k
-    }
 }
 
 impl Add for Jet {
