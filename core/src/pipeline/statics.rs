@@ -245,6 +245,15 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
             continue;
         }
         potential = trial;
+        // Reference directors follow every accepted iterate (the energy is
+        // continuous across a transport, so `potential` stands), keeping
+        // the smallest rotations short however far the rod turns overall.
+        // An iterate that turned a tangent past 150° keeps the old ones.
+        for (_, r) in world.rods.iter_mut() {
+            if r.transport_obstacle().is_none() {
+                r.transport_frames();
+            }
+        }
         report.increment = dx;
         report.violation = violation;
         if newton && newton_step && dx <= tol * length && dth <= tol && violation <= tol * length && dbead <= tol * 1e3 {
