@@ -1,7 +1,7 @@
 //! The contact seam (SPEC §7; rapier keeps contacts apart from joints the
 //! same way): a [`ContactSet`] of unilateral pairs, produced each step by
-//! the world's [`ContactDetector`]s (none exist yet: collision detection is
-//! the contact issue's work), entering the same KKT system as the
+//! the world's [`ContactDetector`]s ([`rods::RodContacts`]: rod–rod and
+//! self-contact between capsules), entering the same KKT system as the
 //! constraints, with an active set — a pair whose multiplier would pull is
 //! dropped and the system solved again; a candidate that the solution
 //! would push through its gap is taken in.
@@ -10,6 +10,9 @@
 //! pushes the rods apart: [`ConstraintKind::Contact`] between two rods
 //! (g = |r_a − r_b| − distance), or [`ConstraintKind::Plane`] for a rod
 //! against a fixed plane whose normal points out of the obstacle.
+pub mod capsule;
+pub mod rods;
+
 use crate::constraint::ConstraintKind;
 use crate::error::{Error, Result};
 use crate::handles::RodHandle;
@@ -57,9 +60,9 @@ impl ContactSet {
     }
 }
 
-/// Fills the contact set from the rods before each solve. Implemented by
-/// the collision detection of the contact issue; none is registered yet,
-/// and pairs put in the set by hand then stay as given.
+/// Fills the contact set from the rods before each solve
+/// ([`rods::RodContacts`]); without a detector, pairs put in the set by
+/// hand stay as given.
 pub trait ContactDetector: Send + Sync + std::fmt::Debug {
     fn detect(&self, rods: &[(RodHandle, &crate::rod::Rod)], out: &mut ContactSet) -> Result<()>;
 }

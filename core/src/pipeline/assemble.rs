@@ -198,9 +198,9 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
             c.kind.project(&[a, b])?;
         }
     }
+    let previous = if detectors.is_empty() { Vec::new() } else { std::mem::take(&mut contacts.pairs) };
     if !detectors.is_empty() {
         let list: Vec<_> = rod_arena.iter().map(|(i, r)| (i.into(), r)).collect();
-        contacts.pairs.clear();
         for d in detectors.iter() {
             d.detect(&list, contacts)?;
         }
@@ -208,6 +208,14 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
     for p in contacts.pairs.iter_mut() {
         if let (Some(a), Some(b)) = (rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
             p.kind.project(&[a, b])?;
+        }
+    }
+    // A pair detected again keeps its place in the active set (and its
+    // force): the active-set rounds re-assemble, and each assembly detects.
+    for p in contacts.pairs.iter_mut() {
+        if let Some(old) = previous.iter().find(|o| o.active && o.rods == p.rods && same_place(&o.kind, &p.kind)) {
+            p.active = true;
+            p.force = old.force;
         }
     }
     index(ws, rod_arena, constraints);
@@ -221,6 +229,16 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
         b.u_assembled = b.u;
     }
     Ok(energy)
+}
+
+/// Two contact rows at the same place (abscissae within half a parameter
+/// unit, a fraction of a knot span).
+fn same_place(a: &crate::constraint::ConstraintKind, b: &crate::constraint::ConstraintKind) -> bool {
+    use crate::constraint::ConstraintKind::Contact;
+    match (a, b) {
+        (Contact(x), Contact(y)) => (x.ua - y.ua).abs() + (x.ub - y.ub).abs() < 0.5,
+        (x, y) => x == y,
+    }
 }
 
 /// External generalised forces (III.1–III.10: gravity and the loads, the

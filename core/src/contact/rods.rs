@@ -1,0 +1,183 @@
+//! Rod–rod and self-contact detection (SPEC §7, thesis III.75–81): each
+//! rod is a chain of capsules between consecutive samples (its ends
+//! included), of the rod's largest section radius. A uniform grid finds
+//! the capsules that may touch (O(n) for a bounded density); the closed
+//! form of [`super::capsule`] gives their closest points; a pair closer
+//! than the radii plus `margin` becomes a unilateral
+//! [`ConstraintKind::Contact`] (|r_a − r_b| ≥ r_a + r_b), which the
+//! assembly then moves to the splines' exact closest points. Of several
+//! capsule pairs around one touching point only mutual nearest neighbours
+//! are kept, so one crossing gives one row (two identical rows would make
+//! the system singular), while strands lying side by side get one row per
+//! capsule. A rod's own capsules closer along it than π (r_a + r_b) (the
+//! shortest loop that can touch itself) are never paired.
+use super::capsule::closest_on_segments;
+use super::{ContactDetector, ContactPair, ContactSet};
+use crate::constraint::kinds::Contact;
+use crate::constraint::ConstraintKind;
+use crate::error::{Error, Result};
+use crate::handles::RodHandle;
+use crate::rod::Rod;
+use nalgebra::Vector3;
+use std::collections::HashMap;
+use std::f64::consts::PI;
+
+/// Which contacts to detect, and how early (`margin`, length unit: pairs
+/// closer than their radii plus the margin enter the active-set candidates,
+/// so that a step does not tunnel through).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RodContacts {
+    pub margin: f64,
+    pub self_contact: bool,
+    pub between_rods: bool,
+}
+
+impl RodContacts {
+    pub fn new(margin: f64, self_contact: bool, between_rods: bool) -> Result<RodContacts> {
+        if !(margin >= 0.0) || !margin.is_finite() {
+            return Err(Error::invalid("contact margin", margin, "a finite length ≥ 0"));
+        }
+        Ok(RodContacts { margin, self_contact, between_rods })
+    }
+}
+
+/// One capsule: its rod (index in the detector's list), its axis from p
+/// (abscissa ua, arc position sa) to q (ub, sb), its radius.
+struct Capsule {
+    rod: usize,
+    p: Vector3<f64>,
+    q: Vector3<f64>,
+    ua: f64,
+    ub: f64,
+    sa: f64,
+    radius: f64,
+}
+
+/// The capsules of one rod: between the domain ends and the samples (a
+/// ring closes its chain). Returns them and the chain's length.
+fn capsules(index: usize, rod: &Rod, out: &mut Vec<Capsule>) -> Result<f64> {
+    let (u0, u1) = rod.domain();
+    let mut us = rod.sample_params();
+    if !rod.is_closed() {
+        us.insert(0, u0);
+        us.push(u1);
+    }
+    let pts: Vec<Vector3<f64>> = us.iter().map(|&u| rod.position(u)).collect::<Result<_>>()?;
+    let radius = rod.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max);
+    let n = if rod.is_closed() { pts.len() } else { pts.len() - 1 };
+    let mut arc = 0.0;
+    for k in 0..n {
+        let j = (k + 1) % pts.len();
+        // A ring's last capsule runs to the first sample, one period on.
+        let ub = if j == 0 { us[0] + (u1 - u0) } else { us[j] };
+        out.push(Capsule { rod: index, p: pts[k], q: pts[j], ua: us[k], ub, sa: arc, radius });
+        arc += (pts[j] - pts[k]).norm();
+    }
+    Ok(arc)
+}
+
+impl ContactDetector for RodContacts {
+    fn detect(&self, rods: &[(RodHandle, &Rod)], out: &mut ContactSet) -> Result<()> {
+        if !self.self_contact && !self.between_rods {
+            return Ok(());
+        }
+        let mut caps = Vec::new();
+        let mut chain = Vec::with_capacity(rods.len());
+        for (i, (_, rod)) in rods.iter().enumerate() {
+            chain.push(capsules(i, rod, &mut caps)?);
+        }
+        if caps.is_empty() {
+            return Ok(());
+        }
+        // Grid cells larger than any capsule plus the reach: a touching
+        // pair's midpoints are then in neighbouring cells.
+        let rmax = caps.iter().map(|c| c.radius).fold(0.0, f64::max);
+        let lmax = caps.iter().map(|c| (c.q - c.p).norm()).fold(0.0, f64::max);
+        let cell = lmax + 2.0 * rmax + self.margin;
+        if !(cell > 0.0) || !cell.is_finite() {
+            return Err(Error::input("contact detection: the rods have no extent (zero capsule length and radius)"));
+        }
+        let key = |c: &Capsule| {
+            let m = 0.5 * (c.p + c.q) / cell;
+            [m.x.floor() as i64, m.y.floor() as i64, m.z.floor() as i64]
+        };
+        let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
+        for (i, c) in caps.iter().enumerate() {
+            grid.entry(key(c)).or_default().push(i);
+        }
+        // Candidates, and each capsule's nearest partner among them.
+        let mut found: Vec<(usize, usize, f64, f64, f64)> = Vec::new();
+        let mut best: Vec<(usize, f64)> = vec![(usize::MAX, f64::INFINITY); caps.len()];
+        for (i, a) in caps.iter().enumerate() {
+            let k = key(a);
+            for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let Some(list) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) else { continue };
+                        for &j in list.iter().filter(|&&j| j > i) {
+                            let b = &caps[j];
+                            let same = a.rod == b.rod;
+                            if (same && !self.self_contact) || (!same && !self.between_rods) {
+                                continue;
+                            }
+                            let reach = a.radius + b.radius;
+                            if same {
+                                let d = (b.sa - a.sa).abs();
+                                let along = if rods[a.rod].1.is_closed() { d.min(chain[a.rod] - d) } else { d };
+                                if along < PI * reach || j == i + 1 {
+                                    continue;
+                                }
+                            }
+                            let (s, t, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
+                            if dist < reach + self.margin {
+                                found.push((i, j, s, t, dist));
+                                if dist < best[i].1 {
+                                    best[i] = (j, dist);
+                                }
+                                if dist < best[j].1 {
+                                    best[j] = (i, dist);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        let mut kept = Vec::new();
+        for (i, j, s, t, _) in found {
+            if best[i].0 != j || best[j].0 != i {
+                continue;
+            }
+            let (a, b) = (&caps[i], &caps[j]);
+            let wrap = |rod: &Rod, u: f64| {
+                let (u0, u1) = rod.domain();
+                if rod.is_closed() {
+                    u0 + (u - u0).rem_euclid(u1 - u0)
+                } else {
+                    u.clamp(u0, u1)
+                }
+            };
+            let (ra, rb) = (rods[a.rod].1, rods[b.rod].1);
+            let mut kind = ConstraintKind::Contact(Contact {
+                ua: wrap(ra, a.ua + s * (a.ub - a.ua)),
+                ub: wrap(rb, b.ua + t * (b.ub - b.ua)),
+                distance: a.radius + b.radius,
+            });
+            // On to the splines' closest points; two capsule pairs that
+            // land on the same touching point (a crossing at a shared
+            // capsule end) would give two identical rows: keep one.
+            kind.project(&[ra, rb])?;
+            let ConstraintKind::Contact(c) = &kind else { unreachable!("built as a contact just above") };
+            let (pa, pb) = (ra.position(c.ua)?, rb.position(c.ub)?);
+            let handles = [rods[a.rod].0, rods[b.rod].0];
+            let duplicate = kept.iter().any(|(h, qa, qb): &([RodHandle; 2], Vector3<f64>, Vector3<f64>)| {
+                *h == handles && (qa - pa).norm() < 0.25 * c.distance && (qb - pb).norm() < 0.25 * c.distance
+            });
+            if !duplicate {
+                kept.push((handles, pa, pb));
+                out.pairs.push(ContactPair::new(handles, kind)?);
+            }
+        }
+        Ok(())
+    }
+}
