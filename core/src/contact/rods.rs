@@ -5,12 +5,16 @@
 //! form of [`super::capsule`] gives their closest points; a pair closer
 //! than the radii plus `margin` becomes a unilateral
 //! [`ConstraintKind::Contact`] (|r_a − r_b| ≥ r_a + r_b), which the
-//! assembly then moves to the splines' exact closest points. Of several
-//! capsule pairs around one touching point only mutual nearest neighbours
-//! are kept, so one crossing gives one row (two identical rows would make
-//! the system singular), while strands lying side by side get one row per
-//! capsule. A rod's own capsules closer along it than π (r_a + r_b) (the
-//! shortest loop that can touch itself) are never paired.
+//! assembly then moves to the splines' exact closest points. A pair is
+//! kept when one of its capsules is the other's nearest, and of those
+//! landing within half a segment of each other on both rods only the
+//! first (after both are moved to the splines' closest points): one crossing gives one row (two identical
+//! rows would make the system singular), strands lying side by side about
+//! two rows per segment (more would outnumber what the control points can
+//! meet). A rod's own capsules closer along it than π (r_a + r_b) (the
+//! shortest loop that can touch itself), or than half a circle through the
+//! margin's reach (a straight stretch has points at distance d at arc d),
+//! are never paired.
 use super::capsule::closest_on_segments;
 use super::{ContactDetector, ContactPair, ContactSet};
 use crate::constraint::kinds::Contact;
@@ -81,6 +85,8 @@ impl ContactDetector for RodContacts {
         if !self.self_contact && !self.between_rods {
             return Ok(());
         }
+        // Arc length below which a rod's own points are not paired.
+        let exclusion = |reach: f64| (PI * reach).max(0.5 * PI * (reach + self.margin));
         let mut caps = Vec::new();
         let mut chain = Vec::with_capacity(rods.len());
         for (i, (_, rod)) in rods.iter().enumerate() {
@@ -124,7 +130,10 @@ impl ContactDetector for RodContacts {
                             if same {
                                 let d = (b.sa - a.sa).abs();
                                 let along = if rods[a.rod].1.is_closed() { d.min(chain[a.rod] - d) } else { d };
-                                if along < PI * reach || j == i + 1 {
+                                // A straight stretch has points at distance d
+                                // at arc d: the margin's candidates need the
+                                // rod to have turned back, half a circle at least.
+                                if along < exclusion(reach) || j == i + 1 {
                                     continue;
                                 }
                             }
@@ -144,8 +153,10 @@ impl ContactDetector for RodContacts {
             }
         }
         let mut kept = Vec::new();
+        // Half a segment's length along each rod (its chain over its segments).
+        let spacing: Vec<f64> = rods.iter().zip(&chain).map(|((_, r), l)| 0.5 * l / r.n_segments().max(1) as f64).collect();
         for (i, j, s, t, _) in found {
-            if best[i].0 != j || best[j].0 != i {
+            if best[i].0 != j && best[j].0 != i {
                 continue;
             }
             let (a, b) = (&caps[i], &caps[j]);
@@ -169,9 +180,25 @@ impl ContactDetector for RodContacts {
             kind.project(&[ra, rb])?;
             let ConstraintKind::Contact(c) = &kind else { unreachable!("built as a contact just above") };
             let (pa, pb) = (ra.position(c.ua)?, rb.position(c.ub)?);
+            if a.rod == b.rod {
+                // The projection may slide a self pair along the rod onto
+                // itself: keep it only if it still closes a loop.
+                let (u0, u1) = ra.domain();
+                let du = (c.ua - c.ub).abs();
+                let du = if ra.is_closed() { du.min(u1 - u0 - du) } else { du };
+                let along = du * chain[a.rod] / (u1 - u0);
+                if along < exclusion(c.distance) || (pa - pb).norm() < 1e-9 * c.distance {
+                    continue;
+                }
+            }
             let handles = [rods[a.rod].0, rods[b.rod].0];
+            // Rows closer than half a segment on both rods would outnumber
+            // what the control points can meet (strands side by side).
+            let (sa, sb) = (spacing[a.rod].max(0.25 * c.distance), spacing[b.rod].max(0.25 * c.distance));
+            let near = |x: &Vector3<f64>, y: &Vector3<f64>, tol: f64| (x - y).norm() < tol;
             let duplicate = kept.iter().any(|(h, qa, qb): &([RodHandle; 2], Vector3<f64>, Vector3<f64>)| {
-                *h == handles && (qa - pa).norm() < 0.25 * c.distance && (qb - pb).norm() < 0.25 * c.distance
+                (*h == handles && near(qa, &pa, sa) && near(qb, &pb, sb))
+                    || (*h == [handles[1], handles[0]] && near(qa, &pb, sb) && near(qb, &pa, sa))
             });
             if !duplicate {
                 kept.push((handles, pa, pb));
