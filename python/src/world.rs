@@ -309,6 +309,21 @@ impl PyWorld {
         let hs = rods.iter().map(|r| Self::rod_handle(slf, r)).collect::<PyResult<Vec<_>>>()?;
         Self::with_mut(slf, |w| w.interleave(&hs))
     }
+    /// Detects contacts before every solve (SPEC §7): each rod a chain of
+    /// capsules of its largest section radius; pairs closer than their
+    /// radii plus `margin` (length; large enough that a step does not
+    /// carry a rod through another) become unilateral, frictionless
+    /// contact rows with an active set. `self_contact`: a rod against
+    /// itself (plectonemes, knots); `between_rods`: rod against rod.
+    /// Friction and obstacles are not available yet, and snapshots do not
+    /// keep the detection (call `contact` again after `World.from_json`).
+    #[pyo3(signature = (*, margin, self_contact = true, between_rods = true))]
+    fn contact(slf: &Bound<'_, Self>, margin: f64, self_contact: bool, between_rods: bool) -> PyResult<()> {
+        Self::with_mut(slf, |w| {
+            w.add_contact_detector(std::sync::Arc::new(strandkit_core::RodContacts::new(margin, self_contact, between_rods)?));
+            Ok(())
+        })
+    }
     /// Replaces a constraint's kind (same kind and rows): moving targets.
     fn set_constraint(slf: &Bound<'_, Self>, constraint: &Bound<'_, PyConstraintHandle>, kind: &Bound<'_, PyAny>) -> PyResult<()> {
         let h = Self::own(slf, constraint)?;

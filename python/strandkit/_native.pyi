@@ -550,6 +550,8 @@ class World:
         """The clips, in handle order."""
     def constraints(self):
         """The live constraints, in handle order."""
+    def contact(self, *, margin, self_contact=True, between_rods=True):
+        """Detects contacts before every solve (SPEC §7): each rod a chain of capsules of its largest section radius; pairs closer than their radii plus `margin` (length; large enough that a step does not carry a rod through another) become unilateral, frictionless contact rows with an active set."""
     def copy(self):
         """An independent deep copy."""
     dt: Any

@@ -19,6 +19,7 @@ OUTPUTS = {
     "rope_bridge.py": ["rope_bridge.dcd", "rope_bridge.pdb", "rope_bridge.png", "rope_bridge.psf", "rope_bridge_walk.png"],
     "pendulum.py": ["pendulum.csv", "pendulum.dcd", "pendulum.pdb", "pendulum.png", "pendulum.psf", "pendulum_tip.png"],
     "plastic_rupture.py": ["plastic_rupture.png"],
+    "plectoneme.py": ["plectoneme.png"],
     "quasi_dynamic.py": ["quasi_dynamic.png"],
     "sliding_points.py": ["sliding_points.png"],
     "spring.py": ["spring.dcd", "spring.glb", "spring.pdb", "spring.png", "spring.psf", "spring_end.png"],
