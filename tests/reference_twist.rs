@@ -19,16 +19,21 @@ fn twisted(n_ctrl: usize, phi: f64, slide: bool, model: FrameModel) -> (World, R
     twisted_with(n_ctrl, RADIUS, phi, slide, model)
 }
 
-/// [`twisted`] with a section radius `radius` (m).
-fn twisted_with(n_ctrl: usize, radius: f64, phi: f64, slide: bool, model: FrameModel) -> (World, RodHandle, ConstraintHandle) {
-    let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(LENGTH, 0.0, 0.0))
+/// A straight rubber rod along x (length 1 m, E = 10 MPa, ν = 0.5).
+fn rubber_rod(n_ctrl: usize, radius: f64, roll: bool, model: FrameModel) -> Rod {
+    RodBuilder::straight(Vector3::zeros(), Vector3::new(LENGTH, 0.0, 0.0))
         .control_points(n_ctrl)
-        .with_roll(true)
+        .with_roll(roll)
         .section(Section::circle(radius).unwrap())
         .material(Material::new("rubber", 1e7, NU, 1000.0).unwrap())
         .options(RodOptions { model, ..Default::default() })
         .build()
-        .unwrap();
+        .unwrap()
+}
+
+/// [`twisted`] with a section radius `radius` (m).
+fn twisted_with(n_ctrl: usize, radius: f64, phi: f64, slide: bool, model: FrameModel) -> (World, RodHandle, ConstraintHandle) {
+    let rod = rubber_rod(n_ctrl, radius, true, model);
     let (u0, u1) = rod.domain();
     let mut w = World::new(IntegrationParameters::default());
     let h = w.add_rod(rod);
@@ -403,14 +408,7 @@ fn an_opened_twisted_ring_keeps_its_energy() {
 #[test]
 fn relax_follows_a_half_turn_in_the_reference_model() {
     let energy = |model: FrameModel| {
-        let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(LENGTH, 0.0, 0.0))
-            .control_points(20)
-            .with_roll(false)
-            .section(Section::circle(RADIUS).unwrap())
-            .material(Material::new("rubber", 1e7, NU, 1000.0).unwrap())
-            .options(RodOptions { model, ..Default::default() })
-            .build()
-            .unwrap();
+        let rod = rubber_rod(20, RADIUS, false, model);
         let (u0, u1) = rod.domain();
         let mut w = World::new(IntegrationParameters::default());
         let h = w.add_rod(rod);
