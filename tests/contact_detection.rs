@@ -64,3 +64,58 @@ fn rods_pressed_across_never_pass_through() {
     println!("closest approach {closest:.6} m (radii sum {}), contact force {force:.4} N for a push of {push} N, {} active pairs", 2.0 * R, w.contacts().active().count());
     assert!((force / push - 1.0).abs() < 1e-2, "contact force {force} vs push {push}");
 }
+
+/// A rod dropped flat (slightly tilted) on a plane obstacle comes to rest on
+/// it: at rest its surface sinks below the plane by less than 1 % of its
+/// radius (less than 5 % during the impact: the rows sit about one per
+/// segment and the rod bends between them) and the plane carries its
+/// weight (within 5 %: 3 s after the drop it still rocks a little). The
+/// mechanical energy (kinetic + elastic + gravity) falls overall, but
+/// NOT strictly at every step: a row re-seated where the rod already sits
+/// slightly below the plane pushes it out and adds up to 7.5e-5 of the
+/// energy in one step (issue 15's "energy never grows" is not met yet).
+#[test]
+fn rod_dropped_on_a_plane_comes_to_rest_on_it() {
+    let mut w = World::new(IntegrationParameters { dt: 2e-3, gravity: [0.0, 0.0, -9.81], ..Default::default() });
+    let h = w.add_rod(rod(Vector3::new(-0.5, 0.0, 0.05), Vector3::new(0.5, 0.0, 0.08)));
+    w.add_contact_detector(Arc::new(strandkit::PlaneObstacle::new([0.0; 3], [0.0, 0.0, 1.0], 0.02).unwrap()));
+    let weight = w.rod(h).unwrap().mass() * 9.81;
+    let mut last = w.energy().unwrap().total();
+    let e0 = last;
+    let (mut deepest, mut at_rest, mut rise) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    for k in 0..1500 {
+        w.step().unwrap();
+        let rod = w.rod(h).unwrap();
+        let (u0, u1) = rod.domain();
+        let low = (0..=400).map(|j| rod.position(u0 + (u1 - u0) * j as f64 / 400.0).unwrap().z).fold(f64::INFINITY, f64::min) - R;
+        deepest = deepest.min(low);
+        if k >= 1200 {
+            at_rest = at_rest.min(low);
+        }
+        assert!(low > -0.05 * R, "step {k}: the surface sank {} below the plane", -low);
+        let e = w.energy().unwrap().total();
+        rise = rise.max((e - last) / last.abs());
+        last = e;
+    }
+    let force: f64 = w.contacts().active().map(|(_, p)| p.force).sum();
+    println!("deepest {:.2e} R during the impact, {:.2e} R at rest; plane force {force:.5} N for a weight of {weight:.5} N, {} rows", deepest / R, at_rest / R, w.contacts().active().count());
+    println!("largest energy rise in one step {rise:.2e} of the energy");
+    assert!(rise < 1e-4, "energy rose by {rise} of itself in one step");
+    assert!(last < e0, "the drop should dissipate: {e0} → {last}");
+    assert!(at_rest > -0.01 * R, "at rest the surface is {} below the plane", -at_rest);
+    assert!((force / weight - 1.0).abs() < 5e-2, "plane force {force} vs weight {weight}");
+}
+
+/// Bad input: a negative or non-finite margin, a non-finite origin, a zero
+/// or non-finite normal — typed errors.
+#[test]
+fn contact_detectors_refuse_bad_parameters() {
+    for m in [-1e-3, f64::NAN, f64::INFINITY] {
+        assert!(matches!(RodContacts::new(m, true, true), Err(Error::InvalidInput { .. })), "margin {m}");
+        assert!(matches!(strandkit::PlaneObstacle::new([0.0; 3], [0.0, 0.0, 1.0], m), Err(Error::InvalidInput { .. })), "margin {m}");
+    }
+    assert!(matches!(strandkit::PlaneObstacle::new([f64::NAN, 0.0, 0.0], [0.0, 0.0, 1.0], 0.0), Err(Error::InvalidInput { .. })));
+    for n in [[0.0; 3], [f64::NAN, 0.0, 1.0], [f64::INFINITY, 0.0, 0.0]] {
+        assert!(matches!(strandkit::PlaneObstacle::new([0.0; 3], n, 0.0), Err(Error::InvalidInput { .. })), "normal {n:?}");
+    }
+}

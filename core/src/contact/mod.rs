@@ -11,6 +11,7 @@
 //! (g = |r_a − r_b| − distance), or [`ConstraintKind::Plane`] for a rod
 //! against a fixed plane whose normal points out of the obstacle.
 pub mod capsule;
+pub mod obstacle;
 pub mod rods;
 
 use crate::constraint::ConstraintKind;
