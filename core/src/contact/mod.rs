@@ -19,6 +19,18 @@ use crate::error::{Error, Result};
 use crate::handles::RodHandle;
 use serde::{Deserialize, Serialize};
 
+/// The abscissae a detector probes along a rod (its samples, plus its two
+/// ends when open) and the rod's largest section radius.
+pub(crate) fn probe_points(rod: &crate::rod::Rod) -> (Vec<f64>, f64) {
+    let mut us = rod.sample_params();
+    if !rod.is_closed() {
+        let (u0, u1) = rod.domain();
+        us.insert(0, u0);
+        us.push(u1);
+    }
+    (us, rod.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max))
+}
+
 /// One unilateral contact: g(q) ≥ 0 with a non-negative multiplier.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContactPair {

@@ -40,13 +40,8 @@ impl PlaneObstacle {
 impl ContactDetector for PlaneObstacle {
     fn detect(&self, rods: &[(RodHandle, &Rod)], out: &mut ContactSet) -> Result<()> {
         for (h, rod) in rods {
-            let radius = rod.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max);
+            let (us, radius) = super::probe_points(rod);
             let (u0, u1) = rod.domain();
-            let mut us = rod.sample_params();
-            if !rod.is_closed() {
-                us.insert(0, u0);
-                us.push(u1);
-            }
             let height: Vec<f64> = us.iter().map(|&u| Ok((rod.position(u)? - self.origin).dot(&self.normal) - radius)).collect::<Result<_>>()?;
             // One segment, in the parameter.
             let span = (u1 - u0) / rod.n_segments().max(1) as f64;

@@ -61,13 +61,8 @@ struct Capsule {
 /// ring closes its chain). Returns them and the chain's length.
 fn capsules(index: usize, rod: &Rod, out: &mut Vec<Capsule>) -> Result<f64> {
     let (u0, u1) = rod.domain();
-    let mut us = rod.sample_params();
-    if !rod.is_closed() {
-        us.insert(0, u0);
-        us.push(u1);
-    }
+    let (us, radius) = super::probe_points(rod);
     let pts: Vec<Vector3<f64>> = us.iter().map(|&u| rod.position(u)).collect::<Result<_>>()?;
-    let radius = rod.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max);
     let n = if rod.is_closed() { pts.len() } else { pts.len() - 1 };
     let mut arc = 0.0;
     for k in 0..n {
@@ -163,7 +158,7 @@ impl ContactDetector for RodContacts {
             let wrap = |rod: &Rod, u: f64| {
                 let (u0, u1) = rod.domain();
                 if rod.is_closed() {
-                    u0 + (u - u0).rem_euclid(u1 - u0)
+                    rod.knots().wrap(u)
                 } else {
                     u.clamp(u0, u1)
                 }
