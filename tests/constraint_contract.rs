@@ -92,6 +92,10 @@ fn examples(name: &str) -> Vec<Example> {
             ex(Two, RelativePosition { ua: 1.1, ub: 6.3, axes: [true, true, false, true], offset: [0.1, 0.2, 0.0, 0.3] }),
             ex(SameRod, RelativePosition { ua: 0.7, ub: 4.2, axes: [true; 4], offset: [0.0; 4] }),
         ],
+        "RelativeAxis" => vec![
+            ex(Two, RelativeAxis { ua: 2.1, ub: 5.4, offset: [0.1, -0.2, 0.05], direction: d }),
+            ex(SameRod, RelativeAxis { ua: 0.9, ub: 3.7, offset: [0.0; 3], direction: d }),
+        ],
         "RelativeOrientation" => vec![
             ex(Two, RelativeOrientation { ua: 2.5, ub: 1.5, roll: true }),
             ex(SameRod, RelativeOrientation { ua: 1.0, ub: 1.8, roll: false }),
@@ -350,6 +354,10 @@ fn bad_parameters(k: &ConstraintKind) -> Vec<ConstraintKind> {
         ConstraintKind::RelativePosition(r) => {
             push(RelativePosition { offset: [nan, 0.0, 0.0, 0.0], ..r.clone() }.into());
             push(RelativePosition { axes: [false; 4], ..r.clone() }.into());
+        }
+        ConstraintKind::RelativeAxis(r) => {
+            push(RelativeAxis { direction: [0.0; 3], ..r.clone() }.into());
+            push(RelativeAxis { offset: [0.0, nan, 0.0], ..r.clone() }.into());
         }
         ConstraintKind::RelativeOrientation(_) => {} // no parameter beyond abscissae and a flag
         ConstraintKind::RelativeDistance(r) => {

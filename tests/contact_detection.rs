@@ -5,9 +5,8 @@
 //! rod b clamped in direction and free to move down, pushed at its middle)
 //! never pass through, and at rest the contact carries the push.
 use nalgebra::Vector3;
-use std::sync::Arc;
 use strandkit::prelude::*;
-use strandkit::RodContacts;
+use strandkit::{Obstacle, RodContacts};
 
 const R: f64 = 0.01;
 
@@ -49,7 +48,7 @@ fn rods_pressed_across_never_pass_through() {
     let (u0, u1) = w.rod(b).unwrap().domain();
     let push = 50.0;
     w.add_load(Load::PointForce(PointForce { rod: b, u: 0.5 * (u0 + u1), force: [0.0, 0.0, -push] })).unwrap();
-    w.add_contact_detector(Arc::new(RodContacts::new(0.02, false, true).unwrap()));
+    w.add_contact_detector(RodContacts::new(0.02, false, true).unwrap()).unwrap();
     let mut closest = f64::INFINITY;
     for k in 0..1500 {
         w.step().unwrap();
@@ -69,7 +68,7 @@ fn rods_pressed_across_never_pass_through() {
 /// it: at rest its surface sinks below the plane by less than 1 % of its
 /// radius (less than 5 % during the impact: the rows sit about one per
 /// segment and the rod bends between them) and the plane carries its
-/// weight (within 5 %: 3 s after the drop it still rocks a little). The
+/// weight (within 5 % over the last 0.6 s: it still rocks a little). The
 /// mechanical energy (kinetic + elastic + gravity) falls overall, but
 /// NOT strictly at every step: a row re-seated where the rod already sits
 /// slightly below the plane pushes it out and adds up to 7.5e-5 of the
@@ -78,11 +77,11 @@ fn rods_pressed_across_never_pass_through() {
 fn rod_dropped_on_a_plane_comes_to_rest_on_it() {
     let mut w = World::new(IntegrationParameters { dt: 2e-3, gravity: [0.0, 0.0, -9.81], ..Default::default() });
     let h = w.add_rod(rod(Vector3::new(-0.5, 0.0, 0.05), Vector3::new(0.5, 0.0, 0.08)));
-    w.add_contact_detector(Arc::new(strandkit::PlaneObstacle::new([0.0; 3], [0.0, 0.0, 1.0], 0.02).unwrap()));
+    w.add_contact_detector(Obstacle::plane([0.0; 3], [0.0, 0.0, 1.0]).unwrap().with_margin(0.02).unwrap()).unwrap();
     let weight = w.rod(h).unwrap().mass() * 9.81;
     let mut last = w.energy().unwrap().total();
     let e0 = last;
-    let (mut deepest, mut at_rest, mut rise) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+    let (mut deepest, mut at_rest, mut rise, mut carried) = (f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, 0.0);
     for k in 0..1500 {
         w.step().unwrap();
         let rod = w.rod(h).unwrap();
@@ -91,14 +90,15 @@ fn rod_dropped_on_a_plane_comes_to_rest_on_it() {
         deepest = deepest.min(low);
         if k >= 1200 {
             at_rest = at_rest.min(low);
+            carried += w.contacts().active().map(|(_, p)| p.force).sum::<f64>() / 300.0;
         }
         assert!(low > -0.05 * R, "step {k}: the surface sank {} below the plane", -low);
         let e = w.energy().unwrap().total();
         rise = rise.max((e - last) / last.abs());
         last = e;
     }
-    let force: f64 = w.contacts().active().map(|(_, p)| p.force).sum();
-    println!("deepest {:.2e} R during the impact, {:.2e} R at rest; plane force {force:.5} N for a weight of {weight:.5} N, {} rows", deepest / R, at_rest / R, w.contacts().active().count());
+    let force = carried;
+    println!("deepest {:.2e} R during the impact, {:.2e} R at rest; plane force {force:.5} N (mean of the last 300 steps) for a weight of {weight:.5} N, {} rows", deepest / R, at_rest / R, w.contacts().active().count());
     println!("largest energy rise in one step {rise:.2e} of the energy");
     assert!(rise < 1e-4, "energy rose by {rise} of itself in one step");
     assert!(last < e0, "the drop should dissipate: {e0} → {last}");
@@ -112,10 +112,10 @@ fn rod_dropped_on_a_plane_comes_to_rest_on_it() {
 fn contact_detectors_refuse_bad_parameters() {
     for m in [-1e-3, f64::NAN, f64::INFINITY] {
         assert!(matches!(RodContacts::new(m, true, true), Err(Error::InvalidInput { .. })), "margin {m}");
-        assert!(matches!(strandkit::PlaneObstacle::new([0.0; 3], [0.0, 0.0, 1.0], m), Err(Error::InvalidInput { .. })), "margin {m}");
+        assert!(matches!(Obstacle::plane([0.0; 3], [0.0, 0.0, 1.0]).unwrap().with_margin(m), Err(Error::InvalidInput { .. })), "margin {m}");
     }
-    assert!(matches!(strandkit::PlaneObstacle::new([f64::NAN, 0.0, 0.0], [0.0, 0.0, 1.0], 0.0), Err(Error::InvalidInput { .. })));
+    assert!(matches!(Obstacle::plane([f64::NAN, 0.0, 0.0], [0.0, 0.0, 1.0]), Err(Error::InvalidInput { .. })));
     for n in [[0.0; 3], [f64::NAN, 0.0, 1.0], [f64::INFINITY, 0.0, 0.0]] {
-        assert!(matches!(strandkit::PlaneObstacle::new([0.0; 3], n, 0.0), Err(Error::InvalidInput { .. })), "normal {n:?}");
+        assert!(matches!(Obstacle::plane([0.0; 3], n), Err(Error::InvalidInput { .. })), "normal {n:?}");
     }
 }

@@ -5,7 +5,6 @@
 //! then winds a plectoneme held open by self-contact: the extension falls
 //! linearly with the turns while the torque stays on a plateau below M_c.
 use nalgebra::Vector3;
-use std::sync::Arc;
 use strandkit::energy::FrameModel;
 use strandkit::prelude::*;
 use strandkit::RodContacts;
@@ -31,7 +30,7 @@ fn plectoneme_extension_falls_linearly_and_torque_plateaus() {
     let end = w.add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: [false, true, true, true], target: [0.0; 4] }), 0.0).unwrap();
     w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u1, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
     w.add_load(Load::PointForce(PointForce { rod: h, u: u1, force: [force, 0.0, 0.0] })).unwrap();
-    w.add_contact_detector(Arc::new(RodContacts::new(10.0 * r, true, false).unwrap()));
+    w.add_contact_detector(RodContacts::new(10.0 * r, true, false).unwrap()).unwrap();
     // Perturb slightly off the axis so that the buckling has a direction.
     let rod = w.rod_mut(h).unwrap();
     let mut q = rod.coords().to_vec();

@@ -32,7 +32,7 @@ pub use assembly::{Assembly, AssemblyConstraint, Inserted};
 pub use bead::Bead;
 pub use clip::Clip;
 pub use constraint::{BreakPolicy, Breaking, ConstraintKind, ConstraintLaw, Reaction};
-pub use contact::{obstacle::PlaneObstacle, rods::RodContacts, ContactPair, ContactSet};
+pub use contact::{mesh::TriMesh, obstacle::Obstacle, rods::RodContacts, ContactPair, ContactSet, Detector};
 pub use energy::{FrameModel, MaterialFrame};
 pub use error::{Error, Result, Unknown};
 pub use force::{ForceField, Load};

@@ -17,6 +17,7 @@ mod events;
 mod groups;
 mod handles;
 mod io;
+mod obstacles;
 mod props;
 mod quasi;
 mod report;
@@ -115,5 +116,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     catalogue::register(m)?;
     quasi::register(m)?;
     io::register(m)?;
+    obstacles::register(m)?;
     Ok(())
 }

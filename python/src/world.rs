@@ -309,20 +309,57 @@ impl PyWorld {
         let hs = rods.iter().map(|r| Self::rod_handle(slf, r)).collect::<PyResult<Vec<_>>>()?;
         Self::with_mut(slf, |w| w.interleave(&hs))
     }
-    /// Detects contacts before every solve (SPEC §7): each rod a chain of
-    /// capsules of its largest section radius; pairs closer than their
-    /// radii plus `margin` (length; large enough that a step does not
-    /// carry a rod through another) become unilateral, frictionless
-    /// contact rows with an active set. `self_contact`: a rod against
-    /// itself (plectonemes, knots); `between_rods`: rod against rod.
-    /// Friction and obstacles are not available yet, and snapshots do not
-    /// keep the detection (call `contact` again after `World.from_json`).
-    #[pyo3(signature = (*, margin, self_contact = true, between_rods = true))]
-    fn contact(slf: &Bound<'_, Self>, margin: f64, self_contact: bool, between_rods: bool) -> PyResult<()> {
+    /// Detects contacts between rods before every solve (SPEC §7): each rod
+    /// a chain of capsules of its largest section radius; pairs closer than
+    /// their radii plus `margin` (length; large enough that a step does not
+    /// carry a rod through another) become unilateral contact rows with an
+    /// active set, with Coulomb `friction` (dimensionless μ ≥ 0: stick while
+    /// the friction force is within μ N, else slip against the motion).
+    /// `self_contact`: a rod against itself (plectonemes, knots);
+    /// `between_rods`: rod against rod. Snapshots keep the detection and
+    /// the contacts' state.
+    #[pyo3(signature = (*, margin, self_contact = true, between_rods = true, friction = 0.0))]
+    fn contact(slf: &Bound<'_, Self>, margin: f64, self_contact: bool, between_rods: bool, friction: f64) -> PyResult<()> {
+        Self::with_mut(slf, |w| w.add_contact_detector(strandkit_core::RodContacts::new(margin, self_contact, between_rods)?.with_friction(friction)?))
+    }
+    /// Adds a fixed obstacle (`strandkit.obstacles.plane / sphere / capsule
+    /// / mesh`) the rods' surfaces cannot enter, detected `margin` (length)
+    /// ahead of contact, with Coulomb `friction` (μ ≥ 0) against the rods.
+    #[pyo3(signature = (obstacle, *, margin = 0.0, friction = 0.0))]
+    fn add_obstacle(slf: &Bound<'_, Self>, obstacle: &crate::obstacles::PyObstacle, margin: f64, friction: f64) -> PyResult<()> {
+        let o = obstacle.inner.clone();
+        Self::with_mut(slf, |w| w.add_contact_detector(o.with_margin(margin)?.with_friction(friction)?))
+    }
+    /// Removes every contact detector and obstacle, and the contacts found.
+    fn clear_contact(slf: &Bound<'_, Self>) -> PyResult<()> {
         Self::with_mut(slf, |w| {
-            w.add_contact_detector(std::sync::Arc::new(strandkit_core::RodContacts::new(margin, self_contact, between_rods)?));
+            w.clear_contact_detectors();
             Ok(())
         })
+    }
+    /// The active contacts of the last solve, as arrays (n pairs):
+    /// `rod_a`, `rod_b` (positions in `world.rods()`; −1 for an obstacle),
+    /// `u_a`, `u_b` (abscissae; NaN against an obstacle), `points` (n, 3:
+    /// rod a's centreline point, length), `normals` (n, 3: unit, pushing
+    /// rod a out), `normal_force` (n: force unit, ≥ 0), `friction_force`
+    /// (n, 3: tangential force on rod a), `slipping` (n: bool).
+    fn contacts<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
+        let py = slf.py();
+        let w = read(slf)?;
+        let list = guard(|| w.inner.contact_report())?;
+        let order: Vec<RodHandle> = w.inner.rods().map(|(h, _)| h).collect();
+        let index = |h: Option<RodHandle>| h.and_then(|h| order.iter().position(|x| *x == h)).map_or(-1, |i| i as i64);
+        let d = PyDict::new(py);
+        d.set_item("rod_a", PyArray1::from_vec(py, list.iter().map(|c| index(Some(c.rod_a))).collect()))?;
+        d.set_item("rod_b", PyArray1::from_vec(py, list.iter().map(|c| index(c.rod_b)).collect()))?;
+        d.set_item("u_a", PyArray1::from_vec(py, list.iter().map(|c| c.ua).collect()))?;
+        d.set_item("u_b", PyArray1::from_vec(py, list.iter().map(|c| c.ub).collect()))?;
+        d.set_item("points", convert::points(py, list.iter().map(|c| c.point))?)?;
+        d.set_item("normals", convert::points(py, list.iter().map(|c| c.normal))?)?;
+        d.set_item("normal_force", PyArray1::from_vec(py, list.iter().map(|c| c.normal_force).collect()))?;
+        d.set_item("friction_force", convert::points(py, list.iter().map(|c| c.friction_force))?)?;
+        d.set_item("slipping", PyArray1::from_vec(py, list.iter().map(|c| c.slipping).collect()))?;
+        Ok(d)
     }
     /// Replaces a constraint's kind (same kind and rows): moving targets.
     fn set_constraint(slf: &Bound<'_, Self>, constraint: &Bound<'_, PyConstraintHandle>, kind: &Bound<'_, PyAny>) -> PyResult<()> {

@@ -3,7 +3,7 @@
 from typing import Any, Sequence, final
 
 __version__: str
-__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_beads_on_spring', 'build_cable_on_clips', 'build_harness', 'build_necklace', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'read_dcd', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
+__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'Obstacle', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_beads_on_spring', 'build_cable_on_clips', 'build_harness', 'build_necklace', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'obstacle_capsule', 'obstacle_mesh_arrays', 'obstacle_mesh_data', 'obstacle_mesh_file', 'obstacle_plane', 'obstacle_sphere', 'read_dcd', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
 
 def bead_positions(world):
     """Bead positions of a world (length unit), shape (N, 3): the sample points of every rod in world order (one bead per sample point)."""
@@ -27,6 +27,18 @@ def helix(radius, pitch, turns, *, section=None, material=None, n_control_points
     """Circular helix about z starting at (radius, 0, 0): `radius` and `pitch` (rise per turn; > 0 right-handed) in length unit, `turns`."""
 def load_catalogue():
     """Every load kind the core registers (as `constraint_catalogue`, without `rods`)."""
+def obstacle_capsule(a, b, radius):
+    """The points within `radius` (length) of the segment `a`–`b` (length)."""
+def obstacle_mesh_arrays(vertices, triangles):
+    """A triangle mesh from (n, 3) `vertices` (length) and (m, 3) `triangles` (vertex indices, counter-clockwise seen from outside)."""
+def obstacle_mesh_data(obstacle):
+    """The (n, 3) vertices and (m, 3) triangles of a mesh obstacle."""
+def obstacle_mesh_file(path):
+    """A triangle mesh from an .obj or .stl file."""
+def obstacle_plane(origin, normal):
+    """The half-space behind the plane through `origin` (length) whose `normal` points out of the obstacle."""
+def obstacle_sphere(center, radius):
+    """A ball of `radius` (length) about `center` (length)."""
 def read_dcd(path):
     """Reads a DCD written by strandkit: (header dict, positions (F, N, 3) float32 in Å)."""
 def rod_from_json(text):
@@ -323,6 +335,16 @@ class Material:
     """Young's modulus (pressure unit)."""
 
 @final
+class Obstacle:
+    """A fixed obstacle for `World.add_obstacle`: build with `strandkit.obstacles.plane / sphere / capsule / mesh` (lengths in the world's unit)."""
+    def __eq__(self, value, /): ...
+    def __repr__(self, /): ...
+    def distance(self, points):
+        """Signed distance (length) from each of the (n, 3) `points` to the surface, negative inside."""
+    kind: Any
+    """"plane", "sphere", "capsule" or "mesh"."""
+
+@final
 class QuasiDynamic:
     """Drives a World frame by frame (thesis IV.B.2): dynamic while a frame's compute time stays under `to_dynamic` × budget, quasi-static (one incomplete Newton iteration per frame) above `to_static` × budget, never quasi-static for a rod held at fewer than two points (or one point without an orientation)."""
     def __new__(cls, world, *, dt0: float = 0.001, newton_fraction: float = 0.3333333333333333, scale_with_free_length: bool = True, time_budget: Any = None, to_dynamic: float = 0.9, to_static: float = 0.95, **params: Any) -> QuasiDynamic: ...
@@ -540,18 +562,24 @@ class World:
         """Adds a relative constraint between rod `a` (abscissa ua) and rod `b` (ub), which may be the same rod (kinds: relative_position, relative_orientation, relative_distance, contact, …)."""
     def add_load(self, load, *, label=None):
         """Adds a load (strandkit.point_force, point_torque, distributed, trap, …); `label` (e.g."""
+    def add_obstacle(self, obstacle, *, margin=0.0, friction=0.0):
+        """Adds a fixed obstacle (`strandkit.obstacles.plane / sphere / capsule / mesh`) the rods' surfaces cannot enter, detected `margin` (length) ahead of contact, with Coulomb `friction` (μ ≥ 0) against the rods."""
     def add_rod(self, rod):
         """Adds a free rod to the world and returns it (the same object, now a live view of the world's rod and its handle)."""
     def beads(self):
         """The beads on rods, in handle order."""
     def clamp(self, rod, u=None, *, compliance=0.0):
         """Clamps `rod` at `u` (default: its start) where it is now: position, tangent, and the cross-section held as the rod's frame model says (the roll coordinate on a straight stretch; an absolute material roll on a curved one in the Frenet model; nothing for rods without roll)."""
+    def clear_contact(self):
+        """Removes every contact detector and obstacle, and the contacts found."""
     def clips(self):
         """The clips, in handle order."""
     def constraints(self):
         """The live constraints, in handle order."""
-    def contact(self, *, margin, self_contact=True, between_rods=True):
-        """Detects contacts before every solve (SPEC §7): each rod a chain of capsules of its largest section radius; pairs closer than their radii plus `margin` (length; large enough that a step does not carry a rod through another) become unilateral, frictionless contact rows with an active set."""
+    def contact(self, *, margin, self_contact=True, between_rods=True, friction=0.0):
+        """Detects contacts between rods before every solve (SPEC §7): each rod a chain of capsules of its largest section radius; pairs closer than their radii plus `margin` (length; large enough that a step does not carry a rod through another) become unilateral contact rows with an active set, with Coulomb `friction` (dimensionless μ ≥ 0: stick while the friction force is within μ N, else slip against the motion)."""
+    def contacts(self):
+        """The active contacts of the last solve, as arrays (n pairs): `rod_a`, `rod_b` (positions in `world.rods()`; −1 for an obstacle), `u_a`, `u_b` (abscissae; NaN against an obstacle), `points` (n, 3: rod a's centreline point, length), `normals` (n, 3: unit, pushing rod a out), `normal_force` (n: force unit, ≥ 0), `friction_force` (n, 3: tangential force on rod a), `slipping` (n: bool)."""
     def copy(self):
         """An independent deep copy."""
     dt: Any

@@ -6,7 +6,7 @@ from ._catalogue import Kind as Kind
 from ._native import ConstraintHandle, Rod, World
 
 CATALOGUE: List[dict]
-__all__ = ['Kind', 'kind', 'clamp', 'position', 'tangent', 'material_roll', 'distance', 'plane', 'axis', 'curvature', 'relative_position', 'relative_orientation', 'relative_distance', 'sliding_point', 'oriented_sliding_point', 'contact', 'coplanar_clamp', 'barycentric']
+__all__ = ['Kind', 'kind', 'clamp', 'position', 'tangent', 'material_roll', 'distance', 'plane', 'axis', 'curvature', 'relative_position', 'relative_orientation', 'relative_distance', 'relative_axis', 'sliding_point', 'oriented_sliding_point', 'contact', 'coplanar_clamp', 'barycentric']
 
 def kind(name: str, **fields) -> Kind:
     """Any core constraint kind by its Rust name, fields as given (numpy values become lists), e.g."""
@@ -32,6 +32,8 @@ def plane(u: float, origin: Sequence[float], normal: Sequence[float]) -> Kind:
     """r(u) stays on the plane through `origin` (length) with `normal`."""
 def position(u: float, target: Sequence[float] = (0.0, 0.0, 0.0), *, axes: Union[str, Sequence[bool]] = 'xyz', roll: Optional[float] = None) -> Kind:
     """Fix r(u) to `target` (length) on the selected `axes` (x, y, z; "r" for the roll coordinate θ, relative to the Frenet frame: use material_roll for an absolute clamp of the cross-section)."""
+def relative_axis(ua: float, ub: float, offset: Sequence[float] = (0.0, 0.0, 0.0), *, direction: Sequence[float]) -> Kind:
+    """Two points (rods a and b of World.add_link) move relative to each other only along `direction`: r_a(ua) − r_b(ub) − `offset` (length) stays parallel to it (two rows; a prismatic link, or a sticking contact)."""
 def relative_distance(ua: float, ub: float, distance: float) -> Kind:
     """|r_a(ua) − r_b(ub)| = `distance` (length, > 0)."""
 def relative_orientation(ua: float, ub: float, roll: bool = False) -> Kind:

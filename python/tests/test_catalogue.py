@@ -51,7 +51,7 @@ def world_with_two_curved_rods():
 def test_every_catalogue_kind_has_a_helper():
     kinds = {info["name"] for info in sk.constraints.CATALOGUE}
     assert kinds >= {"Position", "Tangent", "MaterialRoll", "Distance", "Plane", "Axis", "Curvature",
-                     "RelativePosition", "RelativeOrientation", "RelativeDistance", "SlidingPoint",
+                     "RelativePosition", "RelativeOrientation", "RelativeDistance", "RelativeAxis", "SlidingPoint",
                      "OrientedSlidingPoint", "Contact", "CoplanarClamp", "Barycentric"}
     for info in sk.constraints.CATALOGUE + sk.loads.CATALOGUE:
         helper = getattr(sk, info["helper"])

@@ -11,6 +11,8 @@
 //! (g = |r_a − r_b| − distance), or [`ConstraintKind::Plane`] for a rod
 //! against a fixed plane whose normal points out of the obstacle.
 pub mod capsule;
+pub mod friction;
+pub mod mesh;
 pub mod obstacle;
 pub mod rods;
 
@@ -43,14 +45,27 @@ pub struct ContactPair {
     /// In the active set of the last solve.
     #[serde(default)]
     pub active: bool,
+    /// Coulomb friction, when the pair has a coefficient.
+    #[serde(default)]
+    pub friction: Option<friction::Friction>,
 }
 
 impl ContactPair {
     pub fn new(rods: [RodHandle; 2], kind: ConstraintKind) -> Result<ContactPair> {
         match &kind {
-            ConstraintKind::Contact(_) | ConstraintKind::Plane(_) => Ok(ContactPair { rods, kind, force: 0.0, active: false }),
+            ConstraintKind::Contact(_) | ConstraintKind::Plane(_) => Ok(ContactPair { rods, kind, force: 0.0, active: false, friction: None }),
             k => Err(Error::invalid("contact pair kind", k.name(), "Contact (rod–rod) or Plane (rod–obstacle)")),
         }
+    }
+    /// With Coulomb friction of coefficient `mu` (none when 0).
+    pub fn with_friction(mut self, mu: f64) -> Result<ContactPair> {
+        friction::check_mu(mu)?;
+        self.friction = if mu > 0.0 { Some(friction::Friction::new(mu)?) } else { None };
+        Ok(self)
+    }
+    /// The tangential (friction) force on rod a of the last solve (force unit).
+    pub fn friction_force(&self) -> [f64; 3] {
+        self.friction.as_ref().filter(|_| self.active).map_or([0.0; 3], |f| f.force)
     }
 }
 
@@ -70,6 +85,85 @@ impl ContactSet {
     /// The pairs in the active set.
     pub fn active(&self) -> impl Iterator<Item = (usize, &ContactPair)> {
         self.pairs.iter().enumerate().filter(|(_, p)| p.active)
+    }
+}
+
+/// One active contact as a user reads it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactInfo {
+    /// Rod a, and rod b (`None` against an obstacle).
+    pub rod_a: RodHandle,
+    pub rod_b: Option<RodHandle>,
+    /// Abscissae of the touching points (ub NaN against an obstacle).
+    pub ua: f64,
+    pub ub: f64,
+    /// Rod a's centreline point (length).
+    pub point: [f64; 3],
+    /// Unit normal pushing rod a out of contact.
+    pub normal: [f64; 3],
+    /// Normal force on rod a (force unit, ≥ 0) and tangential (friction) force.
+    pub normal_force: f64,
+    pub friction_force: [f64; 3],
+    pub slipping: bool,
+}
+
+impl ContactSet {
+    /// The active pairs, with their geometry at the rods' current state.
+    pub fn report<'r>(&self, rod: impl Fn(RodHandle) -> Result<&'r crate::rod::Rod>) -> Result<Vec<ContactInfo>> {
+        let mut out = Vec::new();
+        for (_, p) in self.active() {
+            let (a, b) = (rod(p.rods[0])?, rod(p.rods[1])?);
+            let g = friction::geometry(&p.kind, [a, b])?;
+            out.push(ContactInfo {
+                rod_a: p.rods[0],
+                rod_b: g.ub.map(|_| p.rods[1]),
+                ua: g.ua,
+                ub: g.ub.unwrap_or(f64::NAN),
+                point: a.position(g.ua)?.into(),
+                normal: g.normal.into(),
+                normal_force: p.force,
+                friction_force: p.friction_force(),
+                slipping: p.friction.as_ref().is_some_and(|f| f.slip.is_some()),
+            });
+        }
+        Ok(out)
+    }
+}
+
+/// The world's detectors: one variant per detector, so that a snapshot
+/// carries them (a restart mid-contact finds the same pairs).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Detector {
+    Rods(rods::RodContacts),
+    Obstacle(obstacle::Obstacle),
+}
+
+impl From<rods::RodContacts> for Detector {
+    fn from(d: rods::RodContacts) -> Detector {
+        Detector::Rods(d)
+    }
+}
+impl From<obstacle::Obstacle> for Detector {
+    fn from(d: obstacle::Obstacle) -> Detector {
+        Detector::Obstacle(d)
+    }
+}
+
+impl Detector {
+    pub fn validate(&self) -> Result<()> {
+        match self {
+            Detector::Rods(d) => d.validate(),
+            Detector::Obstacle(d) => d.validate(),
+        }
+    }
+}
+
+impl ContactDetector for Detector {
+    fn detect(&self, rods: &[(RodHandle, &crate::rod::Rod)], out: &mut ContactSet) -> Result<()> {
+        match self {
+            Detector::Rods(d) => d.detect(rods, out),
+            Detector::Obstacle(d) => d.detect(rods, out),
+        }
     }
 }
 

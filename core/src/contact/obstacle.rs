@@ -1,11 +1,16 @@
-//! A fixed plane obstacle (SPEC §7): the rods' points closer to it than
-//! their radius plus `margin` become unilateral [`ConstraintKind::Plane`]
-//! rows on the plane lifted by the radius (its normal points out of the
-//! obstacle), so the rods' surfaces rest on it. Along a rod only the
-//! lowest point of each run of candidates and points at least a segment
-//! apart are kept: a rod lying on the plane gets about one row per
-//! segment (its n + 3 control points meet at most that many heights
-//! independently).
+//! Fixed obstacles (SPEC §7): a plane, a sphere, a capsule (a cylinder with
+//! round ends; a long one stands for a cylinder) or a triangle mesh. The
+//! rods' points closer to one than their radius plus `margin` become
+//! unilateral [`ConstraintKind::Plane`] rows on the obstacle's tangent
+//! plane at the nearest point, lifted by the rod's radius and re-taken at
+//! every assembly (first order in the obstacle's curvature, like the
+//! closest-point rows between rods). Along a rod the local minima of the
+//! gap and candidates at least a segment from the last kept row are kept
+//! (a minimum within half a segment of a row kept for spacing replaces
+//! it): a rod lying on an obstacle gets about one row per segment (its
+//! n + 3 control points meet at most that many heights independently).
+use super::friction::check_mu;
+use super::mesh::TriMesh;
 use super::{ContactDetector, ContactPair, ContactSet};
 use crate::constraint::kinds::Plane;
 use crate::constraint::ConstraintKind;
@@ -13,56 +18,170 @@ use crate::error::{Error, Result};
 use crate::handles::RodHandle;
 use crate::rod::Rod;
 use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
-/// The plane through `origin` (length) with unit `normal` (pointing out of
-/// the obstacle), detected `margin` (length) ahead of contact.
-#[derive(Clone, Debug, PartialEq)]
-pub struct PlaneObstacle {
-    origin: Vector3<f64>,
-    normal: Vector3<f64>,
-    margin: f64,
+/// The obstacle's geometry (lengths in the world's unit).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum Shape {
+    /// The half-space behind the plane through `origin` whose unit
+    /// `normal` points out of the obstacle.
+    Plane { origin: [f64; 3], normal: [f64; 3] },
+    Sphere { center: [f64; 3], radius: f64 },
+    /// The points within `radius` of the segment `a`–`b`.
+    Capsule { a: [f64; 3], b: [f64; 3], radius: f64 },
+    /// A triangle mesh whose outside is where its faces' normals point
+    /// (counter-clockwise vertices seen from outside).
+    Mesh(Arc<TriMesh>),
 }
 
-impl PlaneObstacle {
-    pub fn new(origin: [f64; 3], normal: [f64; 3], margin: f64) -> Result<PlaneObstacle> {
-        crate::constraint::finite3(&origin, "plane obstacle origin")?;
+/// A fixed obstacle detected `margin` (length) ahead of contact, with
+/// Coulomb coefficient `friction` against the rods.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Obstacle {
+    pub shape: Shape,
+    pub margin: f64,
+    pub friction: f64,
+}
+
+fn finite_point(p: &[f64; 3], what: &str) -> Result<()> {
+    crate::constraint::finite3(p, what)
+}
+
+impl Obstacle {
+    fn new(shape: Shape) -> Result<Obstacle> {
+        let o = Obstacle { shape, margin: 0.0, friction: 0.0 };
+        o.validate()?;
+        Ok(o)
+    }
+    /// The half-space behind the plane through `origin` (length), `normal`
+    /// pointing out of it (normalised here).
+    pub fn plane(origin: [f64; 3], normal: [f64; 3]) -> Result<Obstacle> {
         let n = Vector3::from(normal);
         if !n.iter().all(|x| x.is_finite()) || !(n.norm() > 0.0) {
             return Err(Error::invalid("plane obstacle normal", format!("{normal:?}"), "a finite, non-zero direction"));
         }
-        if !(margin >= 0.0) || !margin.is_finite() {
-            return Err(Error::invalid("contact margin", margin, "a finite length ≥ 0"));
+        Obstacle::new(Shape::Plane { origin, normal: n.normalize().into() })
+    }
+    /// A ball of `radius` (length, > 0) about `center` (length).
+    pub fn sphere(center: [f64; 3], radius: f64) -> Result<Obstacle> {
+        Obstacle::new(Shape::Sphere { center, radius })
+    }
+    /// The points within `radius` (length, > 0) of the segment `a`–`b`.
+    pub fn capsule(a: [f64; 3], b: [f64; 3], radius: f64) -> Result<Obstacle> {
+        Obstacle::new(Shape::Capsule { a, b, radius })
+    }
+    /// A triangle mesh (see [`TriMesh::from_file`] for OBJ and STL).
+    pub fn mesh(mesh: TriMesh) -> Result<Obstacle> {
+        Obstacle::new(Shape::Mesh(Arc::new(mesh)))
+    }
+    /// Detected `margin` (length, ≥ 0) ahead of contact.
+    pub fn with_margin(mut self, margin: f64) -> Result<Obstacle> {
+        self.margin = margin;
+        self.validate()?;
+        Ok(self)
+    }
+    /// Coulomb coefficient `mu` (≥ 0) against the rods.
+    pub fn with_friction(mut self, mu: f64) -> Result<Obstacle> {
+        self.friction = mu;
+        self.validate()?;
+        Ok(self)
+    }
+    pub fn validate(&self) -> Result<()> {
+        if !(self.margin >= 0.0) || !self.margin.is_finite() {
+            return Err(Error::invalid("contact margin", self.margin, "a finite length ≥ 0"));
         }
-        Ok(PlaneObstacle { origin: Vector3::from(origin), normal: n.normalize(), margin })
+        check_mu(self.friction)?;
+        match &self.shape {
+            Shape::Plane { origin, normal } => {
+                finite_point(origin, "plane obstacle origin")?;
+                crate::constraint::unit(normal, "plane obstacle normal").map(|_| ())
+            }
+            Shape::Sphere { center, radius } => {
+                finite_point(center, "sphere obstacle center")?;
+                crate::error::positive("sphere obstacle radius", *radius).map(|_| ())
+            }
+            Shape::Capsule { a, b, radius } => {
+                finite_point(a, "capsule obstacle end a")?;
+                finite_point(b, "capsule obstacle end b")?;
+                crate::error::positive("capsule obstacle radius", *radius).map(|_| ())
+            }
+            Shape::Mesh(m) => m.validate(),
+        }
+    }
+    /// The signed distance from `p` to the obstacle's surface and the unit
+    /// normal there pointing out of it; `None` when nothing of the obstacle
+    /// is within `reach` (a mesh only looks that far).
+    pub fn nearest(&self, p: &Vector3<f64>, reach: f64) -> Option<(f64, Vector3<f64>)> {
+        let round = |c: Vector3<f64>, radius: f64| {
+            let d = p - c;
+            let n = d.norm();
+            // At the centre every direction is as good: take one.
+            let dir = if n > 0.0 { d / n } else { Vector3::z() };
+            (n - radius, dir)
+        };
+        match &self.shape {
+            Shape::Plane { origin, normal } => {
+                let n = Vector3::from(*normal);
+                Some(((p - Vector3::from(*origin)).dot(&n), n))
+            }
+            Shape::Sphere { center, radius } => Some(round(Vector3::from(*center), *radius)),
+            Shape::Capsule { a, b, radius } => {
+                let (a, b) = (Vector3::from(*a), Vector3::from(*b));
+                let ab = b - a;
+                let t = if ab.norm_squared() > 0.0 { ((p - a).dot(&ab) / ab.norm_squared()).clamp(0.0, 1.0) } else { 0.0 };
+                Some(round(a + ab * t, *radius))
+            }
+            Shape::Mesh(m) => m.nearest(p, reach),
+        }
     }
 }
 
-impl ContactDetector for PlaneObstacle {
+impl ContactDetector for Obstacle {
     fn detect(&self, rods: &[(RodHandle, &Rod)], out: &mut ContactSet) -> Result<()> {
         for (h, rod) in rods {
             let (us, radius) = super::probe_points(rod);
             let (u0, u1) = rod.domain();
-            let height: Vec<f64> = us.iter().map(|&u| Ok((rod.position(u)? - self.origin).dot(&self.normal) - radius)).collect::<Result<_>>()?;
+            let reach = radius + self.margin;
+            let mut near: Vec<Option<(f64, Vector3<f64>)>> = Vec::with_capacity(us.len());
+            for &u in &us {
+                let p = rod.position(u)?;
+                near.push(self.nearest(&p, reach).map(|(d, n)| (d - radius, n)).filter(|(g, _)| *g < self.margin));
+            }
             // One segment, in the parameter.
             let span = (u1 - u0) / rod.n_segments().max(1) as f64;
-            let mut last: Option<f64> = None;
             let n = us.len();
+            let gap = |j: usize| near[j].map_or(f64::INFINITY, |x| x.0);
+            // (probe, is a local minimum) of the rows kept so far.
+            let mut kept: Vec<(usize, bool)> = Vec::new();
             for k in 0..n {
-                if height[k] >= self.margin {
+                if near[k].is_none() {
                     continue;
                 }
-                let lower = |j: usize| height[j] < height[k];
-                let minimum = !(k > 0 && lower(k - 1)) && !(k + 1 < n && lower(k + 1));
-                if !minimum && last.is_some_and(|l| (us[k] - l).abs() < span) {
+                let minimum = !(k > 0 && gap(k - 1) < gap(k)) && !(k + 1 < n && gap(k + 1) < gap(k));
+                let last = kept.last().copied();
+                let dist = last.map(|(j, _)| (us[k] - us[j]).abs());
+                if dist.is_some_and(|d| d < 0.5 * span) {
+                    // The same touching point: a minimum replaces a row
+                    // kept only for spacing (a rod rolling over a curved
+                    // obstacle brings its deepest point along).
+                    if minimum && last.is_some_and(|(j, m)| !m || gap(k) < gap(j)) {
+                        kept.pop();
+                        kept.push((k, true));
+                    }
                     continue;
                 }
-                if last.is_some_and(|l| (us[k] - l).abs() < 0.5 * span) {
-                    continue; // a minimum right next to a kept row: the same touching point
+                if !minimum && dist.is_some_and(|d| d < span) {
+                    continue;
                 }
-                last = Some(us[k]);
-                let lifted = self.origin + self.normal * radius;
-                let kind = ConstraintKind::Plane(Plane { u: us[k], origin: lifted.into(), normal: self.normal.into() });
-                out.pairs.push(ContactPair::new([*h, *h], kind)?);
+                kept.push((k, minimum));
+            }
+            for (k, _) in kept {
+                let Some((g, normal)) = near[k] else { continue };
+                // The tangent plane at the nearest point, lifted by the radius.
+                let lifted = rod.position(us[k])? - normal * g;
+                let kind = ConstraintKind::Plane(Plane { u: us[k], origin: lifted.into(), normal: normal.into() });
+                out.pairs.push(ContactPair::new([*h, *h], kind)?.with_friction(self.friction)?);
             }
         }
         Ok(())

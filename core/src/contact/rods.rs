@@ -29,19 +29,33 @@ use std::f64::consts::PI;
 /// Which contacts to detect, and how early (`margin`, length unit: pairs
 /// closer than their radii plus the margin enter the active-set candidates,
 /// so that a step does not tunnel through).
-#[derive(Clone, Debug, PartialEq)]
+/// `friction`: the Coulomb coefficient between rods (dimensionless, ≥ 0).
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RodContacts {
     pub margin: f64,
     pub self_contact: bool,
     pub between_rods: bool,
+    #[serde(default)]
+    pub friction: f64,
 }
 
 impl RodContacts {
     pub fn new(margin: f64, self_contact: bool, between_rods: bool) -> Result<RodContacts> {
-        if !(margin >= 0.0) || !margin.is_finite() {
-            return Err(Error::invalid("contact margin", margin, "a finite length ≥ 0"));
+        let d = RodContacts { margin, self_contact, between_rods, friction: 0.0 };
+        d.validate()?;
+        Ok(d)
+    }
+    /// Coulomb coefficient `mu` (≥ 0) between the rods.
+    pub fn with_friction(mut self, mu: f64) -> Result<RodContacts> {
+        self.friction = mu;
+        self.validate()?;
+        Ok(self)
+    }
+    pub fn validate(&self) -> Result<()> {
+        if !(self.margin >= 0.0) || !self.margin.is_finite() {
+            return Err(Error::invalid("contact margin", self.margin, "a finite length ≥ 0"));
         }
-        Ok(RodContacts { margin, self_contact, between_rods })
+        super::friction::check_mu(self.friction)
     }
 }
 
@@ -197,7 +211,7 @@ impl ContactDetector for RodContacts {
             });
             if !duplicate {
                 kept.push((handles, pa, pb));
-                out.pairs.push(ContactPair::new(handles, kind)?);
+                out.pairs.push(ContactPair::new(handles, kind)?.with_friction(self.friction)?);
             }
         }
         Ok(())

@@ -35,6 +35,7 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 
 pub mod gltf;
 pub mod mesh;
+pub mod mesh_read;
 pub mod trajectory;
 
 #[cfg(test)]

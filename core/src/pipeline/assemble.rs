@@ -3,7 +3,7 @@
 //! when the topology changes) and assemble the KKT system.
 use crate::bead::Bead;
 use crate::constraint::MAX_TOUCHED;
-use crate::contact::ContactSet;
+use crate::contact::{ContactDetector, ContactSet};
 use crate::error::Result;
 use crate::force::{gravity::Gravity, ForceField, Load};
 use crate::handles::{Arena, RodHandle};
@@ -93,11 +93,20 @@ fn place(
         let t = c.kind.touched(&[rods[a], rods[b]])?;
         ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: c.kind.n_rows(), n_extra: c.kind.n_extra(), touched: t.items, len: t.len });
     }
+    ws.stick_ids.clear();
     for (i, p) in contacts.active() {
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
         let t = p.kind.touched(&[rods[a], rods[b]])?;
         ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 1, n_extra: 0, touched: t.items, len: t.len });
         ws.contact_ids.push(i);
+    }
+    for (i, p) in contacts.active() {
+        if let Some(k) = p.friction.as_ref().and_then(|f| f.rows.as_ref()) {
+            let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
+            let t = k.touched(&[rods[a], rods[b]])?;
+            ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 2, n_extra: 0, touched: t.items, len: t.len });
+            ws.stick_ids.push(i);
+        }
     }
     if bead_unknowns {
         for (_, b) in beads.iter().filter(|(_, b)| !b.fixed) {
@@ -191,7 +200,7 @@ pub(crate) fn layout(world: &mut World, bead_unknowns: bool) -> Result<()> {
 /// layout placed. Returns the elastic energy.
 pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
     world.params.validate()?;
-    let World { rods: rod_arena, constraints, loads, beads, contacts, detectors, interleave, params, ws, time, .. } = world;
+    let World { rods: rod_arena, constraints, loads, beads, contacts, detectors, interleave, params, ws, time, steps, .. } = world;
     // Contacts follow the closest points of their rods.
     for (_, c) in constraints.iter_mut() {
         if let (Some(a), Some(b)) = (rod_arena.get(c.rod.into()), rod_arena.get(c.other.unwrap_or(c.rod).into())) {
@@ -216,6 +225,19 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
         if let Some(old) = previous.iter().find(|o| o.active && o.rods == p.rods && same_place(&o.kind, &p.kind)) {
             p.active = true;
             p.force = old.force;
+            if let (Some(f), Some(of)) = (&mut p.friction, &old.friction) {
+                f.carry(of);
+            }
+        }
+    }
+    // Friction: the anchor of the step and the stick rows of active pairs.
+    for p in contacts.pairs.iter_mut() {
+        if let (Some(f), Some(a), Some(b)) = (&mut p.friction, rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
+            if p.active {
+                f.prepare(&crate::contact::friction::geometry(&p.kind, [a, b])?, [a, b], *steps, p.force)?;
+            } else {
+                f.reset();
+            }
         }
     }
     index(ws, rod_arena, constraints);
@@ -233,10 +255,13 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
 
 /// Two contact rows at the same place (abscissae within half a parameter
 /// unit, a fraction of a knot span).
+/// An obstacle row's tangent plane turns with the rod: the same place if
+/// its normal turned less than 60°.
 fn same_place(a: &crate::constraint::ConstraintKind, b: &crate::constraint::ConstraintKind) -> bool {
-    use crate::constraint::ConstraintKind::Contact;
+    use crate::constraint::ConstraintKind::{Contact, Plane};
     match (a, b) {
         (Contact(x), Contact(y)) => (x.ua - y.ua).abs() + (x.ub - y.ub).abs() < 0.5,
+        (Plane(x), Plane(y)) => (x.u - y.u).abs() < 0.5 && nalgebra::Vector3::from(x.normal).dot(&nalgebra::Vector3::from(y.normal)) > 0.5,
         (x, y) => x == y,
     }
 }
@@ -293,6 +318,19 @@ fn gather_and_assemble(
             f.iter_mut().zip(extra).for_each(|(x, e)| *x = s * *x + e);
         }
     }
+    // Slipping contacts: −μ N ŝ on rod a, its opposite on rod b.
+    for (_, p) in contacts.active() {
+        let Some(f) = p.friction.as_ref().and_then(|f| f.slip_force()) else { continue };
+        let g = crate::contact::friction::geometry(&p.kind, [rods[position_of(pos, p.rods[0])?], rods[position_of(pos, p.rods[1])?]])?;
+        let r = position_of(pos, p.rods[0])?;
+        let (ctrl, bs) = rods[r].basis_at(g.ua)?;
+        crate::force::spread(&mut ws.ext[r], rods[r].dofs(), &ctrl, &bs[0], &f);
+        if let Some(ub) = g.ub {
+            let r = position_of(pos, p.rods[1])?;
+            let (ctrl, bs) = rods[r].basis_at(ub)?;
+            crate::force::spread(&mut ws.ext[r], rods[r].dofs(), &ctrl, &bs[0], &[-f[0], -f[1], -f[2]]);
+        }
+    }
     let mut crefs: Vec<ConstraintRef<'_>> = recycle(std::mem::take(&mut ws.con_refs));
     for (_, c) in constraints.iter() {
         let (a, b) = (position_of(pos, c.rod)?, position_of(pos, c.other.unwrap_or(c.rod))?);
@@ -302,6 +340,14 @@ fn gather_and_assemble(
         let p = &contacts.pairs[i];
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
         crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: 0.0, lambda: std::slice::from_ref(&p.force) });
+    }
+    for &i in &ws.stick_ids {
+        let p = &contacts.pairs[i];
+        let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
+        // Placed only for pairs with stick rows (see `place`).
+        let kind = p.friction.as_ref().and_then(|f| f.rows.as_ref()).expect("a sticking pair has its rows");
+        let compliance = p.friction.as_ref().map_or(0.0, |f| f.compliance);
+        crefs.push(ConstraintRef { rods: [a, b], kind, compliance, lambda: &[0.0, 0.0] });
     }
     let k = regime.coefficients();
     ws.sys.record_forces = matches!(regime, Regime::Trapezoidal { first: true, .. });

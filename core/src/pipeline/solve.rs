@@ -12,7 +12,7 @@ use crate::world::World;
 const MAX_ACTIVE_SET_ROUNDS: usize = 10;
 
 /// Names unknown `g` of the system for error messages.
-fn describe(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], contact_ids: &[usize], g: usize) -> Unknown {
+fn describe(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], contact_ids: &[usize], stick_ids: &[usize], g: usize) -> Unknown {
     for (r, cps) in layout.cp_index.iter().enumerate() {
         for (i, &start) in cps.iter().enumerate() {
             if g >= start && g < start + layout.dofs[r] {
@@ -20,12 +20,12 @@ fn describe(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], contact_ids: 
             }
         }
     }
-    let (nc, np) = (con_ids.len(), contact_ids.len());
+    let (nc, np, ns) = (con_ids.len(), contact_ids.len(), stick_ids.len());
     for (c, &start) in layout.extra_index.iter().enumerate() {
         if g >= start && g < layout.row_index[c] {
             return match con_ids.get(c) {
                 Some(&h) => Unknown::Abscissa { constraint: h.into() },
-                None => Unknown::BeadAbscissa { bead: c - nc - np },
+                None => Unknown::BeadAbscissa { bead: c - nc - np - ns },
             };
         }
     }
@@ -34,7 +34,7 @@ fn describe(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], contact_ids: 
             if let Some(&h) = con_ids.get(c) {
                 return Unknown::Multiplier { constraint: h.into(), row: g - start };
             }
-            if let Some(&p) = contact_ids.get(c - nc) {
+            if let Some(&p) = contact_ids.iter().chain(stick_ids).nth(c - nc) {
                 return Unknown::Contact { pair: p };
             }
         }
@@ -45,8 +45,8 @@ fn describe(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], contact_ids: 
 /// Solves the assembled system.
 pub(crate) fn solve(world: &mut World) -> Result<Solved> {
     let ws = &mut world.ws;
-    let (layout, rod_ids, con_ids, contact_ids) = (&ws.layout, &ws.rod_ids, &ws.con_ids, &ws.contact_ids);
-    let out = ws.sys.solve(layout, world.params.linear_solver, |g| describe(layout, rod_ids, con_ids, contact_ids, g));
+    let (layout, rod_ids, con_ids, contact_ids, stick_ids) = (&ws.layout, &ws.rod_ids, &ws.con_ids, &ws.contact_ids, &ws.stick_ids);
+    let out = ws.sys.solve(layout, world.params.linear_solver, |g| describe(layout, rod_ids, con_ids, contact_ids, stick_ids, g));
     match out {
         Err(Error::Singular { unknown, mut constraints, detail }) => {
             if let Some(u) = &unknown {
@@ -137,30 +137,68 @@ pub(crate) fn settle_contacts(world: &mut World) -> Result<bool> {
     update_active_set(world)
 }
 
-/// After a solve: drop pulling pairs, add pairs the step would penetrate.
-/// Returns whether the set changed.
+/// After a solve: drop pulling pairs, add pairs the step would penetrate,
+/// move the friction of active pairs between stick and slip
+/// ([`crate::contact::friction`]). Returns whether anything changed.
 fn update_active_set(world: &mut World) -> Result<bool> {
     let mut changed = false;
     let mut rows = [Row::default(); MAX_ROWS];
     let World { rods, contacts, ws, .. } = world;
     let layout = &ws.layout;
     let nc = ws.con_ids.len();
+    let np = ws.contact_ids.len();
     let mut row_of = vec![usize::MAX; contacts.pairs.len()];
     for (k, &i) in ws.contact_ids.iter().enumerate() {
         row_of[i] = layout.row_index[nc + k];
     }
+    let mut stick_of = vec![usize::MAX; contacts.pairs.len()];
+    for (k, &i) in ws.stick_ids.iter().enumerate() {
+        stick_of[i] = layout.row_index[nc + np + k];
+    }
+    let pos = |h: crate::handles::RodHandle| ws.rod_pos.get(Index::from(h).0 as usize).copied().flatten().map(|x| x.1);
+    // This solve's displacement of rod `h`'s point at `u`.
+    let step_of = |h: crate::handles::RodHandle, rod: &crate::rod::Rod, u: f64| -> Result<nalgebra::Vector3<f64>> {
+        let Some(r) = pos(h) else { return Ok(nalgebra::Vector3::zeros()) };
+        let (ctrl, b) = rod.basis_at(u)?;
+        let mut d = nalgebra::Vector3::zeros();
+        for k in 0..4 {
+            for a in 0..3 {
+                d[a] += b[0][k] * ws.sys.sol[layout.dof(r, ctrl[k] * rod.dofs() + a)];
+            }
+        }
+        Ok(d)
+    };
     for (i, p) in contacts.pairs.iter_mut().enumerate() {
+        let (Some(a), Some(b)) = (rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) else { continue };
         if p.active {
             let force = -ws.sys.sol[row_of[i]];
             if force < 0.0 {
                 p.active = false;
                 changed = true;
+                continue;
+            }
+            p.force = force;
+            if let Some(f) = &mut p.friction {
+                let g = crate::contact::friction::geometry(&p.kind, [a, b])?;
+                let stick = match (stick_of[i], &f.rows) {
+                    (k, Some(kind)) if k != usize::MAX => {
+                        let lambda = [-ws.sys.sol[k], -ws.sys.sol[k + 1]];
+                        Some(nalgebra::Vector3::from(kind.reaction(&[a, b], &lambda)?.force))
+                    }
+                    _ => None,
+                };
+                let mut moved = step_of(p.rods[0], a, g.ua)?;
+                if let Some(ub) = g.ub {
+                    moved -= step_of(p.rods[1], b, ub)?;
+                }
+                if let Some((start, _)) = f.start {
+                    moved += g.relative - nalgebra::Vector3::from(start);
+                }
+                changed |= f.update(&g, stick, moved, force);
             }
             continue;
         }
-        let (Some(a), Some(b)) = (rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) else { continue };
         p.kind.linearize(&[a, b], &mut rows[..1])?;
-        let pos = |h: crate::handles::RodHandle| ws.rod_pos.get(Index::from(h).0 as usize).copied().flatten().map(|x| x.1);
         let (Some(ra), Some(rb)) = (pos(p.rods[0]), pos(p.rods[1])) else { continue };
         let sides = [ra, rb];
         let moved: f64 = rows[0].entries().iter().filter(|e| e.0 < 2).map(|&(w, l, v)| v * ws.sys.sol[layout.dof(sides[w as usize], l)]).sum();
@@ -430,6 +468,18 @@ pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) ->
     }
     for (k, &i) in ws.contact_ids.iter().enumerate() {
         contacts.pairs[i].force = -ws.sys.sol[ws.layout.row_index[nc + k]];
+    }
+    // Sticking pairs: their rows' multipliers are the friction force.
+    let np = ws.contact_ids.len();
+    for (k, &i) in ws.stick_ids.iter().enumerate() {
+        let p = &mut contacts.pairs[i];
+        let r0 = ws.layout.row_index[nc + np + k];
+        let lambda = [-ws.sys.sol[r0], -ws.sys.sol[r0 + 1]];
+        if let (Some(f), Some(a), Some(b)) = (&mut p.friction, rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) {
+            if let Some(Ok(r)) = f.rows.as_ref().map(|kind| kind.reaction(&[a, b], &lambda)) {
+                f.force = r.force;
+            }
+        }
     }
     (dx_max, dth_max)
 }

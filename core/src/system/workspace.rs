@@ -30,6 +30,9 @@ pub struct Workspace {
     /// Contact pairs in the system (indices into the contact set), after
     /// the constraints.
     pub(crate) contact_ids: Vec<usize>,
+    /// Sticking pairs (indices into the contact set), whose two friction
+    /// rows follow the contacts' normal rows.
+    pub(crate) stick_ids: Vec<usize>,
     /// Sliders that left their rod in the last solve.
     pub(crate) left: Vec<Index>,
     /// What the last `apply` overwrote (coordinates, velocities,

@@ -19,14 +19,13 @@ pub use params::{IntegrationParameters, Scheme};
 
 use crate::bead::Bead;
 use crate::clip::Clip;
-use crate::contact::{ContactDetector, ContactSet};
+use crate::contact::{ContactSet, Detector};
 use crate::error::{Error, Result};
 use crate::force::Load;
 use crate::handles::{Arena, BeadHandle, ClipHandle, ConstraintHandle, Index, LoadHandle, RodHandle};
 use crate::rod::Rod;
 use crate::system::Workspace;
 use serde::{Deserialize, Serialize};
-use std::sync::Arc;
 
 /// Snapshot format name and version: `World::from_json` refuses anything else.
 pub const SNAPSHOT_FORMAT: &str = "strandkit-world";
@@ -55,9 +54,9 @@ pub struct World {
     /// Scratch of the pipeline (linear system, layout cache); not data.
     #[serde(skip)]
     pub(crate) ws: Workspace,
-    /// Contact detectors run before each solve (configuration, not state).
-    #[serde(skip)]
-    pub(crate) detectors: Vec<Arc<dyn ContactDetector>>,
+    /// Contact detectors run before each solve.
+    #[serde(default)]
+    pub(crate) detectors: Vec<Detector>,
 }
 
 /// Consecutive dynamic steps that ended with more energy than they started
@@ -159,9 +158,26 @@ impl World {
     pub fn contacts_mut(&mut self) -> &mut ContactSet {
         &mut self.contacts
     }
-    /// Registers a contact detector, run before every solve.
-    pub fn add_contact_detector(&mut self, d: Arc<dyn ContactDetector>) {
+    /// Registers a contact detector ([`crate::contact::rods::RodContacts`],
+    /// [`crate::contact::obstacle::Obstacle`]), run before every solve.
+    pub fn add_contact_detector(&mut self, d: impl Into<Detector>) -> Result<()> {
+        let d = d.into();
+        d.validate()?;
         self.detectors.push(d);
+        Ok(())
+    }
+    /// The active contacts of the last solve: rods, points, normals, forces.
+    pub fn contact_report(&self) -> Result<Vec<crate::contact::ContactInfo>> {
+        self.contacts.report(|h| self.rod(h))
+    }
+    /// The registered contact detectors, in the order they run.
+    pub fn contact_detectors(&self) -> &[Detector] {
+        &self.detectors
+    }
+    /// Removes every contact detector and the pairs they found.
+    pub fn clear_contact_detectors(&mut self) {
+        self.detectors.clear();
+        self.contacts.pairs.clear();
     }
 
     /// Interleaves the control points of these rods in the band by their
@@ -339,6 +355,12 @@ impl World {
         for p in &self.contacts.pairs {
             let rods = [self.rod(p.rods[0])?, self.rod(p.rods[1])?];
             p.kind.validate(&rods)?;
+            if let Some(f) = &p.friction {
+                crate::contact::friction::check_mu(f.mu)?;
+            }
+        }
+        for d in &self.detectors {
+            d.validate().map_err(|e| e.context("snapshot contact detector"))?;
         }
         Ok(())
     }

@@ -104,6 +104,7 @@ constraint_kinds! {
     relative_position::RelativePosition,
     relative_orientation::RelativeOrientation,
     relative_distance::RelativeDistance,
+    relative_axis::RelativeAxis,
     sliding_point::SlidingPoint,
     oriented_sliding_point::OrientedSlidingPoint,
     contact::Contact,

@@ -1,0 +1,191 @@
+//! Coulomb friction on contact pairs (SPEC §7), as an active set on the
+//! tangential motion beside the one on the normal force:
+//! - **stick**: two rows keep the pair's relative position, in the plane ⟂
+//!   the normal, where it was at the start of the step (an
+//!   [`Axis`] against an obstacle, a [`RelativeAxis`] between rods); their
+//!   multipliers are the friction force;
+//! - **slip**: the rows go and the force −μ N ŝ (ŝ the direction of the
+//!   relative tangential motion, N the normal force) acts on rod a, its
+//!   opposite on rod b.
+//!
+//! After each solve a sticking pair whose friction force leaves the cone
+//! |F_t| ≤ μ N starts slipping (ŝ opposite that force); a slipping pair
+//! whose motion over the step turned against ŝ sticks again; a slipping
+//! pair whose direction or normal force moved is solved again with them,
+//! so that the friction of a slipping pair is μ N of the same solve.
+use crate::constraint::kinds::{Axis, RelativeAxis};
+use crate::constraint::ConstraintKind;
+use crate::error::{Error, Result};
+use crate::rod::Rod;
+use nalgebra::Vector3;
+use serde::{Deserialize, Serialize};
+
+/// Relative change of the normal force, or angle of the slip direction
+/// (rad), above which a slipping pair is solved again.
+const SLIP_TOLERANCE: f64 = 1e-3;
+
+/// A contact pair's friction state.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Friction {
+    /// Coulomb coefficient μ (dimensionless, ≥ 0).
+    pub mu: f64,
+    /// While slipping: the unit direction of rod a's relative tangential
+    /// motion; `None` while sticking.
+    pub slip: Option<[f64; 3]>,
+    /// While sticking: the relative position held (length: r_a − r_b, or
+    /// r_a against an obstacle) and the abscissae (ua, ub) it was taken at;
+    /// kept from step to step, moved with the rod when the pair is found
+    /// again at neighbouring abscissae (ub is 0 against an obstacle).
+    pub anchor: Option<([f64; 3], [f64; 2])>,
+    /// The relative position at the start of the step `n_steps` (for the
+    /// slip check over the whole step).
+    pub start: Option<([f64; 3], u64)>,
+    /// Tangential force on rod a of the last solve (force unit).
+    pub force: [f64; 3],
+    /// The normal force the slip force was computed from (force unit).
+    pub normal: f64,
+    /// The stick rows of the current assembly and their compliance
+    /// (length/force; see [`stick_compliance`]).
+    pub rows: Option<ConstraintKind>,
+    pub compliance: f64,
+}
+
+impl Friction {
+    pub fn new(mu: f64) -> Result<Friction> {
+        check_mu(mu)?;
+        Ok(Friction { mu, slip: None, anchor: None, start: None, force: [0.0; 3], normal: 0.0, rows: None, compliance: 0.0 })
+    }
+    /// Forgets the motion state (the pair left the active set).
+    pub fn reset(&mut self) {
+        *self = Friction { mu: self.mu, ..Friction::new(0.0).expect("0 is a valid coefficient") };
+    }
+    /// Takes the motion state of the same pair found again.
+    pub fn carry(&mut self, old: &Friction) {
+        let mu = self.mu;
+        *self = Friction { mu, rows: None, ..old.clone() };
+    }
+}
+
+/// Compliance of the stick rows (length/force): a sticking point may give
+/// tangentially by 1e-3 of what one segment of its rod stretches under
+/// the same force. Hard stick rows at one pair per segment, three rows a
+/// point, would pin every point of a wrapped stretch of rod, and any more
+/// rows there make the system singular; this much give keeps it regular
+/// and is invisible beside the rod's own compliance.
+pub(crate) fn stick_compliance(rod: &Rod) -> Result<f64> {
+    let mut area = f64::INFINITY;
+    for s in rod.sections() {
+        area = area.min(s.props()?.area);
+    }
+    Ok(1e-3 * rod.rest_length() / rod.n_segments().max(1) as f64 / (rod.material().young * area))
+}
+
+pub(crate) fn check_mu(mu: f64) -> Result<()> {
+    if !(mu >= 0.0) || !mu.is_finite() {
+        return Err(Error::invalid("friction coefficient", mu, "a finite number ≥ 0"));
+    }
+    Ok(())
+}
+
+/// A pair's contact geometry: rod a's point and abscissa, rod b's (none
+/// against an obstacle), and the unit normal pushing rod a out.
+pub(crate) struct Geometry {
+    pub ua: f64,
+    pub ub: Option<f64>,
+    pub relative: Vector3<f64>,
+    pub normal: Vector3<f64>,
+}
+
+pub(crate) fn geometry(kind: &ConstraintKind, rods: [&Rod; 2]) -> Result<Geometry> {
+    match kind {
+        ConstraintKind::Contact(c) => {
+            let d = rods[0].position(c.ua)? - rods[1].position(c.ub)?;
+            let n = d.norm();
+            if !(n > 0.0) {
+                return Err(Error::singular(format!("contact with coincident centrelines at ua = {}, ub = {}", c.ua, c.ub)));
+            }
+            Ok(Geometry { ua: c.ua, ub: Some(c.ub), relative: d, normal: d / n })
+        }
+        ConstraintKind::Plane(p) => Ok(Geometry { ua: p.u, ub: None, relative: rods[0].position(p.u)?, normal: Vector3::from(p.normal) }),
+        k => Err(Error::invalid("contact pair kind", k.name(), "Contact or Plane")),
+    }
+}
+
+impl Friction {
+    /// Before an assembly: the step's starting position; while sticking
+    /// the stick rows about the anchor (taken now if there is none, moved
+    /// along the rods if the pair moved to other abscissae), while slipping
+    /// the slip force −μ N ŝ from the pair's last normal force `normal`.
+    pub(crate) fn prepare(&mut self, g: &Geometry, rods: [&Rod; 2], step: u64, normal: f64) -> Result<()> {
+        if self.start.is_none_or(|a| a.1 != step) {
+            self.start = Some((g.relative.into(), step));
+        }
+        if self.slip.is_some() {
+            self.anchor = None;
+            self.rows = None;
+            self.normal = normal.max(0.0);
+            self.force = (-self.mu * self.normal * Vector3::from(self.slip.unwrap_or_default())).into();
+            return Ok(());
+        }
+        let ub = g.ub.unwrap_or(0.0);
+        let anchor = match self.anchor {
+            None => g.relative,
+            Some((a, [ua, ub_old])) => {
+                // The same pair, found at neighbouring abscissae: the
+                // anchor moves by what separates the points on the rods now.
+                let mut a = Vector3::from(a) + g.relative - rods[0].position(ua)?;
+                if let Some(ub_new) = g.ub {
+                    a = a - rods[1].position(ub_new)? + rods[1].position(ub_old)?;
+                }
+                a
+            }
+        };
+        self.anchor = Some((anchor.into(), [g.ua, ub]));
+        self.compliance = stick_compliance(rods[0])? + if g.ub.is_some() { stick_compliance(rods[1])? } else { 0.0 };
+        self.rows = Some(match g.ub {
+            Some(ub) => RelativeAxis { ua: g.ua, ub, offset: anchor.into(), direction: g.normal.into() }.into(),
+            None => Axis { u: g.ua, origin: anchor.into(), direction: g.normal.into() }.into(),
+        });
+        Ok(())
+    }
+    /// The slip force on rod a (force unit) of the current assembly.
+    pub(crate) fn slip_force(&self) -> Option<[f64; 3]> {
+        self.slip.map(|_| self.force)
+    }
+    /// After a solve: `stick` the stick rows' force on rod a, `moved` rod
+    /// a's relative displacement since the anchor (this solve's included),
+    /// `normal` the normal force. Returns whether the state changed enough
+    /// to solve again.
+    pub(crate) fn update(&mut self, g: &Geometry, stick: Option<Vector3<f64>>, moved: Vector3<f64>, normal: f64) -> bool {
+        let n = g.normal;
+        let normal = normal.max(0.0);
+        let limit = self.mu * normal;
+        match (self.slip, stick) {
+            (None, Some(f)) => {
+                let ft = f - n * n.dot(&f);
+                self.force = ft.into();
+                if ft.norm() > limit * (1.0 + 1e-9) {
+                    self.slip = Some((-ft / ft.norm()).into());
+                    return true;
+                }
+                false
+            }
+            (Some(s), _) => {
+                let s = Vector3::from(s);
+                let mt = moved - n * n.dot(&moved);
+                if mt.dot(&s) <= 0.0 {
+                    // The friction turned the motion back: it holds (from
+                    // where the step started).
+                    self.slip = None;
+                    self.anchor = self.start.map(|(a, _)| (a, [g.ua, g.ub.unwrap_or(0.0)]));
+                    return true;
+                }
+                let dir = mt / mt.norm();
+                let turned = (dir - s).norm() > SLIP_TOLERANCE;
+                self.slip = Some(dir.into());
+                turned || (normal - self.normal).abs() > SLIP_TOLERANCE * self.normal.max(f64::MIN_POSITIVE)
+            }
+            (None, None) => false,
+        }
+    }
+}

@@ -1,0 +1,167 @@
+"""Contact from Python (issue 15): obstacles (plane, sphere, capsule, meshes
+read from OBJ and STL), friction, the contacts as arrays, snapshots that
+restart mid-contact bit for bit, and bad input."""
+import struct
+
+import numpy as np
+import pytest
+
+import strandkit as sk
+
+R = 0.01
+G = 9.81
+
+
+def _rod(z=0.05, tilt=0.02, n=10):
+    return sk.straight((-0.25, 0.0, z), (0.25, 0.0, z + tilt), section=R, material="nylon", n_control_points=n, with_roll=False)
+
+
+def _floor_obj(path, size=1.0):
+    path.write_text(
+        "# a square floor at z = 0, normals up\n"
+        f"v {-size} {-size} 0\nv {size} {-size} 0\nv {size} {size} 0\nv {-size} {size} 0\n"
+        "f 1 2 3\nf 1/1/1 3/3/3 4/4/4\n"
+    )
+    return path
+
+
+def _floor_stl(path, size=1.0):
+    tris = [[(-size, -size, 0), (size, -size, 0), (size, size, 0)], [(-size, -size, 0), (size, size, 0), (-size, size, 0)]]
+    data = bytearray(b"binary floor".ljust(80, b" ")) + struct.pack("<I", len(tris))
+    for t in tris:
+        data += struct.pack("<3f", 0, 0, 1)
+        for v in t:
+            data += struct.pack("<3f", *v)
+        data += struct.pack("<H", 0)
+    path.write_bytes(bytes(data))
+    return path
+
+
+def _lowest(rod):
+    return rod.position(rod.uniform_params(301))
+
+
+def _drop(obstacle, steps=600, **kw):
+    w = sk.World(dt=2e-3, gravity=(0, 0, -G))
+    rod = w.add_rod(_rod())
+    w.add_obstacle(obstacle, margin=0.01, **kw)
+    for _ in range(steps):
+        w.step()
+    return w, rod
+
+
+def test_obstacles_print_and_measure():
+    assert repr(sk.obstacles.sphere((0, 0, 1), 0.5)) == "Obstacle.sphere(center=[0.0, 0.0, 1.0], radius=0.5)"
+    d = sk.obstacles.sphere((0, 0, 1), 0.5).distance([[0, 0, 3], [0, 0, 1]])
+    assert np.allclose(d, [1.5, -0.5])
+    cap = sk.obstacles.cylinder(center=(0, 0, 0), axis=(0, 1, 0), radius=0.2, length=2.0)
+    assert cap.kind == "capsule" and np.allclose(cap.distance([[0.5, 0.3, 0.0], [0.0, 1.5, 0.0]]), [0.3, 0.3])
+    assert sk.obstacles.plane(normal=(0, 0, 2)).distance([[1, 2, -0.25]])[0] == -0.25
+
+
+def test_a_rod_dropped_on_a_mesh_floor_rests_on_it_the_same_from_obj_and_stl(tmp_path):
+    obj = sk.obstacles.mesh(_floor_obj(tmp_path / "floor.obj"))
+    stl = sk.obstacles.mesh(_floor_stl(tmp_path / "floor.stl"))
+    assert obj.kind == "mesh" and repr(obj) == "Obstacle.mesh(2 triangles)"
+    w1, r1 = _drop(obj)
+    w2, r2 = _drop(stl)
+    # The same floor (exact in float32) gives the same motion bit for bit.
+    assert r1.control_points.tobytes() == r2.control_points.tobytes()
+    low = _lowest(r1)[:, 2].min() - R
+    c = w1.contacts()
+    weight = r1.mass * G
+    print(f"mesh floor: surface {low / R:+.2e} R from the floor, {len(c['normal_force'])} contacts carry {c['normal_force'].sum():.5f} N of {weight:.5f} N")
+    assert low > -0.01 * R and low < 0.01 * R
+    assert abs(c["normal_force"].sum() / weight - 1) < 0.05
+    assert c["points"].shape == (len(c["rod_a"]), 3) and np.allclose(c["normals"], [0, 0, 1])
+    assert set(c["rod_a"]) == {0} and set(c["rod_b"]) == {-1} and np.isnan(c["u_b"]).all()
+
+
+def test_a_rod_on_a_sphere_never_enters_it():
+    w = sk.World(dt=2e-3, gravity=(0, 0, -G))
+    rod = w.add_rod(_rod(z=0.22, tilt=0.0, n=14))
+    ball = sk.obstacles.sphere((0.02, 0.0, 0.0), 0.2)
+    w.add_obstacle(ball, margin=0.01)
+    closest = np.inf
+    for _ in range(300):
+        w.step()
+        closest = min(closest, ball.distance(_lowest(rod)).min())
+    # Rows sit at the rod's probes (5 a segment): rolling over the ball, its
+    # deepest point runs between two of them, about 1 % of R deeper.
+    print(f"sphere: closest centreline {closest / R:.4f} R from the surface")
+    assert closest > R * (1 - 0.02)
+    assert len(w.contacts()["normal_force"]) > 0
+
+
+def test_friction_holds_a_rod_on_a_slope_with_the_forces_readable():
+    mu = 0.4
+    alpha = np.arctan(0.5 * mu)
+    n = np.array([np.sin(alpha), 0, np.cos(alpha)])
+    w = sk.World(dt=2e-3, gravity=(0, 0, -G))
+    rod = w.add_rod(sk.straight(n * R, n * R + 0.2 * np.array([0, 1.0, 0]), section=R, material="nylon", n_control_points=6, with_roll=False))
+    w.add_obstacle(sk.obstacles.plane(normal=n), margin=0.005, friction=mu)
+    start = rod.control_points.copy()
+    for _ in range(200):
+        w.step()
+    c = w.contacts()
+    moved = np.abs(rod.control_points - start).max()
+    weight = rod.mass * G
+    along = c["friction_force"].sum(axis=0)
+    print(f"slope tan α = μ/2: moved {moved:.2e} m, friction {along} N (weight · sin α = {weight * np.sin(alpha):.5f} N)")
+    assert moved < 1e-6
+    assert not c["slipping"].any()
+    # The friction holds the weight's component along the slope, uphill.
+    assert np.allclose(along, -weight * np.sin(alpha) * np.array([np.cos(alpha), 0, -np.sin(alpha)]), rtol=0.02, atol=0.02 * weight * np.sin(alpha))
+    assert abs(c["normal_force"].sum() / (weight * np.cos(alpha)) - 1) < 0.02
+
+
+def test_a_snapshot_restarts_mid_contact_bit_for_bit(tmp_path):
+    w = sk.World(dt=2e-3, gravity=(0, 0, -G))
+    rod = w.add_rod(_rod())
+    w.add_obstacle(sk.obstacles.plane(normal=(0.1, 0, 1)), margin=0.01, friction=0.2)
+    w.add_obstacle(sk.obstacles.mesh(_floor_obj(tmp_path / "floor.obj")), margin=0.01, friction=0.3)
+    w.contact(margin=0.005, friction=0.1)
+    for _ in range(90):
+        w.step()
+    assert len(w.contacts()["normal_force"]) > 0  # resting on the tilted plane and the floor
+    path = tmp_path / "w.json"
+    w.save(str(path))
+    again = sk.World.load(str(path))
+    for _ in range(60):
+        w.step()
+        again.step()
+    assert rod.control_points.tobytes() == again.rods()[0].control_points.tobytes()
+    a, b = w.contacts(), again.contacts()
+    assert all(a[k].tobytes() == b[k].tobytes() for k in a)
+
+
+def test_bad_contact_input_is_refused(tmp_path):
+    bad = [
+        lambda: sk.obstacles.sphere((0, 0, 0), -1.0),
+        lambda: sk.obstacles.sphere((0, np.nan, 0), 1.0),
+        lambda: sk.obstacles.plane(normal=(0, 0, 0)),
+        lambda: sk.obstacles.capsule((0, 0, 0), (1, 0, 0), np.inf),
+        lambda: sk.obstacles.cylinder((0, 0, 0), (0, 0, 0), 1.0, 1.0),
+        lambda: sk.obstacles.mesh_arrays([[0, 0, 0], [1, 0, 0], [2, 0, 0]], [[0, 1, 2]]),
+        lambda: sk.obstacles.mesh_arrays([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 3]]),
+        lambda: sk.obstacles.mesh(tmp_path / "floor.ply"),
+    ]
+    for f in bad:
+        with pytest.raises(sk.InvalidInputError):
+            f()
+    w = sk.World()
+    with pytest.raises(sk.InvalidInputError):
+        w.add_obstacle(sk.obstacles.plane(), friction=-0.1)
+    with pytest.raises(sk.InvalidInputError):
+        w.add_obstacle(sk.obstacles.plane(), margin=np.nan)
+    with pytest.raises(sk.InvalidInputError):
+        w.contact(margin=0.01, friction=np.inf)
+    # Missing, empty, or not a mesh: a FileError naming the file.
+    (tmp_path / "empty.stl").write_bytes(b"")
+    (tmp_path / "notes.obj").write_text("just some text\nv 1 2\n")
+    (tmp_path / "junk.stl").write_bytes(b"\x00\xff" * 100)
+    for name in ["missing.obj", "empty.stl", "notes.obj", "junk.stl"]:
+        with pytest.raises(sk.FileError) as e:
+            sk.obstacles.mesh(tmp_path / name)
+        assert name in str(e.value)
+    assert w.contacts()["points"].shape == (0, 3)

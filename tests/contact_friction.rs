@@ -1,0 +1,151 @@
+//! Issue 15: Coulomb friction on contact rows (SPEC §7), as an active set
+//! on the tangential motion — stick rows while the friction force is inside
+//! the cone, the force μ N against the motion while slipping — checked
+//! against the incline (stick while tan α ≤ μ, else a = g(sin α − μ cos α))
+//! and the capstan (T₂/T₁ = e^{μθ}).
+use nalgebra::Vector3;
+use strandkit::prelude::*;
+use strandkit::Obstacle;
+
+const G: f64 = 9.81;
+
+/// A short stiff rod resting along the slope of a plane tilted at `alpha`
+/// with coefficient `mu`; returns the distance slid down the slope over
+/// `duration` (s) and the acceleration fitted to the second half of it.
+fn incline(alpha: f64, mu: f64, duration: f64) -> (f64, f64) {
+    let r = 0.005;
+    let n = Vector3::new(alpha.sin(), 0.0, alpha.cos());
+    let down = Vector3::new(alpha.cos(), 0.0, -alpha.sin());
+    let (a, b) = (n * r, n * r + down * 0.2);
+    let rod = RodBuilder::straight(a, b)
+        .control_points(6)
+        .with_roll(false)
+        .section(Section::circle(r).unwrap())
+        .material(Material::new("steel", 2e11, 0.3, 7800.0).unwrap())
+        .build()
+        .unwrap();
+    let dt = 1e-3;
+    let mut w = World::new(IntegrationParameters { dt, gravity: [0.0, 0.0, -G], ..Default::default() });
+    let h = w.add_rod(rod);
+    w.add_contact_detector(Obstacle::plane([0.0; 3], n.into()).unwrap().with_margin(0.002).unwrap().with_friction(mu).unwrap()).unwrap();
+    let mid = |w: &World| {
+        let rod = w.rod(h).unwrap();
+        let (u0, u1) = rod.domain();
+        rod.position(0.5 * (u0 + u1)).unwrap()
+    };
+    let start = mid(&w);
+    let steps = (duration / dt).round() as usize;
+    let mut track = Vec::new();
+    for k in 0..steps {
+        w.step().unwrap();
+        let p = mid(&w);
+        // Never through the plane, never lifted off it.
+        assert!(((p - start).dot(&n)).abs() < 1e-3 * r, "step {k}: off the plane by {}", (p - start).dot(&n));
+        track.push(((k + 1) as f64 * dt, (p - start).dot(&down)));
+    }
+    // Least-squares s = c + v t + ½ a t² over the second half.
+    let half = &track[steps / 2..];
+    let m = half.len() as f64;
+    let (mut st, mut st2, mut st3, mut st4, mut ss, mut sts, mut st2s) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    for &(t, s) in half {
+        st += t;
+        st2 += t * t;
+        st3 += t * t * t;
+        st4 += t * t * t * t;
+        ss += s;
+        sts += t * s;
+        st2s += t * t * s;
+    }
+    let mat = nalgebra::Matrix3::new(m, st, st2, st, st2, st3, st2, st3, st4);
+    let coef = mat.lu().solve(&Vector3::new(ss, sts, st2s)).unwrap();
+    (track.last().unwrap().1, 2.0 * coef[2])
+}
+
+/// Sticks at tan α = 0.5 μ and 0.95 μ; slides at α = 20° and 30° with
+/// a = g(sin α − μ cos α) within 1 %.
+#[test]
+fn incline_sticks_below_the_friction_angle_and_slides_above() {
+    let mu: f64 = 0.3;
+    for f in [0.5f64, 0.95] {
+        let alpha = (f * mu).atan();
+        let (slid, _) = incline(alpha, mu, 0.5);
+        // Frictionless, it would have slid ½ g sin α t².
+        let free = 0.5 * G * alpha.sin() * 0.25;
+        println!("tan α = {f} μ: slid {slid:.3e} m in 0.5 s (frictionless: {free:.3} m)");
+        assert!(slid.abs() < 1e-6 * free, "tan α = {f} μ should stick, slid {slid} m");
+    }
+    for deg in [20.0f64, 30.0] {
+        let alpha = deg.to_radians();
+        let expected = G * (alpha.sin() - mu * alpha.cos());
+        let (slid, acc) = incline(alpha, mu, 0.5);
+        println!("α = {deg}°: a = {acc:.5} m/s² vs g(sin α − μ cos α) = {expected:.5} ({:+.3} %), slid {slid:.4} m", 100.0 * (acc / expected - 1.0));
+        assert!((acc / expected - 1.0).abs() < 1e-2, "α = {deg}°: a = {acc} vs {expected}");
+    }
+}
+
+/// A rope over a fixed horizontal cylinder (wrap π, μ = 0.3), one end
+/// loaded by T₁, the other pulled down at constant speed: once the rope
+/// slips, the pull is T₂ = T₁ e^{μπ} = 2.566 T₁ within 2 %.
+#[test]
+fn capstan_rope_slipping_over_a_cylinder() {
+    let (rc, r, mu, t1) = (0.2, 0.001, 0.3, 20.0);
+    let a = rc + r;
+    let hang = 0.3;
+    let arc = std::f64::consts::PI * a;
+    let length = 2.0 * hang + arc;
+    // Up the left side, over the top, down the right side (arc length s).
+    let shape = move |s: f64| {
+        if s < hang {
+            Vector3::new(-a, 0.0, -hang + s)
+        } else if s < hang + arc {
+            let phi = std::f64::consts::PI - (s - hang) / a;
+            Vector3::new(a * phi.cos(), 0.0, a * phi.sin())
+        } else {
+            Vector3::new(a, 0.0, -(s - hang - arc))
+        }
+    };
+    let rope = RodBuilder::curve(length, shape)
+        .control_points(90)
+        .with_roll(false)
+        .section(Section::circle(r).unwrap())
+        .material(Material::new("nylon", 1e9, 0.4, 1140.0).unwrap())
+        .build()
+        .unwrap();
+    let dt = 1e-3;
+    let mut w = World::new(IntegrationParameters { dt, ..Default::default() });
+    let h = w.add_rod(rope);
+    let (u0, u1) = w.rod(h).unwrap().domain();
+    w.add_load(Load::PointForce(PointForce { rod: h, u: u0, force: [0.0, 0.0, -t1] })).unwrap();
+    // The pulled end: its height prescribed, free across.
+    let z0 = w.rod(h).unwrap().position(u1).unwrap().z;
+    let pull = |z: f64| Position { u: u1, axes: [false, false, true, false], target: [0.0, 0.0, z, 0.0] };
+    let c = w.add_constraint(h, ConstraintKind::Position(pull(z0)), 0.0).unwrap();
+    // Held in its plane at both ends (nothing else fixes y).
+    for u in [u0, u1] {
+        w.add_constraint(h, ConstraintKind::Position(Position { u, axes: [false, true, false, false], target: [0.0; 4] }), 0.0).unwrap();
+    }
+    w.add_contact_detector(Obstacle::capsule([0.0, -1.0, 0.0], [0.0, 1.0, 0.0], rc).unwrap().with_margin(0.003).unwrap().with_friction(mu).unwrap()).unwrap();
+    let speed = 0.05;
+    let mut pulls = Vec::new();
+    for k in 0..2500 {
+        let t = (k + 1) as f64 * dt;
+        // Held for 0.2 s (settling under T₁, sticking), then pulled.
+        let z = z0 - speed * (t - 0.2).max(0.0);
+        w.set_constraint(c, pull(z)).unwrap();
+        w.step().unwrap();
+        if t > 2.0 {
+            pulls.push(-w.constraint(c).unwrap().multipliers[0]);
+        }
+    }
+    let t2 = pulls.iter().sum::<f64>() / pulls.len() as f64;
+    let spread = pulls.iter().map(|p| (p - t2).abs()).fold(0.0, f64::max);
+    let ratio = t2 / t1;
+    let expected = (mu * std::f64::consts::PI).exp();
+    let slipping = w.contacts().active().filter(|(_, p)| p.friction.as_ref().is_some_and(|f| f.slip.is_some())).count();
+    println!(
+        "capstan: T2/T1 = {ratio:.4} vs e^(μπ) = {expected:.4} ({:+.2} %), pull varies ±{spread:.3} N; {} rows, {slipping} slipping",
+        100.0 * (ratio / expected - 1.0),
+        w.contacts().active().count()
+    );
+    assert!((ratio / expected - 1.0).abs() < 2e-2, "T2/T1 = {ratio} vs {expected}");
+}
