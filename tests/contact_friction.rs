@@ -149,3 +149,66 @@ fn capstan_rope_slipping_over_a_cylinder() {
     );
     assert!((ratio / expected - 1.0).abs() < 2e-2, "T2/T1 = {ratio} vs {expected}");
 }
+
+/// Rod b lies across rod a (right angles), pushed onto it by P and pulled
+/// along a by F, with μ = 0.4 between the rods: b stays put for F = 0.8 μP
+/// (to 1e-6 m) and slides with acceleration (F − μP)/m_b (within 1 %) for
+/// F = 1.5 μP.
+#[test]
+fn a_rod_pulled_across_another_sticks_then_slides() {
+    let (r, mu, push) = (0.01, 0.4, 20.0);
+    let rod = |a: Vector3<f64>, b: Vector3<f64>| {
+        RodBuilder::straight(a, b)
+            .control_points(10)
+            .with_roll(false)
+            .section(Section::circle(r).unwrap())
+            .material(Material::new("steel", 2e11, 0.3, 7800.0).unwrap())
+            .build()
+            .unwrap()
+    };
+    let run = |pull: f64| -> (f64, f64, f64) {
+        let mut w = World::new(IntegrationParameters { dt: 1e-3, ..Default::default() });
+        let a = w.add_rod(rod(Vector3::new(-0.5, 0.0, 0.0), Vector3::new(0.5, 0.0, 0.0)));
+        let b = w.add_rod(rod(Vector3::new(0.0, -0.2, 2.0 * r), Vector3::new(0.0, 0.2, 2.0 * r)));
+        for (h, axes) in [(a, [true, true, true, false]), (b, [false, true, false, false])] {
+            let (u0, u1) = w.rod(h).unwrap().domain();
+            for u in [u0, u1] {
+                let (p, t) = (w.rod(h).unwrap().position(u).unwrap(), w.rod(h).unwrap().tangent(u).unwrap());
+                w.add_constraint(h, ConstraintKind::Position(Position { u, axes, target: [p.x, p.y, p.z, 0.0] }), 0.0).unwrap();
+                w.add_constraint(h, ConstraintKind::Tangent(Tangent { u, direction: t.into() }), 0.0).unwrap();
+            }
+        }
+        let (u0, u1) = w.rod(b).unwrap().domain();
+        let um = 0.5 * (u0 + u1);
+        // Pressed for 0.1 s (the contact force builds up), then pulled.
+        let load = w.add_load(Load::PointForce(PointForce { rod: b, u: um, force: [0.0, 0.0, -push] })).unwrap();
+        w.add_contact_detector(RodContacts::new(0.005, false, true).unwrap().with_friction(mu).unwrap()).unwrap();
+        for _ in 0..100 {
+            w.step().unwrap();
+        }
+        w.set_load(load, Load::PointForce(PointForce { rod: b, u: um, force: [pull, 0.0, -push] })).unwrap();
+        let mass = w.rod(b).unwrap().mass();
+        let x0 = w.rod(b).unwrap().position(um).unwrap().x;
+        let mut track = Vec::new();
+        for k in 0..400 {
+            w.step().unwrap();
+            track.push(((k + 1) as f64 * 1e-3, w.rod(b).unwrap().position(um).unwrap().x - x0));
+        }
+        // Velocity slope over the last half: x = x0 + v t + ½ a t², a from
+        // the central second difference of the mean positions of quarters.
+        let n = track.len();
+        let (t1, x1) = track[n / 2];
+        let (t2, x2) = track[3 * n / 4];
+        let (t3, x3) = track[n - 1];
+        let acc = 2.0 * ((x3 - x2) / (t3 - t2) - (x2 - x1) / (t2 - t1)) / (t3 - t1);
+        (track[n - 1].1, acc, mass)
+    };
+    use strandkit::RodContacts;
+    let (held, _, _) = run(0.8 * mu * push);
+    println!("F = 0.8 μP: rod b moved {held:.2e} m in 0.4 s");
+    assert!(held.abs() < 1e-6, "should stick: moved {held}");
+    let (slid, acc, mass) = run(1.5 * mu * push);
+    let expected = 0.5 * mu * push / mass;
+    println!("F = 1.5 μP: a = {acc:.4} m/s² vs (F − μP)/m = {expected:.4} ({:+.2} %), slid {slid:.4} m", 100.0 * (acc / expected - 1.0));
+    assert!((acc / expected - 1.0).abs() < 1e-2);
+}

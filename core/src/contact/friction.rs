@@ -133,9 +133,11 @@ impl Friction {
             Some((a, [ua, ub_old])) => {
                 // The same pair, found at neighbouring abscissae: the
                 // anchor moves by what separates the points on the rods now.
+                // anchor + [r_a(ua') − r_a(ua)] − [r_b(ub') − r_b(ub)], the
+                // relative position (g.relative) carrying the primed terms.
                 let mut a = Vector3::from(a) + g.relative - rods[0].position(ua)?;
-                if let Some(ub_new) = g.ub {
-                    a = a - rods[1].position(ub_new)? + rods[1].position(ub_old)?;
+                if g.ub.is_some() {
+                    a += rods[1].position(ub_old)?;
                 }
                 a
             }
