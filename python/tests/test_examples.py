@@ -12,6 +12,7 @@ EXAMPLES_DIR = pathlib.Path(__file__).resolve().parents[2] / "examples"
 # Scripts (not the helper module _common.py) and the files each writes.
 OUTPUTS = {
     "bead_on_string.py": ["bead_on_string.png"],
+    "bridge_fall.py": ["bridge_fall.png"],
     "cables.py": ["cables.glb", "cables.png", "harness.glb"],
     "cantilever.py": ["cantilever.png"],
     "catenary.py": ["catenary.png"],

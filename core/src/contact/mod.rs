@@ -1,7 +1,8 @@
 //! The contact seam (SPEC §7; rapier keeps contacts apart from joints the
 //! same way): a [`ContactSet`] of unilateral pairs, produced each step by
 //! the world's [`ContactDetector`]s ([`rods::RodContacts`]: rod–rod and
-//! self-contact between capsules), entering the same KKT system as the
+//! self-contact between capsules; [`obstacle::Obstacle`]: plane, sphere,
+//! capsule, triangle mesh), entering the same KKT system as the
 //! constraints, with an active set — a pair whose multiplier would pull is
 //! dropped and the system solved again; a candidate that the solution
 //! would push through its gap is taken in.
@@ -9,7 +10,20 @@
 //! A pair's row is a constraint kind oriented so that a positive multiplier
 //! pushes the rods apart: [`ConstraintKind::Contact`] between two rods
 //! (g = |r_a − r_b| − distance), or [`ConstraintKind::Plane`] for a rod
-//! against a fixed plane whose normal points out of the obstacle.
+//! against an obstacle's tangent plane, its normal pointing out of the
+//! obstacle. Coulomb friction ([`friction`]) adds stick rows or a slip
+//! force to active pairs.
+//!
+//! Why the queries are our own rather than parry3d-f64's (SPEC §7): the
+//! pairs need the segment parameters (s, t) to map back to spline
+//! abscissae, with our convention for parallel segments (the middle of
+//! the overlap); the self-contact exclusion along the rod, the
+//! nearest-partner filter and the per-rod-pair thinning would sit on top
+//! of any library anyway; parry from 0.26 works on glam types (a
+//! conversion at every call) and up to 0.25 on a nalgebra release of its
+//! own choosing, not necessarily ours (0.35); and the closed forms —
+//! segment–segment (`capsule.rs`), point–triangle and a median-split BVH
+//! (`mesh.rs`) — are short and tested against brute force.
 pub mod capsule;
 pub mod friction;
 pub mod mesh;

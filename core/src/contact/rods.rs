@@ -24,6 +24,7 @@ use crate::handles::RodHandle;
 use crate::rod::Rod;
 use nalgebra::Vector3;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 use std::f64::consts::PI;
 
 /// Which contacts to detect, and how early (`margin`, length unit: pairs
@@ -76,7 +77,16 @@ struct Capsule {
 fn capsules(index: usize, rod: &Rod, out: &mut Vec<Capsule>) -> Result<f64> {
     let (u0, u1) = rod.domain();
     let (us, radius) = super::probe_points(rod);
-    let pts: Vec<Vector3<f64>> = us.iter().map(|&u| rod.position(u)).collect::<Result<_>>()?;
+    // The samples' points from their cached basis; the ends evaluated.
+    let mut pts: Vec<Vector3<f64>> = Vec::with_capacity(us.len());
+    if !rod.is_closed() {
+        pts.push(rod.position(u0)?);
+    }
+    pts.extend(rod.sample_points());
+    if !rod.is_closed() {
+        pts.push(rod.position(u1)?);
+    }
+    debug_assert_eq!(pts.len(), us.len());
     let n = if rod.is_closed() { pts.len() } else { pts.len() - 1 };
     let mut arc = 0.0;
     for k in 0..n {
@@ -87,6 +97,31 @@ fn capsules(index: usize, rod: &Rod, out: &mut Vec<Capsule>) -> Result<f64> {
         arc += (pts[j] - pts[k]).norm();
     }
     Ok(arc)
+}
+
+/// A fast hasher for grid cells (three small integers; SipHash's
+/// resistance to adversarial keys buys nothing here).
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.write_u64(b as u64);
+        }
+    }
+    fn write_i64(&mut self, x: i64) {
+        self.write_u64(x as u64);
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
 }
 
 impl ContactDetector for RodContacts {
@@ -116,54 +151,86 @@ impl ContactDetector for RodContacts {
             let m = 0.5 * (c.p + c.q) / cell;
             [m.x.floor() as i64, m.y.floor() as i64, m.z.floor() as i64]
         };
-        let mut grid: HashMap<[i64; 3], Vec<usize>> = HashMap::new();
-        for (i, c) in caps.iter().enumerate() {
-            grid.entry(key(c)).or_default().push(i);
+        // A cell's three indices packed in one word (21 bits each): two
+        // far cells sharing a word only add candidates, which the exact
+        // distance test then rejects.
+        let pack = |k: [i64; 3]| (k[0] as u64 & 0x1f_ffff) | (k[1] as u64 & 0x1f_ffff) << 21 | (k[2] as u64 & 0x1f_ffff) << 42;
+        // Capsules sorted by cell; each occupied cell a range of them.
+        let mut order: Vec<(u64, usize)> = caps.iter().enumerate().map(|(i, c)| (pack(key(c)), i)).collect();
+        order.sort_unstable();
+        let mut cells: HashMap<u64, (usize, usize), BuildHasherDefault<CellHasher>> = HashMap::default();
+        let mut first = 0;
+        for k in 1..=order.len() {
+            if k == order.len() || order[k].0 != order[first].0 {
+                cells.insert(order[first].0, (first, k));
+                first = k;
+            }
         }
-        // Candidates, and each capsule's nearest partner among them.
+        // Each capsule's box grown by its radius and half the margin: two
+        // capsules can be within reach only if their boxes overlap.
+        let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
+        let boxes: Vec<(Vector3<f64>, Vector3<f64>)> = caps.iter().map(|c| (c.p.inf(&c.q) - grow(c), c.p.sup(&c.q) + grow(c))).collect();
+        // Candidates, and each capsule's nearest partner among them. Every
+        // pair of neighbouring cells is visited once (a cell with itself
+        // and with the 13 cells after it).
         let mut found: Vec<(usize, usize, f64, f64, f64)> = Vec::new();
         let mut best: Vec<(usize, f64)> = vec![(usize::MAX, f64::INFINITY); caps.len()];
-        for (i, a) in caps.iter().enumerate() {
-            let k = key(a);
-            for dx in -1..=1 {
-                for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        let Some(list) = grid.get(&[k[0] + dx, k[1] + dy, k[2] + dz]) else { continue };
-                        for &j in list.iter().filter(|&&j| j > i) {
-                            let b = &caps[j];
-                            let same = a.rod == b.rod;
-                            if (same && !self.self_contact) || (!same && !self.between_rods) {
+        const FORWARD: [[i64; 3]; 14] = [
+            [0, 0, 0], [1, 0, 0], [-1, 1, 0], [0, 1, 0], [1, 1, 0], [-1, -1, 1], [0, -1, 1],
+            [1, -1, 1], [-1, 0, 1], [0, 0, 1], [1, 0, 1], [-1, 1, 1], [0, 1, 1], [1, 1, 1],
+        ];
+        for &(lo, hi) in cells.values() {
+            let k = key(&caps[order[lo].1]);
+            for d in FORWARD {
+                let Some(&(lo2, hi2)) = cells.get(&pack([k[0] + d[0], k[1] + d[1], k[2] + d[2]])) else { continue };
+                let same_cell = d == [0, 0, 0];
+                for x in lo..hi {
+                    let start = if same_cell { x + 1 } else { lo2 };
+                    for y in start..hi2 {
+                        let (i, j) = (order[x].1.min(order[y].1), order[x].1.max(order[y].1));
+                        let (a, b) = (&caps[i], &caps[j]);
+                        let (ba, bb) = (&boxes[i], &boxes[j]);
+                        if (0..3).any(|t| ba.0[t] > bb.1[t] || bb.0[t] > ba.1[t]) {
+                            continue;
+                        }
+                        let same = a.rod == b.rod;
+                        if (same && !self.self_contact) || (!same && !self.between_rods) {
+                            continue;
+                        }
+                        let reach = a.radius + b.radius;
+                        if same {
+                            let d = (b.sa - a.sa).abs();
+                            let along = if rods[a.rod].1.is_closed() { d.min(chain[a.rod] - d) } else { d };
+                            // A straight stretch has points at distance d
+                            // at arc d: the margin's candidates need the
+                            // rod to have turned back, half a circle at least.
+                            if along < exclusion(reach) || j == i + 1 {
                                 continue;
                             }
-                            let reach = a.radius + b.radius;
-                            if same {
-                                let d = (b.sa - a.sa).abs();
-                                let along = if rods[a.rod].1.is_closed() { d.min(chain[a.rod] - d) } else { d };
-                                // A straight stretch has points at distance d
-                                // at arc d: the margin's candidates need the
-                                // rod to have turned back, half a circle at least.
-                                if along < exclusion(reach) || j == i + 1 {
-                                    continue;
-                                }
+                        }
+                        let (s, t, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
+                        if dist < reach + self.margin {
+                            found.push((i, j, s, t, dist));
+                            if dist < best[i].1 {
+                                best[i] = (j, dist);
                             }
-                            let (s, t, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
-                            if dist < reach + self.margin {
-                                found.push((i, j, s, t, dist));
-                                if dist < best[i].1 {
-                                    best[i] = (j, dist);
-                                }
-                                if dist < best[j].1 {
-                                    best[j] = (i, dist);
-                                }
+                            if dist < best[j].1 {
+                                best[j] = (i, dist);
                             }
                         }
                     }
                 }
             }
         }
-        let mut kept = Vec::new();
+        // Deterministic order whatever the hash map's iteration order.
+        found.sort_unstable_by_key(|f| (f.0, f.1));
         // Half a segment's length along each rod (its chain over its segments).
         let spacing: Vec<f64> = rods.iter().zip(&chain).map(|((_, r), l)| 0.5 * l / r.n_segments().max(1) as f64).collect();
+        // Rows kept, by rod pair and grid cell (as large as the largest
+        // duplicate distance, so a duplicate is in a neighbouring cell).
+        let dup_cell = spacing.iter().copied().fold(0.5 * rmax, f64::max);
+        type Kept = HashMap<(RodHandle, RodHandle, u64), Vec<(Vector3<f64>, Vector3<f64>)>, BuildHasherDefault<CellHasher>>;
+        let mut kept: Kept = HashMap::default();
         for (i, j, s, t, _) in found {
             if best[i].0 != j && best[j].0 != i {
                 continue;
@@ -204,13 +271,26 @@ impl ContactDetector for RodContacts {
             // Rows closer than half a segment on both rods would outnumber
             // what the control points can meet (strands side by side).
             let (sa, sb) = (spacing[a.rod].max(0.25 * c.distance), spacing[b.rod].max(0.25 * c.distance));
-            let near = |x: &Vector3<f64>, y: &Vector3<f64>, tol: f64| (x - y).norm() < tol;
-            let duplicate = kept.iter().any(|(h, qa, qb): &([RodHandle; 2], Vector3<f64>, Vector3<f64>)| {
-                (*h == handles && near(qa, &pa, sa) && near(qb, &pb, sb))
-                    || (*h == [handles[1], handles[0]] && near(qa, &pb, sb) && near(qb, &pa, sa))
-            });
+            // One orientation for both (a, b) and (b, a): the lower (rod, u) first.
+            let ((h0, p0, s0), (h1, p1, s1)) =
+                if (handles[0], c.ua) <= (handles[1], c.ub) { ((handles[0], pa, sa), (handles[1], pb, sb)) } else { ((handles[1], pb, sb), (handles[0], pa, sa)) };
+            let cell_of = |p: &Vector3<f64>| [(p.x / dup_cell).floor() as i64, (p.y / dup_cell).floor() as i64, (p.z / dup_cell).floor() as i64];
+            let pack = |k: [i64; 3]| (k[0] as u64 & 0x1f_ffff) | (k[1] as u64 & 0x1f_ffff) << 21 | (k[2] as u64 & 0x1f_ffff) << 42;
+            let k = cell_of(&p0);
+            let mut duplicate = false;
+            'search: for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        let Some(list) = kept.get(&(h0, h1, pack([k[0] + dx, k[1] + dy, k[2] + dz]))) else { continue };
+                        if list.iter().any(|(q0, q1): &(Vector3<f64>, Vector3<f64>)| (q0 - p0).norm() < s0 && (q1 - p1).norm() < s1) {
+                            duplicate = true;
+                            break 'search;
+                        }
+                    }
+                }
+            }
             if !duplicate {
-                kept.push((handles, pa, pb));
+                kept.entry((h0, h1, pack(k))).or_default().push((p0, p1));
                 out.pairs.push(ContactPair::new(handles, kind)?.with_friction(self.friction)?);
             }
         }

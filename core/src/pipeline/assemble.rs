@@ -230,6 +230,11 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
             }
         }
     }
+    for p in contacts.pairs.iter_mut() {
+        if p.active && super::solve::is_blocked(&ws.blocked, p) {
+            p.active = false;
+        }
+    }
     // Friction: the anchor of the step and the stick rows of active pairs.
     for p in contacts.pairs.iter_mut() {
         if let (Some(f), Some(a), Some(b)) = (&mut p.friction, rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
@@ -257,7 +262,7 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
 /// unit, a fraction of a knot span).
 /// An obstacle row's tangent plane turns with the rod: the same place if
 /// its normal turned less than 60°.
-fn same_place(a: &crate::constraint::ConstraintKind, b: &crate::constraint::ConstraintKind) -> bool {
+pub(crate) fn same_place(a: &crate::constraint::ConstraintKind, b: &crate::constraint::ConstraintKind) -> bool {
     use crate::constraint::ConstraintKind::{Contact, Plane};
     match (a, b) {
         (Contact(x), Contact(y)) => (x.ua - y.ua).abs() + (x.ub - y.ub).abs() < 0.5,

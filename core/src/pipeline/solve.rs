@@ -96,13 +96,17 @@ fn involved(world: &World, unknown: &Unknown, out: &mut Vec<crate::handles::Cons
 /// push through its gap enters it, and the system is solved again. Returns
 /// the elastic energy and the solve.
 pub(crate) fn assemble_and_solve(world: &mut World, regime: Regime) -> Result<(f64, Solved)> {
+    world.ws.blocked.clear();
     if !world.contacts.is_empty() {
         activate_touching(world)?;
     }
     let mut rounds = 0;
     loop {
         let energy = assemble(world, regime)?;
-        let solved = solve(world)?;
+        let solved = match solve(world) {
+            Err(e) if block_dependent_contact(world, &e) => continue,
+            other => other?,
+        };
         if world.contacts.is_empty() || rounds >= MAX_ACTIVE_SET_ROUNDS || !update_active_set(world)? {
             return Ok((energy, solved));
         }
@@ -110,11 +114,36 @@ pub(crate) fn assemble_and_solve(world: &mut World, regime: Regime) -> Result<(f
     }
 }
 
+/// After a failed factorisation: when the row found dependent is a contact
+/// pair's (its point already held — an anchor on an obstacle's surface),
+/// takes the pair out of the active set for the rest of the solve and
+/// returns true (assemble and solve again). Bounded: each pair once.
+pub(crate) fn block_dependent_contact(world: &mut World, e: &Error) -> bool {
+    let Error::Singular { unknown: Some(Unknown::Contact { pair }), .. } = e else { return false };
+    let n = world.contacts.pairs.len();
+    let Some(p) = world.contacts.pairs.get_mut(*pair) else { return false };
+    if !p.active || world.ws.blocked.len() > n {
+        return false;
+    }
+    p.active = false;
+    let p = p.clone();
+    world.ws.blocked.push(p);
+    true
+}
+
+/// Whether `p` is a pair [`block_dependent_contact`] took out.
+pub(crate) fn is_blocked(blocked: &[crate::contact::ContactPair], p: &crate::contact::ContactPair) -> bool {
+    blocked.iter().any(|b| b.rods == p.rods && super::assemble::same_place(&b.kind, &p.kind))
+}
+
 /// Takes into the active set every pair at or past contact now.
 fn activate_touching(world: &mut World) -> Result<()> {
     let mut rows = [Row::default(); MAX_ROWS];
-    let World { rods, contacts, .. } = world;
+    let World { rods, contacts, ws, .. } = world;
     for p in contacts.pairs.iter_mut() {
+        if is_blocked(&ws.blocked, p) {
+            continue;
+        }
         let pair = [rods.get(p.rods[0].into()), rods.get(p.rods[1].into())];
         if let [Some(a), Some(b)] = pair {
             p.kind.linearize(&[a, b], &mut rows[..1])?;
@@ -196,6 +225,9 @@ fn update_active_set(world: &mut World) -> Result<bool> {
                 }
                 changed |= f.update(&g, stick, moved, force);
             }
+            continue;
+        }
+        if is_blocked(&ws.blocked, p) {
             continue;
         }
         p.kind.linearize(&[a, b], &mut rows[..1])?;

@@ -59,6 +59,7 @@ pub fn relax(world: &mut World) -> Result<RelaxReport> {
 fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
     let tol = world.params.relax_tolerance;
     let length = world.rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
+    world.ws.blocked.clear();
     beads::static_load(world);
     // Statically defined? (rigid-body modes not held by constraints nor by
     // stiffness.) Checked before anything changes, so a refusal leaves the
@@ -94,6 +95,7 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
         report.iterations += 1;
         let solved = match solved {
             Ok(s) => s,
+            Err(e) if solve::block_dependent_contact(world, &e) => continue,
             Err(e) => {
                 // A singular Newton system once the constraints are met and
                 // the iterate stands still: a free rigid mode that the

@@ -33,6 +33,10 @@ pub struct Workspace {
     /// Sticking pairs (indices into the contact set), whose two friction
     /// rows follow the contacts' normal rows.
     pub(crate) stick_ids: Vec<usize>,
+    /// Contact pairs whose row the factorisation found dependent on the
+    /// others (a point an anchor already holds against an obstacle): kept
+    /// out of the active set for the rest of the solve.
+    pub(crate) blocked: Vec<crate::contact::ContactPair>,
     /// Sliders that left their rod in the last solve.
     pub(crate) left: Vec<Index>,
     /// What the last `apply` overwrote (coordinates, velocities,

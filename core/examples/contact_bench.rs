@@ -1,0 +1,92 @@
+//! Contact detection cost (issue 15): a woven mat of two layers of rods
+//! crossing at right angles and touching at every crossing,
+//!
+//!   cargo run --release -p strandkit-core --example contact_bench [-- --rods 100 --ctrl 103 --runs 3 --detect-only]
+//!
+//! Prints the number of capsules, the detection time alone (the rod–rod
+//! detector over all rods), a full dynamic step without contact (gravity
+//! pressing the top layer, no detector) and with it, per capsule and per
+//! active contact. Times are the smallest of `runs` medians.
+use std::time::Instant;
+use strandkit_core::contact::ContactDetector;
+use strandkit_core::constraint::kinds::Position;
+use strandkit_core::*;
+
+fn arg(name: &str, default: usize) -> usize {
+    let a: Vec<String> = std::env::args().collect();
+    a.iter().position(|x| x == name).and_then(|i| a.get(i + 1)).and_then(|v| v.parse().ok()).unwrap_or(default)
+}
+
+fn mat(n: usize, ctrl: usize) -> (World, f64) {
+    let (r, pitch) = (0.003, 0.01);
+    let len = pitch * n as f64;
+    let mut w = World::new(IntegrationParameters { dt: 1e-3, gravity: [0.0, 0.0, -9.81], parallel: false, ..Default::default() });
+    for layer in 0..2 {
+        for i in 0..n {
+            let c = (i as f64 + 0.5) * pitch;
+            let z = layer as f64 * 2.0 * r;
+            let (a, b) = if layer == 0 { ([0.0, c, z], [len, c, z]) } else { ([c, 0.0, z], [c, len, z]) };
+            let rod = RodBuilder::straight(a.into(), b.into())
+                .control_points(ctrl)
+                .with_roll(false)
+                .section(Section::circle(r).expect("positive radius"))
+                .material(Material::new("nylon", 2e9, 0.4, 1140.0).expect("valid material"))
+                .build()
+                .expect("valid rod");
+            let h = w.add_rod(rod);
+            // Both ends pinned, so the mat hangs between them.
+            let (u0, u1) = w.rod(h).expect("just added").domain();
+            for u in [u0, u1] {
+                let p = w.rod(h).expect("just added").position(u).expect("inside the domain");
+                w.add_constraint(h, ConstraintKind::Position(Position { u, axes: [true, true, true, false], target: [p.x, p.y, p.z, 0.0] }), 0.0)
+                    .expect("valid pin");
+            }
+        }
+    }
+    (w, r)
+}
+
+fn main() {
+    let (n, ctrl, runs) = (arg("--rods", 100), arg("--ctrl", 103), arg("--runs", 3));
+    let detector = RodContacts::new(0.002, false, true).expect("valid margin");
+    let (mut bare, _) = mat(n, ctrl);
+    let (mut with, _) = mat(n, ctrl);
+    with.add_contact_detector(detector.clone()).expect("valid detector");
+    let capsules: usize = bare.rods().map(|(_, r)| r.sample_params().len() + 1).sum();
+    let best = |f: &mut dyn FnMut() -> f64| (0..runs).map(|_| f()).fold(f64::INFINITY, f64::min);
+    let detect = best(&mut || {
+        let list: Vec<_> = bare.rods().collect();
+        let mut set = ContactSet::default();
+        let t = Instant::now();
+        detector.detect(&list, &mut set).expect("detection");
+        t.elapsed().as_secs_f64()
+    });
+    let pairs = {
+        let list: Vec<_> = bare.rods().collect();
+        let mut set = ContactSet::default();
+        detector.detect(&list, &mut set).expect("detection");
+        set.len()
+    };
+    if std::env::args().any(|a| a == "--detect-only") {
+        println!("{capsules} capsules, {pairs} pairs: detection {:.2} ms ({:.3} µs per capsule)", 1e3 * detect, 1e6 * detect / capsules as f64);
+        return;
+    }
+    let step_bare = best(&mut || {
+        let t = Instant::now();
+        bare.step().expect("step");
+        t.elapsed().as_secs_f64()
+    });
+    let step_with = best(&mut || {
+        let t = Instant::now();
+        with.step().expect("step");
+        t.elapsed().as_secs_f64()
+    });
+    let active = with.contacts().active().count();
+    println!("{} rods × {ctrl} control points, {capsules} capsules, {pairs} pairs detected, {active} active", 2 * n);
+    println!("detection alone      {:8.2} ms  ({:.3} µs per capsule)", 1e3 * detect, 1e6 * detect / capsules as f64);
+    println!("step without contact {:8.2} ms", 1e3 * step_bare);
+    println!("step with contact    {:8.2} ms  (detection / step without contact = {:.3})", 1e3 * step_with, detect / step_bare);
+    if active > 0 {
+        println!("extra per active contact (step with − without − detection) {:.2} µs", 1e6 * (step_with - step_bare - detect) / active as f64);
+    }
+}
