@@ -119,3 +119,63 @@ fn contact_detectors_refuse_bad_parameters() {
         assert!(matches!(Obstacle::plane([0.0; 3], n), Err(Error::InvalidInput { .. })), "normal {n:?}");
     }
 }
+
+/// Contact in the static solvers: a clamped steel cantilever (L = 1 m,
+/// r = 5 mm) under a tip load F = 10 N, with a stop 1 cm below its tip
+/// (free deflection F L³/3EI = 3.4 cm). `relax` ends on the stop with the
+/// stop carrying N = F − 3EI d/L³ (linear theory; the deflection is 1 % of
+/// L) within 1 %, and quasi-dynamic frames held quasi-static reach the
+/// same answer.
+#[test]
+fn relax_and_quasi_static_frames_settle_on_a_stop() {
+    let (len, r, f, d) = (1.0, 0.005, 10.0, 0.01);
+    let build = || {
+        let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(len, 0.0, 0.0))
+            .control_points(20)
+            .with_roll(false)
+            .section(Section::circle(r).unwrap())
+            .material(Material::new("steel", 2e11, 0.3, 7800.0).unwrap())
+            .build()
+            .unwrap();
+        let mut w = World::new(IntegrationParameters { dt: 1e-3, parallel: false, ..Default::default() });
+        let h = w.add_rod(rod);
+        let (u0, u1) = w.rod(h).unwrap().domain();
+        w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: [true, true, true, false], target: [0.0; 4] }), 0.0).unwrap();
+        w.add_constraint(h, ConstraintKind::Tangent(Tangent { u: u0, direction: [1.0, 0.0, 0.0] }), 0.0).unwrap();
+        w.add_load(Load::PointForce(PointForce { rod: h, u: u1, force: [0.0, 0.0, -f] })).unwrap();
+        w.add_contact_detector(Obstacle::plane([0.0, 0.0, -d - r], [0.0, 0.0, 1.0]).unwrap().with_margin(0.005).unwrap()).unwrap();
+        (w, h)
+    };
+    let ei = 2e11 * std::f64::consts::PI * r.powi(4) / 4.0;
+    let expected = f - 3.0 * ei * d / len.powi(3);
+    let (mut w, h) = build();
+    w.relax().unwrap();
+    let n: f64 = w.contacts().active().map(|(_, p)| p.force).sum();
+    let (_, u1) = w.rod(h).unwrap().domain();
+    let tip = w.rod(h).unwrap().position(u1).unwrap();
+    println!("relax: stop force {n:.5} N vs F − 3EI d/L³ = {expected:.5} N ({:+.3} %), tip z = {:.6} m", 100.0 * (n / expected - 1.0), tip.z);
+    assert!((n / expected - 1.0).abs() < 1e-2);
+    assert!((tip.z + d).abs() < 1e-3 * d, "tip at {} instead of on the stop", tip.z);
+
+    // Frames that always overrun the budget stay quasi-static.
+    struct Slow(f64, usize);
+    impl strandkit::Clock for Slow {
+        fn now(&mut self) -> f64 {
+            self.1 += 1;
+            if self.1 % 2 == 0 {
+                self.0 += 1.0;
+            }
+            self.0
+        }
+    }
+    let (mut w, _) = build();
+    let params = strandkit::QuasiDynamicParameters { dt0: 1e-3, time_budget: Some(0.5), ..Default::default() };
+    let mut qd = strandkit::QuasiDynamic::new(&w, params).unwrap();
+    let mut clock = Slow(0.0, 0);
+    for _ in 0..60 {
+        qd.step(&mut w, &mut clock).unwrap();
+    }
+    let n: f64 = w.contacts().active().map(|(_, p)| p.force).sum();
+    println!("quasi-static frames: stop force {n:.5} N ({:+.3} %)", 100.0 * (n / expected - 1.0));
+    assert!((n / expected - 1.0).abs() < 1e-2);
+}

@@ -240,12 +240,23 @@ fn static_frame(world: &mut World, dt: f64, fraction: f64, cap: Option<f64>) -> 
     assemble(world, Regime::Statics { bead_unknowns: false })?;
     definedness::check_anchored(world)?;
     definedness::check_statically_defined(world, false)?;
-    solve::solve(world)?;
+    if world.detectors.is_empty() && world.contacts.is_empty() {
+        solve::solve(world)?;
+    } else {
+        // Contacts: the active set settled around the solve.
+        solve::assemble_and_solve(world, Regime::Statics { bead_unknowns: false })?;
+    }
     let full = world.ws.layout.cp_index.iter().zip(world.rods.iter()).fold(0.0f64, |m, (cps, (_, rod))| {
         cps.iter().fold(m, |m, &g| (0..3.min(rod.dofs())).fold(m, |m, a| m.max(world.ws.sys.sol[g + a].abs())))
     });
     let mut scale = fraction;
     let mut capped = false;
+    // With contact detection a frame moves no point farther than the
+    // detectors' margin (see `statics::contact_reach`).
+    let cap = match (cap, super::statics::contact_reach(world)) {
+        (Some(c), Some(m)) => Some(c.min(m)),
+        (c, m) => c.or(m),
+    };
     if let Some(c) = cap {
         if full * scale > c {
             scale = if full > 0.0 { c / full } else { 0.0 };

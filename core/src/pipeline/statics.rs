@@ -56,6 +56,19 @@ pub fn relax(world: &mut World) -> Result<RelaxReport> {
 
 /// The relax iteration from `lambda` (0: Newton with a line search first;
 /// 1: the damped iteration, Newton once λ has fallen below 1e-9).
+/// The smallest positive margin of the world's contact detectors.
+pub(crate) fn contact_reach(world: &World) -> Option<f64> {
+    world
+        .detectors
+        .iter()
+        .map(|d| match d {
+            crate::contact::Detector::Rods(r) => r.margin,
+            crate::contact::Detector::Obstacle(o) => o.margin,
+        })
+        .filter(|m| *m > 0.0)
+        .reduce(f64::min)
+}
+
 fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
     let tol = world.params.relax_tolerance;
     let length = world.rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
@@ -119,8 +132,25 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
         let slope = solve::directional_derivative(world);
         // The Newton solution z = (p, y): steps on the coordinates and
         // abscissae, multipliers on the rows.
-        let z = world.ws.sys.sol.clone();
+        let mut z = world.ws.sys.sol.clone();
         let is_row = world.ws.sys.multiplier_rows().to_vec();
+        // With contact detection, no iterate moves a point farther than
+        // the detectors' margin: a longer Newton step could carry a rod
+        // through an obstacle or another rod unseen (pairs are found only
+        // within the margin). A trust region on the step, not on the answer.
+        let slope = match contact_reach(world) {
+            Some(m) => {
+                let dx = z.iter().zip(&is_row).filter(|(_, r)| !**r).map(|(x, _)| x.abs()).fold(0.0, f64::max);
+                if dx > m {
+                    let s = m / dx;
+                    z.iter_mut().zip(&is_row).filter(|(_, r)| !**r).for_each(|(x, _)| *x *= s);
+                    slope * s
+                } else {
+                    slope
+                }
+            }
+            None => slope,
+        };
         let beads_at: Vec<usize> = {
             let (n_sliding, layout) = (beads::n_sliding(world), &world.ws.layout);
             let n_cons = layout.row_index.len() - n_sliding;
