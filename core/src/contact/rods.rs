@@ -156,7 +156,8 @@ impl ContactDetector for RodContacts {
         // distance test then rejects.
         let pack = |k: [i64; 3]| (k[0] as u64 & 0x1f_ffff) | (k[1] as u64 & 0x1f_ffff) << 21 | (k[2] as u64 & 0x1f_ffff) << 42;
         // Capsules sorted by cell; each occupied cell a range of them.
-        let mut order: Vec<(u64, usize)> = caps.iter().enumerate().map(|(i, c)| (pack(key(c)), i)).collect();
+        let keys: Vec<[i64; 3]> = caps.iter().map(key).collect();
+        let mut order: Vec<(u64, usize)> = keys.iter().enumerate().map(|(i, k)| (pack(*k), i)).collect();
         order.sort_unstable();
         let mut cells: HashMap<u64, (usize, usize), BuildHasherDefault<CellHasher>> = HashMap::default();
         let mut first = 0;
@@ -170,9 +171,8 @@ impl ContactDetector for RodContacts {
         // capsules can be within reach only if their boxes overlap.
         let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
         let boxes: Vec<(Vector3<f64>, Vector3<f64>)> = caps.iter().map(|c| (c.p.inf(&c.q) - grow(c), c.p.sup(&c.q) + grow(c))).collect();
-        // Candidates, and each capsule's nearest partner among them. Every
-        // pair of neighbouring cells is visited once (a cell with itself
-        // and with the 13 cells after it).
+        // Candidates (every pair of neighbouring cells visited once: a cell
+        // with itself and with the 13 cells after it).
         let mut found: Vec<(usize, usize, f64, f64, f64)> = Vec::new();
         let mut best: Vec<(usize, f64)> = vec![(usize::MAX, f64::INFINITY); caps.len()];
         const FORWARD: [[i64; 3]; 14] = [
@@ -180,7 +180,7 @@ impl ContactDetector for RodContacts {
             [1, -1, 1], [-1, 0, 1], [0, 0, 1], [1, 0, 1], [-1, 1, 1], [0, 1, 1], [1, 1, 1],
         ];
         for &(lo, hi) in cells.values() {
-            let k = key(&caps[order[lo].1]);
+            let k = keys[order[lo].1];
             for d in FORWARD {
                 let Some(&(lo2, hi2)) = cells.get(&pack([k[0] + d[0], k[1] + d[1], k[2] + d[2]])) else { continue };
                 let same_cell = d == [0, 0, 0];
@@ -211,19 +211,33 @@ impl ContactDetector for RodContacts {
                         let (s, t, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
                         if dist < reach + self.margin {
                             found.push((i, j, s, t, dist));
-                            if dist < best[i].1 {
-                                best[i] = (j, dist);
-                            }
-                            if dist < best[j].1 {
-                                best[j] = (i, dist);
-                            }
                         }
                     }
                 }
             }
         }
-        // Deterministic order whatever the hash map's iteration order.
-        found.sort_unstable_by_key(|f| (f.0, f.1));
+        // A deterministic order whatever the hash map's iteration order:
+        // along the first capsule's rod, then by the direction of the
+        // partner's cell, then along the partner's rod (the order of a scan
+        // capsule by capsule; it decides ties below, and the plectoneme's
+        // closest approach moves from 0.94 to 0.80 diameters with them).
+        let direction = |i: usize, j: usize| {
+            let (a, b) = (keys[i], keys[j]);
+            (b[0] - a[0] + 1) * 9 + (b[1] - a[1] + 1) * 3 + (b[2] - a[2] + 1)
+        };
+        let mut sorted: Vec<(usize, i64, usize, usize)> = found.iter().enumerate().map(|(n, f)| (f.0, direction(f.0, f.1), f.1, n)).collect();
+        sorted.sort_unstable();
+        let found: Vec<(usize, usize, f64, f64, f64)> = sorted.iter().map(|x| found[x.3]).collect();
+        // Each capsule's nearest partner, ties to the first in that order
+        // (parallel strands give equal distances).
+        for &(i, j, _, _, dist) in &found {
+            if dist < best[i].1 {
+                best[i] = (j, dist);
+            }
+            if dist < best[j].1 {
+                best[j] = (i, dist);
+            }
+        }
         // Half a segment's length along each rod (its chain over its segments).
         let spacing: Vec<f64> = rods.iter().zip(&chain).map(|((_, r), l)| 0.5 * l / r.n_segments().max(1) as f64).collect();
         // Rows kept, by rod pair and grid cell (as large as the largest

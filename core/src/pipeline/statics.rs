@@ -132,24 +132,18 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
         let slope = solve::directional_derivative(world);
         // The Newton solution z = (p, y): steps on the coordinates and
         // abscissae, multipliers on the rows.
-        let mut z = world.ws.sys.sol.clone();
+        let z = world.ws.sys.sol.clone();
         let is_row = world.ws.sys.multiplier_rows().to_vec();
         // With contact detection, no iterate moves a point farther than
         // the detectors' margin: a longer Newton step could carry a rod
         // through an obstacle or another rod unseen (pairs are found only
-        // within the margin). A trust region on the step, not on the answer.
-        let slope = match contact_reach(world) {
+        // within the margin). A trust region on the step length α.
+        let alpha_max = match contact_reach(world) {
             Some(m) => {
                 let dx = z.iter().zip(&is_row).filter(|(_, r)| !**r).map(|(x, _)| x.abs()).fold(0.0, f64::max);
-                if dx > m {
-                    let s = m / dx;
-                    z.iter_mut().zip(&is_row).filter(|(_, r)| !**r).for_each(|(x, _)| *x *= s);
-                    slope * s
-                } else {
-                    slope
-                }
+                if dx > m { m / dx } else { 1.0 }
             }
-            None => slope,
+            None => 1.0,
         };
         let beads_at: Vec<usize> = {
             let (n_sliding, layout) = (beads::n_sliding(world), &world.ws.layout);
@@ -188,7 +182,7 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
         // it to second order), a stretch energy ∝ α⁴ that the straight line
         // pays and the curved path, which moves the points back along the
         // rod, much less.
-        let full = path.evaluate(world, 1.0, None)?;
+        let full = path.evaluate(world, alpha_max, None)?;
         log(&full, false);
         let outcome = if full.left || accept(&full, true) {
             Some(full)
@@ -201,7 +195,7 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
             let mut rejected = full;
             let mut best = None;
             if a.is_some() {
-                let t = path.evaluate(world, 1.0, a)?;
+                let t = path.evaluate(world, alpha_max, a)?;
                 log(&t, true);
                 if t.left || accept(&t, false) {
                     best = Some(t);
