@@ -5,14 +5,14 @@
 //! and the capstan (T₂/T₁ = e^{μθ}).
 use nalgebra::Vector3;
 use strandkit::prelude::*;
-use strandkit::Obstacle;
+use strandkit::{Obstacle, Scheme};
 
 const G: f64 = 9.81;
 
 /// A short stiff rod resting along the slope of a plane tilted at `alpha`
 /// with coefficient `mu`; returns the distance slid down the slope over
 /// `duration` (s) and the acceleration fitted to the second half of it.
-fn incline(alpha: f64, mu: f64, duration: f64) -> (f64, f64) {
+fn incline(alpha: f64, mu: f64, duration: f64, scheme: Scheme) -> (f64, f64) {
     let r = 0.005;
     let n = Vector3::new(alpha.sin(), 0.0, alpha.cos());
     let down = Vector3::new(alpha.cos(), 0.0, -alpha.sin());
@@ -25,7 +25,7 @@ fn incline(alpha: f64, mu: f64, duration: f64) -> (f64, f64) {
         .build()
         .unwrap();
     let dt = 1e-3;
-    let mut w = World::new(IntegrationParameters { dt, gravity: [0.0, 0.0, -G], ..Default::default() });
+    let mut w = World::new(IntegrationParameters { dt, gravity: [0.0, 0.0, -G], scheme, ..Default::default() });
     let h = w.add_rod(rod);
     w.add_contact_detector(Obstacle::plane([0.0; 3], n.into()).unwrap().with_margin(0.002).unwrap().with_friction(mu).unwrap()).unwrap();
     let mid = |w: &World| {
@@ -68,17 +68,20 @@ fn incline_sticks_below_the_friction_angle_and_slides_above() {
     let mu: f64 = 0.3;
     for f in [0.5f64, 0.95] {
         let alpha = (f * mu).atan();
-        let (slid, _) = incline(alpha, mu, 0.5);
+        let (slid, _) = incline(alpha, mu, 0.5, Scheme::ImplicitEuler);
         // Frictionless, it would have slid ½ g sin α t².
         let free = 0.5 * G * alpha.sin() * 0.25;
         println!("tan α = {f} μ: slid {slid:.3e} m in 0.5 s (frictionless: {free:.3} m)");
         assert!(slid.abs() < 1e-6 * free, "tan α = {f} μ should stick, slid {slid} m");
     }
-    for deg in [20.0f64, 30.0] {
+    // (Under the trapezoidal rule the stick/slip switches between Newton
+    // iterates keep them from converging: friction is implicit Euler's
+    // for now, see the README.)
+    for (deg, scheme) in [(20.0f64, Scheme::ImplicitEuler), (30.0, Scheme::ImplicitEuler)] {
         let alpha = deg.to_radians();
         let expected = G * (alpha.sin() - mu * alpha.cos());
-        let (slid, acc) = incline(alpha, mu, 0.5);
-        println!("α = {deg}°: a = {acc:.5} m/s² vs g(sin α − μ cos α) = {expected:.5} ({:+.3} %), slid {slid:.4} m", 100.0 * (acc / expected - 1.0));
+        let (slid, acc) = incline(alpha, mu, 0.5, scheme);
+        println!("α = {deg}° ({scheme:?}): a = {acc:.5} m/s² vs g(sin α − μ cos α) = {expected:.5} ({:+.3} %), slid {slid:.4} m", 100.0 * (acc / expected - 1.0));
         assert!((acc / expected - 1.0).abs() < 1e-2, "α = {deg}°: a = {acc} vs {expected}");
     }
 }

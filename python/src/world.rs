@@ -353,7 +353,7 @@ impl PyWorld {
         d.set_item("rod_a", PyArray1::from_vec(py, list.iter().map(|c| index(Some(c.rod_a))).collect()))?;
         d.set_item("rod_b", PyArray1::from_vec(py, list.iter().map(|c| index(c.rod_b)).collect()))?;
         d.set_item("u_a", PyArray1::from_vec(py, list.iter().map(|c| c.ua).collect()))?;
-        d.set_item("u_b", PyArray1::from_vec(py, list.iter().map(|c| c.ub).collect()))?;
+        d.set_item("u_b", PyArray1::from_vec(py, list.iter().map(|c| c.ub.unwrap_or(f64::NAN)).collect()))?;
         d.set_item("points", convert::points(py, list.iter().map(|c| c.point))?)?;
         d.set_item("normals", convert::points(py, list.iter().map(|c| c.normal))?)?;
         d.set_item("normal_force", PyArray1::from_vec(py, list.iter().map(|c| c.normal_force).collect()))?;

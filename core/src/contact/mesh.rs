@@ -135,11 +135,17 @@ impl TriMesh {
     /// Signed distance from `p` and the outward unit normal, over the
     /// triangles within `reach`; `None` when there is none.
     pub fn nearest(&self, p: &Vector3<f64>, reach: f64) -> Option<(f64, Vector3<f64>)> {
-        let mut best: Option<(f64, u32, Vector3<f64>)> = None;
+        // The nearest distance, its point, and the sum of the unit normals
+        // of every face at that distance: at an edge or a vertex several
+        // faces tie, and the side is decided by their mean normal (one
+        // face's normal alone can call an outside point inside at a sharp
+        // edge).
+        let mut best: Option<(f64, Vector3<f64>, Vector3<f64>)> = None;
+        let tie = |d: f64| 1e-12 * (1.0 + d + p.norm());
         let mut stack = vec![0usize];
         while let Some(i) = stack.pop() {
             let nd = &self.nodes[i];
-            let limit = best.map_or(reach, |b| b.0.min(reach));
+            let limit = best.map_or(reach, |b| (b.0 + tie(b.0)).min(reach));
             let out = (nd.lo - p).sup(&(p - nd.hi)).sup(&Vector3::zeros());
             if out.norm() > limit {
                 continue;
@@ -149,24 +155,35 @@ impl TriMesh {
                     let [a, b, c] = self.corners(t);
                     let q = closest_on_triangle(p, &a, &b, &c);
                     let d = (p - q).norm();
-                    if d <= limit && best.is_none_or(|x| d < x.0) {
-                        best = Some((d, t, q));
+                    if d > limit {
+                        continue;
                     }
+                    let face = (b - a).cross(&(c - a)).normalize();
+                    best = match best {
+                        Some((bd, bq, n)) if (d - bd).abs() <= tie(bd) => Some((bd, bq, n + face)),
+                        Some((bd, _, _)) if d > bd => best,
+                        _ => Some((d, q, face)),
+                    };
                 }
             } else {
                 stack.push(i + 1);
                 stack.push(nd.right as usize);
             }
         }
-        let (d, t, q) = best?;
-        let [a, b, c] = self.corners(t);
-        let face = (b - a).cross(&(c - a)).normalize();
-        let side = (p - q).dot(&face);
+        let (d, q, faces) = best?;
+        let side = (p - q).dot(&faces);
         if d > 1e-12 * (1.0 + p.norm()) {
-            let dir = (p - q) / d;
+            let mut dir = (p - q) / d;
+            // Over a face (or a flat edge) p − q is the face normal but for
+            // rounding in the closest point: take the normal itself.
+            if let Some(n) = faces.try_normalize(0.0) {
+                if dir.cross(&n).norm() < 1e-6 {
+                    dir = n * dir.dot(&n).signum();
+                }
+            }
             Some(if side >= 0.0 { (d, dir) } else { (-d, -dir) })
         } else {
-            Some((0.0, face))
+            Some((0.0, faces.try_normalize(0.0).unwrap_or(Vector3::z())))
         }
     }
 }
@@ -236,6 +253,27 @@ mod tests {
             let edge = (b - a).norm().max((c - a).norm()).max((c - b).norm());
             assert!(d <= best + 1e-12 && best - d < edge / n as f64, "{d} vs sampled {best}");
         }
+    }
+
+    /// A sharp ridge (faces meeting at 33°): points outside near its edge
+    /// are outside, whichever face the search meets first.
+    #[test]
+    fn sign_at_a_sharp_edge_follows_both_faces() {
+        // Two faces sharing the edge along y at the origin, opening
+        // downwards: the ridge of a roof, outside above.
+        let h = 1.0f64;
+        let (xa, xb) = (-0.3f64, 0.3f64);
+        let v = vec![[0.0, -1.0, 0.0], [0.0, 1.0, 0.0], [xa, -1.0, -h], [xa, 1.0, -h], [xb, -1.0, -h], [xb, 1.0, -h]];
+        // Counter-clockwise seen from outside (normals up and out).
+        let t = vec![[0, 3, 2], [0, 1, 3], [0, 5, 1], [0, 4, 5]];
+        let m = TriMesh::new(v, t).unwrap();
+        for k in 0..64 {
+            let phi = std::f64::consts::PI * (k as f64 + 0.5) / 64.0;
+            let p = Vector3::new(0.064 * phi.cos(), 0.1, 0.064 * phi.sin());
+            let (d, n) = m.nearest(&p, 1.0).unwrap();
+            assert!(d > 0.0 && n.z > -1e-12, "{p:?}: distance {d}, normal {n:?}");
+        }
+        assert!(m.nearest(&Vector3::new(0.0, 0.0, -0.5), 2.0).unwrap().0 < 0.0);
     }
 
     /// The tree answers as a scan over every triangle does.

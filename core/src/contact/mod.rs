@@ -47,6 +47,14 @@ pub(crate) fn probe_points(rod: &crate::rod::Rod) -> (Vec<f64>, f64) {
     (us, rod.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max))
 }
 
+/// A detector's `margin` (a finite length ≥ 0) and Coulomb coefficient.
+pub(crate) fn check_margin_and_friction(margin: f64, mu: f64) -> Result<()> {
+    if !(margin >= 0.0) || !margin.is_finite() {
+        return Err(Error::invalid("contact margin", margin, "a finite length ≥ 0"));
+    }
+    friction::check_mu(mu)
+}
+
 /// One unilateral contact: g(q) ≥ 0 with a non-negative multiplier.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct ContactPair {
@@ -108,9 +116,9 @@ pub struct ContactInfo {
     /// Rod a, and rod b (`None` against an obstacle).
     pub rod_a: RodHandle,
     pub rod_b: Option<RodHandle>,
-    /// Abscissae of the touching points (ub NaN against an obstacle).
+    /// Abscissae of the touching points (no ub against an obstacle).
     pub ua: f64,
-    pub ub: f64,
+    pub ub: Option<f64>,
     /// Rod a's centreline point (length).
     pub point: [f64; 3],
     /// Unit normal pushing rod a out of contact.
@@ -132,7 +140,7 @@ impl ContactSet {
                 rod_a: p.rods[0],
                 rod_b: g.ub.map(|_| p.rods[1]),
                 ua: g.ua,
-                ub: g.ub.unwrap_or(f64::NAN),
+                ub: g.ub,
                 point: a.position(g.ua)?.into(),
                 normal: g.normal.into(),
                 normal_force: p.force,

@@ -9,7 +9,6 @@
 //! (a minimum within half a segment of a row kept for spacing replaces
 //! it): a rod lying on an obstacle gets about one row per segment (its
 //! n + 3 control points meet at most that many heights independently).
-use super::friction::check_mu;
 use super::mesh::TriMesh;
 use super::{ContactDetector, ContactPair, ContactSet};
 use crate::constraint::kinds::Plane;
@@ -88,10 +87,7 @@ impl Obstacle {
         Ok(self)
     }
     pub fn validate(&self) -> Result<()> {
-        if !(self.margin >= 0.0) || !self.margin.is_finite() {
-            return Err(Error::invalid("contact margin", self.margin, "a finite length ≥ 0"));
-        }
-        check_mu(self.friction)?;
+        super::check_margin_and_friction(self.margin, self.friction)?;
         match &self.shape {
             Shape::Plane { origin, normal } => {
                 finite_point(origin, "plane obstacle origin")?;

@@ -53,10 +53,7 @@ impl RodContacts {
         Ok(self)
     }
     pub fn validate(&self) -> Result<()> {
-        if !(self.margin >= 0.0) || !self.margin.is_finite() {
-            return Err(Error::invalid("contact margin", self.margin, "a finite length ≥ 0"));
-        }
-        super::friction::check_mu(self.friction)
+        super::check_margin_and_friction(self.margin, self.friction)
     }
 }
 
@@ -97,6 +94,19 @@ fn capsules(index: usize, rod: &Rod, out: &mut Vec<Capsule>) -> Result<f64> {
         arc += (pts[j] - pts[k]).norm();
     }
     Ok(arc)
+}
+
+/// A grid cell's indices, hashed as three words (the array's own `Hash`
+/// goes through a byte slice, several times slower here).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Cell([i64; 3]);
+
+impl std::hash::Hash for Cell {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        for x in self.0 {
+            state.write_i64(x);
+        }
+    }
 }
 
 /// A fast hasher for grid cells (three small integers; SipHash's
@@ -151,15 +161,11 @@ impl ContactDetector for RodContacts {
             let m = 0.5 * (c.p + c.q) / cell;
             [m.x.floor() as i64, m.y.floor() as i64, m.z.floor() as i64]
         };
-        // A cell's three indices packed in one word (21 bits each): two
-        // far cells sharing a word only add candidates, which the exact
-        // distance test then rejects.
-        let pack = |k: [i64; 3]| (k[0] as u64 & 0x1f_ffff) | (k[1] as u64 & 0x1f_ffff) << 21 | (k[2] as u64 & 0x1f_ffff) << 42;
         // Capsules sorted by cell; each occupied cell a range of them.
-        let keys: Vec<[i64; 3]> = caps.iter().map(key).collect();
-        let mut order: Vec<(u64, usize)> = keys.iter().enumerate().map(|(i, k)| (pack(*k), i)).collect();
+        let keys: Vec<Cell> = caps.iter().map(|c| Cell(key(c))).collect();
+        let mut order: Vec<(Cell, usize)> = keys.iter().enumerate().map(|(i, k)| (*k, i)).collect();
         order.sort_unstable();
-        let mut cells: HashMap<u64, (usize, usize), BuildHasherDefault<CellHasher>> = HashMap::default();
+        let mut cells: HashMap<Cell, (usize, usize), BuildHasherDefault<CellHasher>> = HashMap::default();
         let mut first = 0;
         for k in 1..=order.len() {
             if k == order.len() || order[k].0 != order[first].0 {
@@ -180,9 +186,9 @@ impl ContactDetector for RodContacts {
             [1, -1, 1], [-1, 0, 1], [0, 0, 1], [1, 0, 1], [-1, 1, 1], [0, 1, 1], [1, 1, 1],
         ];
         for &(lo, hi) in cells.values() {
-            let k = keys[order[lo].1];
+            let k = keys[order[lo].1].0;
             for d in FORWARD {
-                let Some(&(lo2, hi2)) = cells.get(&pack([k[0] + d[0], k[1] + d[1], k[2] + d[2]])) else { continue };
+                let Some(&(lo2, hi2)) = cells.get(&Cell([k[0] + d[0], k[1] + d[1], k[2] + d[2]])) else { continue };
                 let same_cell = d == [0, 0, 0];
                 for x in lo..hi {
                     let start = if same_cell { x + 1 } else { lo2 };
@@ -222,7 +228,7 @@ impl ContactDetector for RodContacts {
         // capsule by capsule; it decides ties below, and the plectoneme's
         // closest approach moves from 0.94 to 0.80 diameters with them).
         let direction = |i: usize, j: usize| {
-            let (a, b) = (keys[i], keys[j]);
+            let (a, b) = (keys[i].0, keys[j].0);
             (b[0] - a[0] + 1) * 9 + (b[1] - a[1] + 1) * 3 + (b[2] - a[2] + 1)
         };
         let mut sorted: Vec<(usize, i64, usize, usize)> = found.iter().enumerate().map(|(n, f)| (f.0, direction(f.0, f.1), f.1, n)).collect();
@@ -243,7 +249,7 @@ impl ContactDetector for RodContacts {
         // Rows kept, by rod pair and grid cell (as large as the largest
         // duplicate distance, so a duplicate is in a neighbouring cell).
         let dup_cell = spacing.iter().copied().fold(0.5 * rmax, f64::max);
-        type Kept = HashMap<(RodHandle, RodHandle, u64), Vec<(Vector3<f64>, Vector3<f64>)>, BuildHasherDefault<CellHasher>>;
+        type Kept = HashMap<(RodHandle, RodHandle, Cell), Vec<(Vector3<f64>, Vector3<f64>)>, BuildHasherDefault<CellHasher>>;
         let mut kept: Kept = HashMap::default();
         for (i, j, s, t, _) in found {
             if best[i].0 != j && best[j].0 != i {
@@ -289,13 +295,12 @@ impl ContactDetector for RodContacts {
             let ((h0, p0, s0), (h1, p1, s1)) =
                 if (handles[0], c.ua) <= (handles[1], c.ub) { ((handles[0], pa, sa), (handles[1], pb, sb)) } else { ((handles[1], pb, sb), (handles[0], pa, sa)) };
             let cell_of = |p: &Vector3<f64>| [(p.x / dup_cell).floor() as i64, (p.y / dup_cell).floor() as i64, (p.z / dup_cell).floor() as i64];
-            let pack = |k: [i64; 3]| (k[0] as u64 & 0x1f_ffff) | (k[1] as u64 & 0x1f_ffff) << 21 | (k[2] as u64 & 0x1f_ffff) << 42;
             let k = cell_of(&p0);
             let mut duplicate = false;
             'search: for dx in -1..=1 {
                 for dy in -1..=1 {
                     for dz in -1..=1 {
-                        let Some(list) = kept.get(&(h0, h1, pack([k[0] + dx, k[1] + dy, k[2] + dz]))) else { continue };
+                        let Some(list) = kept.get(&(h0, h1, Cell([k[0] + dx, k[1] + dy, k[2] + dz]))) else { continue };
                         if list.iter().any(|(q0, q1): &(Vector3<f64>, Vector3<f64>)| (q0 - p0).norm() < s0 && (q1 - p1).norm() < s1) {
                             duplicate = true;
                             break 'search;
@@ -304,7 +309,7 @@ impl ContactDetector for RodContacts {
                 }
             }
             if !duplicate {
-                kept.entry((h0, h1, pack(k))).or_default().push((p0, p1));
+                kept.entry((h0, h1, Cell(k))).or_default().push((p0, p1));
                 out.pairs.push(ContactPair::new(handles, kind)?.with_friction(self.friction)?);
             }
         }

@@ -1,14 +1,20 @@
 //! Reading triangle meshes for obstacles: Wavefront OBJ (`v` and `f`
 //! lines; polygons fanned into triangles; `v/vt/vn` and negative indices
-//! accepted) and STL (binary, or ASCII `solid … facet … vertex`). Sizes are
-//! checked before anything large is allocated; a file that is missing,
-//! empty or not a mesh is an error naming the file.
+//! accepted) and STL (binary, or ASCII `solid … facet … vertex`). The file
+//! (at most 1 GiB) is read whole; vertex, corner and triangle counts are
+//! checked as they grow, a binary STL's count before its triangles are
+//! allocated; a file that is missing, empty or not a mesh is an error
+//! naming the file.
 use crate::contact::mesh::{TriMesh, MAX_TRIANGLES};
 use crate::error::{Error, Result};
 use std::path::Path;
 
 /// Largest mesh file read (bytes).
-pub const MAX_MESH_BYTES: u64 = 2 << 30;
+pub const MAX_MESH_BYTES: u64 = 1 << 30;
+/// Most vertices a mesh file may list (checked as they are read).
+pub const MAX_VERTICES: usize = 3 * MAX_TRIANGLES;
+/// Most corners one OBJ face may have.
+const MAX_FACE_CORNERS: usize = 1 << 16;
 
 impl TriMesh {
     /// A mesh from an `.obj` or `.stl` file (lengths as in the file).
@@ -42,6 +48,9 @@ fn parse_obj(bytes: &[u8]) -> std::result::Result<Parsed, String> {
         let bad = |what: &str| format!("line {}: {what}: {line:?}", line_no + 1);
         match it.next() {
             Some("v") => {
+                if v.len() >= MAX_VERTICES {
+                    return Err(format!("more than {MAX_VERTICES} vertices"));
+                }
                 let mut p = [0.0; 3];
                 for x in p.iter_mut() {
                     *x = it.next().and_then(|s| s.parse().ok()).ok_or_else(|| bad("a vertex needs three numbers"))?;
@@ -51,6 +60,9 @@ fn parse_obj(bytes: &[u8]) -> std::result::Result<Parsed, String> {
             Some("f") => {
                 let mut idx = Vec::new();
                 for w in it {
+                    if idx.len() >= MAX_FACE_CORNERS {
+                        return Err(bad("a face has too many corners"));
+                    }
                     let first = w.split('/').next().unwrap_or("");
                     let k: i64 = first.parse().map_err(|_| bad("a face index is not an integer"))?;
                     // 1-based; negative counts back from the last vertex.
@@ -63,11 +75,11 @@ fn parse_obj(bytes: &[u8]) -> std::result::Result<Parsed, String> {
                 if idx.len() < 3 {
                     return Err(bad("a face needs three vertices"));
                 }
+                if t.len() + idx.len() - 2 > MAX_TRIANGLES {
+                    return Err(format!("more than {MAX_TRIANGLES} triangles"));
+                }
                 for k in 1..idx.len() - 1 {
                     t.push([idx[0], idx[k], idx[k + 1]]);
-                }
-                if t.len() > MAX_TRIANGLES {
-                    return Err(format!("more than {MAX_TRIANGLES} triangles"));
                 }
             }
             _ => {}
@@ -112,6 +124,9 @@ fn parse_stl(bytes: &[u8]) -> std::result::Result<Parsed, String> {
     for (line_no, line) in text.lines().enumerate() {
         let mut it = line.split_whitespace();
         if it.next() == Some("vertex") {
+            if v.len() >= MAX_VERTICES {
+                return Err(format!("more than {MAX_VERTICES} vertices"));
+            }
             let mut p = [0.0; 3];
             for x in p.iter_mut() {
                 *x = it.next().and_then(|s| s.parse().ok()).ok_or_else(|| format!("line {}: a vertex needs three numbers", line_no + 1))?;

@@ -323,9 +323,13 @@ fn gather_and_assemble(
             f.iter_mut().zip(extra).for_each(|(x, e)| *x = s * *x + e);
         }
     }
-    // Slipping contacts: −μ N ŝ on rod a, its opposite on rod b.
+    // Slipping contacts: −μ N ŝ on rod a, its opposite on rod b (weighted
+    // like the other forces of a trapezoidal iterate: its other half is in
+    // the recorded forces of the step's start).
+    let weight = scale.unwrap_or(1.0);
     for (_, p) in contacts.active() {
         let Some(f) = p.friction.as_ref().and_then(|f| f.slip_force()) else { continue };
+        let f = f.map(|x| weight * x);
         let g = crate::contact::friction::geometry(&p.kind, [rods[position_of(pos, p.rods[0])?], rods[position_of(pos, p.rods[1])?]])?;
         let r = position_of(pos, p.rods[0])?;
         let (ctrl, bs) = rods[r].basis_at(g.ua)?;

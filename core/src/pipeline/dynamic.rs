@@ -15,7 +15,13 @@ use crate::world::{Scheme, World};
 pub fn step(world: &mut World) -> Result<StepReport> {
     world.params.validate()?;
     let h = world.params.dt;
+    // The contact set changes during the solve (detection, active set,
+    // friction state): a refused step puts it back.
+    let contacts = (!world.contacts.is_empty() || !world.detectors.is_empty()).then(|| world.contacts.clone());
     let first = step_by(world, h);
+    if let (Err(_), Some(c)) = (&first, contacts) {
+        world.contacts = c;
+    }
     if !world.params.adaptive_dt || !matches!(first, Err(Error::Diverged { .. } | Error::NonFinite { .. } | Error::NotConverged { .. })) {
         return first; // a refused step left the world unchanged
     }

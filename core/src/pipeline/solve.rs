@@ -536,6 +536,12 @@ pub(crate) fn violation(world: &World) -> f64 {
             v = v.max((e - con.compliance * con.multipliers[i]).abs());
         }
     }
+    // Active contacts' normal rows are met as equalities too (a
+    // penetration the step must undo is a violation like any other).
+    let nc = world.ws.con_ids.len();
+    for k in 0..world.ws.contact_ids.len() {
+        v = v.max(world.ws.sys.rhs[world.ws.layout.row_index[nc + k]].abs());
+    }
     v
 }
 

@@ -54,8 +54,6 @@ pub fn relax(world: &mut World) -> Result<RelaxReport> {
     out
 }
 
-/// The relax iteration from `lambda` (0: Newton with a line search first;
-/// 1: the damped iteration, Newton once λ has fallen below 1e-9).
 /// The smallest positive margin of the world's contact detectors.
 pub(crate) fn contact_reach(world: &World) -> Option<f64> {
     world
@@ -69,6 +67,8 @@ pub(crate) fn contact_reach(world: &World) -> Option<f64> {
         .reduce(f64::min)
 }
 
+/// The relax iteration from `lambda` (0: Newton with a line search first;
+/// 1: the damped iteration, Newton once λ has fallen below 1e-9).
 fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
     let tol = world.params.relax_tolerance;
     let length = world.rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
@@ -140,8 +140,16 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
         // within the margin). A trust region on the step length α.
         let alpha_max = match contact_reach(world) {
             Some(m) => {
-                let dx = z.iter().zip(&is_row).filter(|(_, r)| !**r).map(|(x, _)| x.abs()).fold(0.0, f64::max);
-                if dx > m { m / dx } else { 1.0 }
+                // Positions only (not roll angles nor abscissae).
+                let ws = &world.ws;
+                let dx = ws.layout.cp_index.iter().zip(world.rods.iter()).fold(0.0f64, |acc, (cps, (_, rod))| {
+                    cps.iter().fold(acc, |acc, &g| (0..3.min(rod.dofs())).fold(acc, |acc, a| acc.max(z[g + a].abs())))
+                });
+                if dx > m {
+                    m / dx
+                } else {
+                    1.0
+                }
             }
             None => 1.0,
         };
@@ -246,7 +254,7 @@ fn relax_from(world: &mut World, lambda: f64) -> Result<RelaxReport> {
             best
         };
         let (dx, dth, dbead, trial, newton_step, short) = match outcome {
-            Some(t) => (t.dx, t.dth, t.dbead, if t.left { f64::NAN } else { t.energy }, t.alpha == 1.0 && !t.curved, t.alpha < SHORT_STEP),
+            Some(t) => (t.dx, t.dth, t.dbead, if t.left { f64::NAN } else { t.energy }, t.alpha == 1.0 && !t.curved, t.alpha < SHORT_STEP * alpha_max),
             None => {
                 restore(world, &saved, &saved_kinds, &saved_beads);
                 (0.0, 0.0, 0.0, f64::NAN, false, false)
