@@ -132,6 +132,9 @@ impl Hasher for CellHasher {
     fn write_usize(&mut self, x: usize) {
         self.write_u64(x as u64);
     }
+    fn write_u32(&mut self, x: u32) {
+        self.write_u64(x as u64);
+    }
 }
 
 impl ContactDetector for RodContacts {
