@@ -165,3 +165,16 @@ def test_bad_contact_input_is_refused(tmp_path):
             sk.obstacles.mesh(tmp_path / name)
         assert name in str(e.value)
     assert w.contacts()["points"].shape == (0, 3)
+
+
+def test_contacts_that_cannot_be_met_are_named_and_leave_the_world_as_it_was():
+    # A rod squeezed between two planes closer than its diameter.
+    w = sk.World(dt=2e-3, gravity=(0, 0, -G))
+    rod = w.add_rod(_rod(z=0.0, tilt=0.0, n=8))
+    w.add_obstacle(sk.obstacles.plane(origin=(0, 0, -0.5 * R), normal=(0, 0, 1)), margin=0.005)
+    w.add_obstacle(sk.obstacles.plane(origin=(0, 0, 0.5 * R), normal=(0, 0, -1)), margin=0.005)
+    before = rod.control_points.copy()
+    with pytest.raises(sk.SingularError) as e:
+        w.step()
+    assert "cannot all be met" in str(e.value) and "Contact" in e.value.unknown
+    assert np.array_equal(rod.control_points, before) and w.n_steps == 0

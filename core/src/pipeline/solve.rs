@@ -108,9 +108,47 @@ pub(crate) fn assemble_and_solve(world: &mut World, regime: Regime) -> Result<(f
             other => other?,
         };
         if world.contacts.is_empty() || rounds >= MAX_ACTIVE_SET_ROUNDS || !update_active_set(world)? {
+            check_blocked(world)?;
             return Ok((energy, solved));
         }
         rounds += 1;
+    }
+}
+
+/// A pair taken out as dependent must have been redundant (its point
+/// held by the other rows): if the solution drives it deeper, the rows
+/// contradict each other (a rod squeezed between obstacles closer than its
+/// diameter) — a `Singular` error naming the pairs, before anything moves.
+fn check_blocked(world: &World) -> Result<()> {
+    if world.ws.blocked.is_empty() {
+        return Ok(());
+    }
+    let mut rows = [Row::default(); MAX_ROWS];
+    let ws = &world.ws;
+    let pos = |h: crate::handles::RodHandle| ws.rod_pos.get(Index::from(h).0 as usize).copied().flatten().map(|x| x.1);
+    let mut bad = Vec::new();
+    for (i, p) in world.contacts.pairs.iter().enumerate() {
+        if !is_blocked(&ws.blocked, p) {
+            continue;
+        }
+        let (Some(a), Some(b)) = (world.rods.get(p.rods[0].into()), world.rods.get(p.rods[1].into())) else { continue };
+        let (Some(ra), Some(rb)) = (pos(p.rods[0]), pos(p.rods[1])) else { continue };
+        p.kind.linearize(&[a, b], &mut rows[..1])?;
+        let sides = [ra, rb];
+        let moved: f64 = rows[0].entries().iter().filter(|e| e.0 < 2).map(|&(w, l, v)| v * ws.sys.sol[ws.layout.dof(sides[w as usize], l)]).sum();
+        // Deeper by more than a millionth of the rods' reach.
+        let reach = a.sections().iter().chain(b.sections()).map(|s| s.bounding_radius()).fold(0.0, f64::max);
+        if moved < -1e-6 * reach.max(f64::MIN_POSITIVE) {
+            bad.push(i);
+        }
+    }
+    match bad.first() {
+        None => Ok(()),
+        Some(&first) => Err(Error::Singular {
+            unknown: Some(Unknown::Contact { pair: first }),
+            constraints: Vec::new(),
+            detail: format!("contacts that cannot all be met (pairs {bad:?} of the contact set are pushed through by the others): obstacles or rods closer than the rods' diameters"),
+        }),
     }
 }
 
