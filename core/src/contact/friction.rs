@@ -37,9 +37,11 @@ pub struct Friction {
     /// kept from step to step, moved with the rod when the pair is found
     /// again at neighbouring abscissae (ub is 0 against an obstacle).
     pub anchor: Option<([f64; 3], [f64; 2])>,
-    /// The relative position at the start of the step `n_steps` (for the
-    /// slip check over the whole step).
-    pub start: Option<([f64; 3], u64)>,
+    /// The relative position at the start of the step `n_steps`, and the
+    /// abscissae it was taken at (for the slip check over the whole step,
+    /// and the anchor of a pair that sticks again).
+    #[serde(default)]
+    pub start: Option<([f64; 3], u64, [f64; 2])>,
     /// Tangential force on rod a of the last solve (force unit).
     pub force: [f64; 3],
     /// The normal force the slip force was computed from (force unit).
@@ -118,7 +120,7 @@ impl Friction {
     /// the slip force −μ N ŝ from the pair's last normal force `normal`.
     pub(crate) fn prepare(&mut self, g: &Geometry, rods: [&Rod; 2], step: u64, normal: f64) -> Result<()> {
         if self.start.is_none_or(|a| a.1 != step) {
-            self.start = Some((g.relative.into(), step));
+            self.start = Some((g.relative.into(), step, [g.ua, g.ub.unwrap_or(0.0)]));
         }
         if self.slip.is_some() {
             self.anchor = None;
@@ -179,7 +181,7 @@ impl Friction {
                     // The friction turned the motion back: it holds (from
                     // where the step started).
                     self.slip = None;
-                    self.anchor = self.start.map(|(a, _)| (a, [g.ua, g.ub.unwrap_or(0.0)]));
+                    self.anchor = self.start.map(|(a, _, at)| (a, at));
                     return true;
                 }
                 let dir = mt / mt.norm();

@@ -258,7 +258,7 @@ fn update_active_set(world: &mut World) -> Result<bool> {
                 if let Some(ub) = g.ub {
                     moved -= step_of(p.rods[1], b, ub)?;
                 }
-                if let Some((start, _)) = f.start {
+                if let Some((start, _, _)) = f.start {
                     moved += g.relative - nalgebra::Vector3::from(start);
                 }
                 changed |= f.update(&g, stick, moved, force);
