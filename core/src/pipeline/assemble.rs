@@ -221,18 +221,14 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
     }
     // A pair detected again keeps its place in the active set (and its
     // force): the active-set rounds re-assemble, and each assembly detects.
-    for p in contacts.pairs.iter_mut() {
+    // A pair taken out as dependent (see `solve::block_dependent_contact`) stays out.
+    for p in contacts.pairs.iter_mut().filter(|p| !super::solve::is_blocked(&ws.blocked, p)) {
         if let Some(old) = previous.iter().find(|o| o.active && o.rods == p.rods && same_place(&o.kind, &p.kind)) {
             p.active = true;
             p.force = old.force;
             if let (Some(f), Some(of)) = (&mut p.friction, &old.friction) {
                 f.carry(of);
             }
-        }
-    }
-    for p in contacts.pairs.iter_mut() {
-        if p.active && super::solve::is_blocked(&ws.blocked, p) {
-            p.active = false;
         }
     }
     // Friction: the anchor of the step and the stick rows of active pairs.

@@ -115,6 +115,17 @@ pub(crate) fn assemble_and_solve(world: &mut World, regime: Regime) -> Result<(f
     }
 }
 
+/// Position of rod `h` in the layout of the last assembly (None: not in it).
+fn layout_position(ws: &crate::system::Workspace, h: crate::handles::RodHandle) -> Option<usize> {
+    crate::world::position_of(&ws.rod_pos, h).ok()
+}
+
+/// The change of a linearised row's measure under the last solution ΔX
+/// (its two sides at layout positions `sides`).
+fn row_change(ws: &crate::system::Workspace, row: &Row, sides: [usize; 2]) -> f64 {
+    row.entries().iter().filter(|e| e.0 < 2).map(|&(w, l, v)| v * ws.sys.sol[ws.layout.dof(sides[w as usize], l)]).sum()
+}
+
 /// A pair taken out as dependent must have been redundant (its point
 /// held by the other rows): if the solution drives it deeper, the rows
 /// contradict each other (a rod squeezed between obstacles closer than its
@@ -125,7 +136,7 @@ fn check_blocked(world: &World) -> Result<()> {
     }
     let mut rows = [Row::default(); MAX_ROWS];
     let ws = &world.ws;
-    let pos = |h: crate::handles::RodHandle| ws.rod_pos.get(Index::from(h).0 as usize).copied().flatten().map(|x| x.1);
+    let pos = |h| layout_position(ws, h);
     let mut bad = Vec::new();
     for (i, p) in world.contacts.pairs.iter().enumerate() {
         if !is_blocked(&ws.blocked, p) {
@@ -134,8 +145,7 @@ fn check_blocked(world: &World) -> Result<()> {
         let (Some(a), Some(b)) = (world.rods.get(p.rods[0].into()), world.rods.get(p.rods[1].into())) else { continue };
         let (Some(ra), Some(rb)) = (pos(p.rods[0]), pos(p.rods[1])) else { continue };
         p.kind.linearize(&[a, b], &mut rows[..1])?;
-        let sides = [ra, rb];
-        let moved: f64 = rows[0].entries().iter().filter(|e| e.0 < 2).map(|&(w, l, v)| v * ws.sys.sol[ws.layout.dof(sides[w as usize], l)]).sum();
+        let moved = row_change(ws, &rows[0], [ra, rb]);
         // Deeper by more than a millionth of the rods' reach.
         let reach = a.sections().iter().chain(b.sections()).map(|s| s.bounding_radius()).fold(0.0, f64::max);
         if moved < -1e-6 * reach.max(f64::MIN_POSITIVE) {
@@ -222,7 +232,7 @@ fn update_active_set(world: &mut World) -> Result<bool> {
     for (k, &i) in ws.stick_ids.iter().enumerate() {
         stick_of[i] = layout.row_index[nc + np + k];
     }
-    let pos = |h: crate::handles::RodHandle| ws.rod_pos.get(Index::from(h).0 as usize).copied().flatten().map(|x| x.1);
+    let pos = |h| layout_position(ws, h);
     // This solve's displacement of rod `h`'s point at `u`.
     let step_of = |h: crate::handles::RodHandle, rod: &crate::rod::Rod, u: f64| -> Result<nalgebra::Vector3<f64>> {
         let Some(r) = pos(h) else { return Ok(nalgebra::Vector3::zeros()) };
@@ -270,9 +280,7 @@ fn update_active_set(world: &mut World) -> Result<bool> {
         }
         p.kind.linearize(&[a, b], &mut rows[..1])?;
         let (Some(ra), Some(rb)) = (pos(p.rods[0]), pos(p.rods[1])) else { continue };
-        let sides = [ra, rb];
-        let moved: f64 = rows[0].entries().iter().filter(|e| e.0 < 2).map(|&(w, l, v)| v * ws.sys.sol[layout.dof(sides[w as usize], l)]).sum();
-        if -rows[0].rhs + moved < 0.0 {
+        if -rows[0].rhs + row_change(ws, &rows[0], [ra, rb]) < 0.0 {
             p.active = true;
             changed = true;
         }
