@@ -17,6 +17,7 @@
 //! are never paired.
 use super::capsule::closest_on_segments;
 use super::{ContactDetector, ContactPair, ContactSet};
+use crate::constraint::kinds::contact::closest_points_within;
 use crate::constraint::kinds::Contact;
 use crate::constraint::ConstraintKind;
 use crate::error::{Error, Result};
@@ -182,8 +183,12 @@ impl ContactDetector for RodContacts {
         let boxes: Vec<(Vector3<f64>, Vector3<f64>)> = caps.iter().map(|c| (c.p.inf(&c.q) - grow(c), c.p.sup(&c.q) + grow(c))).collect();
         // Candidates (every pair of neighbouring cells visited once: a cell
         // with itself and with the 13 cells after it).
+        // Arc length between two capsules of one rod (around a ring).
+        let along = |a: &Capsule, b: &Capsule| {
+            let d = (b.sa - a.sa).abs();
+            if rods[a.rod].1.is_closed() { d.min(chain[a.rod] - d) } else { d }
+        };
         let mut found: Vec<(usize, usize, f64, f64, f64)> = Vec::new();
-        let mut best: Vec<(usize, f64)> = vec![(usize::MAX, f64::INFINITY); caps.len()];
         const FORWARD: [[i64; 3]; 14] = [
             [0, 0, 0], [1, 0, 0], [-1, 1, 0], [0, 1, 0], [1, 1, 0], [-1, -1, 1], [0, -1, 1],
             [1, -1, 1], [-1, 0, 1], [0, 0, 1], [1, 0, 1], [-1, 1, 1], [0, 1, 1], [1, 1, 1],
@@ -207,15 +212,11 @@ impl ContactDetector for RodContacts {
                             continue;
                         }
                         let reach = a.radius + b.radius;
-                        if same {
-                            let d = (b.sa - a.sa).abs();
-                            let along = if rods[a.rod].1.is_closed() { d.min(chain[a.rod] - d) } else { d };
-                            // A straight stretch has points at distance d
-                            // at arc d: the margin's candidates need the
-                            // rod to have turned back, half a circle at least.
-                            if along < exclusion(reach) || j == i + 1 {
-                                continue;
-                            }
+                        // A straight stretch has points at distance d at arc
+                        // d: the margin's candidates need the rod to have
+                        // turned back, half a circle at least.
+                        if same && (along(a, b) < exclusion(reach) || j == i + 1) {
+                            continue;
                         }
                         let (s, t, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
                         if dist < reach + self.margin {
@@ -237,16 +238,26 @@ impl ContactDetector for RodContacts {
         let mut sorted: Vec<(usize, i64, usize, usize)> = found.iter().enumerate().map(|(n, f)| (f.0, direction(f.0, f.1), f.1, n)).collect();
         sorted.sort_unstable();
         let found: Vec<(usize, usize, f64, f64, f64)> = sorted.iter().map(|x| found[x.3]).collect();
-        // Each capsule's nearest partner, ties to the first in that order
-        // (parallel strands give equal distances).
+        // Each capsule's nearest partner on every strand passing by, ties to
+        // the first in that order (parallel strands give equal distances).
+        // Partners on one rod farther apart along it than the shortest loop
+        // are different passes (a knot's braid brings three): keeping one
+        // nearest over all of them left the third strand without rows, and
+        // a tightening overhand knot pulled it through.
+        let mut best: Vec<Vec<(usize, f64)>> = (0..caps.len()).map(|_| Vec::new()).collect();
+        let mut offer = |i: usize, j: usize, dist: f64| {
+            let strand = best[i].iter_mut().find(|(k, _)| caps[*k].rod == caps[j].rod && along(&caps[*k], &caps[j]) < exclusion(caps[i].radius + caps[j].radius));
+            match strand {
+                Some(e) if dist < e.1 => *e = (j, dist),
+                Some(_) => {}
+                None => best[i].push((j, dist)),
+            }
+        };
         for &(i, j, _, _, dist) in &found {
-            if dist < best[i].1 {
-                best[i] = (j, dist);
-            }
-            if dist < best[j].1 {
-                best[j] = (i, dist);
-            }
+            offer(i, j, dist);
+            offer(j, i, dist);
         }
+        let nearest = |i: usize, j: usize| best[i].iter().any(|(k, _)| *k == j);
         // Half a segment's length along each rod (its chain over its segments).
         let spacing: Vec<f64> = rods.iter().zip(&chain).map(|((_, r), l)| 0.5 * l / r.n_segments().max(1) as f64).collect();
         // Rows kept, by rod pair and grid cell (as large as the largest
@@ -254,8 +265,24 @@ impl ContactDetector for RodContacts {
         let dup_cell = spacing.iter().copied().fold(0.5 * rmax, f64::max);
         type Kept = HashMap<(RodHandle, RodHandle, Cell), Vec<(Vector3<f64>, Vector3<f64>)>, BuildHasherDefault<CellHasher>>;
         let mut kept: Kept = HashMap::default();
+        // Each kept capsule pair moved to the splines' closest points
+        // near the two capsules.
+        // A capsule's span grown by a segment each way: the chords may pick
+        // a capsule next to the one holding a crossing's touching point, and
+        // a row held inside the chord's own span then pushes at a slant (a
+        // rod pressed across another slid off it).
+        let window = |rod: &Rod, c: &Capsule| {
+            let (u0, u1) = rod.domain();
+            let grow = (u1 - u0) / rod.n_segments().max(1) as f64;
+            if rod.is_closed() {
+                (c.ua - grow, c.ub + grow)
+            } else {
+                ((c.ua - grow).max(u0), (c.ub + grow).min(u1))
+            }
+        };
+        let mut rows: Vec<(f64, usize, usize, Contact, Vector3<f64>, Vector3<f64>)> = Vec::new();
         for (i, j, s, t, _) in found {
-            if best[i].0 != j && best[j].0 != i {
+            if !nearest(i, j) && !nearest(j, i) {
                 continue;
             }
             let (a, b) = (&caps[i], &caps[j]);
@@ -268,16 +295,8 @@ impl ContactDetector for RodContacts {
                 }
             };
             let (ra, rb) = (rods[a.rod].1, rods[b.rod].1);
-            let mut kind = ConstraintKind::Contact(Contact {
-                ua: wrap(ra, a.ua + s * (a.ub - a.ua)),
-                ub: wrap(rb, b.ua + t * (b.ub - b.ua)),
-                distance: a.radius + b.radius,
-            });
-            // On to the splines' closest points; two capsule pairs that
-            // land on the same touching point (a crossing at a shared
-            // capsule end) would give two identical rows: keep one.
-            kind.project(&[ra, rb])?;
-            let ConstraintKind::Contact(c) = &kind else { unreachable!("built as a contact just above") };
+            let (ua, ub) = closest_points_within(ra, rb, wrap(ra, a.ua + s * (a.ub - a.ua)), wrap(rb, b.ua + t * (b.ub - b.ua)), window(ra, a), window(rb, b))?;
+            let c = Contact { ua, ub, distance: a.radius + b.radius };
             let (pa, pb) = (ra.position(c.ua)?, rb.position(c.ub)?);
             if a.rod == b.rod {
                 // The projection may slide a self pair along the rod onto
@@ -290,10 +309,17 @@ impl ContactDetector for RodContacts {
                     continue;
                 }
             }
-            let handles = [rods[a.rod].0, rods[b.rod].0];
+            rows.push(((pa - pb).norm(), a.rod, b.rod, c, pa, pb));
+        }
+        // Closest first (a stable sort: ties keep the order above), so that
+        // of rows landing near each other the one at the touching point is
+        // kept — a crossing's row, not a neighbour's off to its side.
+        rows.sort_by(|x, y| x.0.total_cmp(&y.0));
+        for (_, ia, ib, c, pa, pb) in rows {
+            let handles = [rods[ia].0, rods[ib].0];
             // Rows closer than half a segment on both rods would outnumber
             // what the control points can meet (strands side by side).
-            let (sa, sb) = (spacing[a.rod].max(0.25 * c.distance), spacing[b.rod].max(0.25 * c.distance));
+            let (sa, sb) = (spacing[ia].max(0.25 * c.distance), spacing[ib].max(0.25 * c.distance));
             // One orientation for both (a, b) and (b, a): the lower (rod, u) first.
             let ((h0, p0, s0), (h1, p1, s1)) =
                 if (handles[0], c.ua) <= (handles[1], c.ub) { ((handles[0], pa, sa), (handles[1], pb, sb)) } else { ((handles[1], pb, sb), (handles[0], pa, sa)) };
@@ -313,7 +339,7 @@ impl ContactDetector for RodContacts {
             }
             if !duplicate {
                 kept.entry((h0, h1, Cell(k))).or_default().push((p0, p1));
-                out.pairs.push(ContactPair::new(handles, kind)?.with_friction(self.friction)?);
+                out.pairs.push(ContactPair::new(handles, ConstraintKind::Contact(c))?.with_friction(self.friction)?);
             }
         }
         Ok(())

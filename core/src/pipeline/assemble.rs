@@ -214,11 +214,6 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
             d.detect(&list, contacts)?;
         }
     }
-    for p in contacts.pairs.iter_mut() {
-        if let (Some(a), Some(b)) = (rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
-            p.kind.project(&[a, b])?;
-        }
-    }
     // A pair detected again keeps its place in the active set (and its
     // force): the active-set rounds re-assemble, and each assembly detects.
     // A pair taken out as dependent (see `solve::block_dependent_contact`) stays out.

@@ -67,22 +67,34 @@ impl ConstraintLaw for Contact {
 /// Closest points between rod a near `ua` and rod b near `ub`: alternating
 /// one-dimensional Newton steps on |r_a(ua) − r_b(ub)|², each abscissa kept
 /// in its domain (an end point is a valid closest point).
-pub fn closest_points(a: &Rod, b: &Rod, mut ua: f64, mut ub: f64) -> Result<(f64, f64)> {
+pub fn closest_points(a: &Rod, b: &Rod, ua: f64, ub: f64) -> Result<(f64, f64)> {
+    closest_points_within(a, b, ua, ub, a.domain(), b.domain())
+}
+
+/// [`closest_points`] with each abscissa kept in a window (a ring's window
+/// may run past its period end: the abscissae are wrapped to evaluate).
+/// Detection bounds the search to the capsules that found the pair: along
+/// strands lying side by side the distance is nearly flat, and an unbounded
+/// search slid every row to the few places where the strands sag most,
+/// leaving them to sag into each other between (SPEC §7).
+pub fn closest_points_within(a: &Rod, b: &Rod, mut ua: f64, mut ub: f64, wa: (f64, f64), wb: (f64, f64)) -> Result<(f64, f64)> {
     let v3 = |d: [f64; 4]| Vector3::new(d[0], d[1], d[2]);
-    let newton = |rod: &Rod, u: f64, target: Vector3<f64>| -> Result<f64> {
-        let d = v3(rod.eval(u, 0)?) - target;
-        let (r1, r2) = (v3(rod.eval(u, 1)?), v3(rod.eval(u, 2)?));
+    let at = |rod: &Rod, u: f64| if rod.is_closed() { rod.knots().wrap(u) } else { u };
+    let newton = |rod: &Rod, u: f64, w: (f64, f64), target: Vector3<f64>| -> Result<f64> {
+        let d = v3(rod.eval(at(rod, u), 0)?) - target;
+        let (r1, r2) = (v3(rod.eval(at(rod, u), 1)?), v3(rod.eval(at(rod, u), 2)?));
         let h = r1.dot(&r1) + d.dot(&r2);
-        let (lo, hi) = rod.domain();
-        Ok(if h > 0.0 { (u - d.dot(&r1) / h).clamp(lo, hi) } else { u })
+        Ok(if h > 0.0 { (u - d.dot(&r1) / h).clamp(w.0, w.1) } else { u })
     };
+    ua = ua.clamp(wa.0, wa.1);
+    ub = ub.clamp(wb.0, wb.1);
     for _ in 0..30 {
         let (oa, ob) = (ua, ub);
-        ua = newton(a, ua, v3(b.eval(ub, 0)?))?;
-        ub = newton(b, ub, v3(a.eval(ua, 0)?))?;
+        ua = newton(a, ua, wa, v3(b.eval(at(b, ub), 0)?))?;
+        ub = newton(b, ub, wb, v3(a.eval(at(a, ua), 0)?))?;
         if (ua - oa).abs() + (ub - ob).abs() < 1e-14 * (1.0 + ua.abs() + ub.abs()) {
             break;
         }
     }
-    Ok((ua, ub))
+    Ok((at(a, ua), at(b, ub)))
 }
