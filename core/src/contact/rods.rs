@@ -4,14 +4,16 @@
 //! the capsules that may touch (O(n) for a bounded density); the closed
 //! form of [`super::capsule`] gives their closest points; a pair closer
 //! than the radii plus `margin` becomes a unilateral
-//! [`ConstraintKind::Contact`] (|r_a − r_b| ≥ r_a + r_b), which the
-//! assembly then moves to the splines' exact closest points. A pair is
-//! kept when one of its capsules is the other's nearest, and of those
-//! landing within half a segment of each other on both rods only the
-//! first (after both are moved to the splines' closest points): one crossing gives one row (two identical
+//! [`ConstraintKind::Contact`] (|r_a − r_b| ≥ r_a + r_b) at the splines'
+//! closest points within a segment of the two capsules. A pair is kept
+//! when one of its capsules is the other's nearest on that strand (every
+//! pass of a rod by a capsule has its nearest: a knot's braid brings
+//! three), and of those landing within half a segment of each other on
+//! both rods only the closest: one crossing gives one row (two identical
 //! rows would make the system singular), strands lying side by side about
 //! two rows per segment (more would outnumber what the control points can
-//! meet). A rod's own capsules closer along it than π (r_a + r_b) (the
+//! meet) — where they stay, rather than all sliding along the strands to
+//! the few places the strands sag most. A rod's own capsules closer along it than π (r_a + r_b) (the
 //! shortest loop that can touch itself), or than half a circle through the
 //! margin's reach (a straight stretch has points at distance d at arc d),
 //! are never paired.
