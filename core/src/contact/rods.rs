@@ -288,16 +288,10 @@ impl ContactDetector for RodContacts {
                 continue;
             }
             let (a, b) = (&caps[i], &caps[j]);
-            let wrap = |rod: &Rod, u: f64| {
-                let (u0, u1) = rod.domain();
-                if rod.is_closed() {
-                    rod.knots().wrap(u)
-                } else {
-                    u.clamp(u0, u1)
-                }
-            };
             let (ra, rb) = (rods[a.rod].1, rods[b.rod].1);
-            let (ua, ub) = closest_points_within(ra, rb, wrap(ra, a.ua + s * (a.ub - a.ua)), wrap(rb, b.ua + t * (b.ub - b.ua)), window(ra, a), window(rb, b))?;
+            // Started unwrapped, inside the windows (a ring's last capsule
+            // runs past the period end); the result comes back wrapped.
+            let (ua, ub) = closest_points_within(ra, rb, a.ua + s * (a.ub - a.ua), b.ua + t * (b.ub - b.ua), window(ra, a), window(rb, b))?;
             let c = Contact { ua, ub, distance: a.radius + b.radius };
             let (pa, pb) = (ra.position(c.ua)?, rb.position(c.ub)?);
             if a.rod == b.rod {
@@ -317,6 +311,7 @@ impl ContactDetector for RodContacts {
         // of rows landing near each other the one at the touching point is
         // kept — a crossing's row, not a neighbour's off to its side.
         rows.sort_by(|x, y| x.0.total_cmp(&y.0));
+        let mut chosen: Vec<([RodHandle; 2], Contact)> = Vec::with_capacity(rows.len());
         for (_, ia, ib, c, pa, pb) in rows {
             let handles = [rods[ia].0, rods[ib].0];
             // Rows closer than half a segment on both rods would outnumber
@@ -341,8 +336,15 @@ impl ContactDetector for RodContacts {
             }
             if !duplicate {
                 kept.entry((h0, h1, Cell(k))).or_default().push((p0, p1));
-                out.pairs.push(ContactPair::new(handles, ConstraintKind::Contact(c))?.with_friction(self.friction)?);
+                chosen.push((handles, c));
             }
+        }
+        // Back in the order along the rods: the set's order then changes
+        // only when rows come or go, not when two trade places in distance
+        // (which would rebuild the system's layout).
+        chosen.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.ua.total_cmp(&y.1.ua)).then(x.1.ub.total_cmp(&y.1.ub)));
+        for (handles, c) in chosen {
+            out.pairs.push(ContactPair::new(handles, ConstraintKind::Contact(c))?.with_friction(self.friction)?);
         }
         Ok(())
     }

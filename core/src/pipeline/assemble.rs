@@ -213,12 +213,21 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
         for d in detectors.iter() {
             d.detect(&list, contacts)?;
         }
+    } else {
+        // Pairs added by hand (or restored) with no detector to refresh
+        // them follow their rods' closest points like contact constraints;
+        // detected ones were just placed near the capsules that found them.
+        for p in contacts.pairs.iter_mut() {
+            if let (Some(a), Some(b)) = (rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
+                p.kind.project(&[a, b])?;
+            }
+        }
     }
     // A pair detected again keeps its place in the active set (and its
     // force): the active-set rounds re-assemble, and each assembly detects.
     // A pair taken out as dependent (see `solve::block_dependent_contact`) stays out.
-    for p in contacts.pairs.iter_mut().filter(|p| !super::solve::is_blocked(&ws.blocked, p)) {
-        if let Some(old) = previous.iter().find(|o| o.active && o.rods == p.rods && same_place(&o.kind, &p.kind)) {
+    for p in contacts.pairs.iter_mut().filter(|p| !super::solve::is_blocked(rod_arena, &ws.blocked, p)) {
+        if let Some(old) = previous.iter().find(|o| o.active && o.rods == p.rods && same_place(rod_arena, o, p)) {
             p.active = true;
             p.force = old.force;
             if let (Some(f), Some(of)) = (&mut p.friction, &old.friction) {
@@ -253,11 +262,20 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
 /// unit, a fraction of a knot span).
 /// An obstacle row's tangent plane turns with the rod: the same place if
 /// its normal turned less than 60°.
-pub(crate) fn same_place(a: &crate::constraint::ConstraintKind, b: &crate::constraint::ConstraintKind) -> bool {
+/// A ring's abscissae are compared around its period (a row on its seam
+/// may come back as u ≈ 0 or u ≈ period).
+pub(crate) fn same_place(rods: &Arena<Rod>, a: &crate::contact::ContactPair, b: &crate::contact::ContactPair) -> bool {
     use crate::constraint::ConstraintKind::{Contact, Plane};
-    match (a, b) {
-        (Contact(x), Contact(y)) => (x.ua - y.ua).abs() + (x.ub - y.ub).abs() < 0.5,
-        (Plane(x), Plane(y)) => (x.u - y.u).abs() < 0.5 && nalgebra::Vector3::from(x.normal).dot(&nalgebra::Vector3::from(y.normal)) > 0.5,
+    let apart = |side: usize, x: f64, y: f64| {
+        let d = (x - y).abs();
+        match rods.get(a.rods[side].into()) {
+            Some(r) if r.is_closed() => d.min(r.n_ctrl() as f64 - d),
+            _ => d,
+        }
+    };
+    match (&a.kind, &b.kind) {
+        (Contact(x), Contact(y)) => apart(0, x.ua, y.ua) + apart(1, x.ub, y.ub) < 0.5,
+        (Plane(x), Plane(y)) => apart(0, x.u, y.u) < 0.5 && nalgebra::Vector3::from(x.normal).dot(&nalgebra::Vector3::from(y.normal)) > 0.5,
         (x, y) => x == y,
     }
 }

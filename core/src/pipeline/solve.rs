@@ -139,7 +139,7 @@ fn check_blocked(world: &World) -> Result<()> {
     let pos = |h| layout_position(ws, h);
     let mut bad = Vec::new();
     for (i, p) in world.contacts.pairs.iter().enumerate() {
-        if !is_blocked(&ws.blocked, p) {
+        if !is_blocked(&world.rods, &ws.blocked, p) {
             continue;
         }
         let (Some(a), Some(b)) = (world.rods.get(p.rods[0].into()), world.rods.get(p.rods[1].into())) else { continue };
@@ -180,8 +180,8 @@ pub(crate) fn block_dependent_contact(world: &mut World, e: &Error) -> bool {
 }
 
 /// Whether `p` is a pair [`block_dependent_contact`] took out.
-pub(crate) fn is_blocked(blocked: &[crate::contact::ContactPair], p: &crate::contact::ContactPair) -> bool {
-    blocked.iter().any(|b| b.rods == p.rods && super::assemble::same_place(&b.kind, &p.kind))
+pub(crate) fn is_blocked(rods: &crate::handles::Arena<crate::rod::Rod>, blocked: &[crate::contact::ContactPair], p: &crate::contact::ContactPair) -> bool {
+    blocked.iter().any(|b| b.rods == p.rods && super::assemble::same_place(rods, b, p))
 }
 
 /// Takes into the active set every pair at or past contact now.
@@ -189,7 +189,7 @@ fn activate_touching(world: &mut World) -> Result<()> {
     let mut rows = [Row::default(); MAX_ROWS];
     let World { rods, contacts, ws, .. } = world;
     for p in contacts.pairs.iter_mut() {
-        if is_blocked(&ws.blocked, p) {
+        if is_blocked(rods, &ws.blocked, p) {
             continue;
         }
         let pair = [rods.get(p.rods[0].into()), rods.get(p.rods[1].into())];
@@ -275,7 +275,7 @@ fn update_active_set(world: &mut World) -> Result<bool> {
             }
             continue;
         }
-        if is_blocked(&ws.blocked, p) {
+        if is_blocked(rods, &ws.blocked, p) {
             continue;
         }
         p.kind.linearize(&[a, b], &mut rows[..1])?;
