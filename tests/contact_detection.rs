@@ -69,10 +69,11 @@ fn rods_pressed_across_never_pass_through() {
 /// radius (less than 5 % during the impact: the rows sit about one per
 /// segment and the rod bends between them) and the plane carries its
 /// weight (within 5 % over the last 0.6 s: it still rocks a little). The
-/// mechanical energy (kinetic + elastic + gravity) falls overall, but
-/// NOT strictly at every step: a row re-seated where the rod already sits
-/// slightly below the plane pushes it out and adds up to 7.5e-5 of the
-/// energy in one step (issue 15's "energy never grows" is not met yet).
+/// mechanical energy (kinetic + elastic + gravity) never grows from one
+/// step to the next beyond round-off (1e-12 of itself): a row re-seated
+/// where the rod already sags a little below the plane holds that
+/// penetration (up to half a percent of the radius) instead of pushing it
+/// out — which had added up to 7.5e-5 of the energy in one step.
 #[test]
 fn rod_dropped_on_a_plane_comes_to_rest_on_it() {
     let mut w = World::new(IntegrationParameters { dt: 2e-3, gravity: [0.0, 0.0, -9.81], ..Default::default() });
@@ -100,7 +101,7 @@ fn rod_dropped_on_a_plane_comes_to_rest_on_it() {
     let force = carried;
     println!("deepest {:.2e} R during the impact, {:.2e} R at rest; plane force {force:.5} N (mean of the last 300 steps) for a weight of {weight:.5} N, {} rows", deepest / R, at_rest / R, w.contacts().active().count());
     println!("largest energy rise in one step {rise:.2e} of the energy");
-    assert!(rise < 1e-4, "energy rose by {rise} of itself in one step");
+    assert!(rise < 1e-12, "energy rose by {rise} of itself in one step");
     assert!(last < e0, "the drop should dissipate: {e0} → {last}");
     assert!(at_rest > -0.01 * R, "at rest the surface is {} below the plane", -at_rest);
     assert!((force / weight - 1.0).abs() < 5e-2, "plane force {force} vs weight {weight}");

@@ -140,7 +140,7 @@ fn overhand_knot_tightens_with_force_without_interpenetration() {
     }
     // No pull-through, and the surfaces never overlap by more than 10 % of
     // the diameter: the spline sags between contact rows, most just after
-    // a force step (measured 9.2 %).
+    // a force step (measured 7.9 %).
     assert!(closest > 0.9 * 2.0 * R, "closest approach {closest} for a diameter {}", 2.0 * R);
     // Loose-knot scaling Δ ∝ F^(−1/2), raised by the braid: the fitted
     // exponent within 20 % of −½, the prefactor F R²/B above the loose

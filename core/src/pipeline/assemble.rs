@@ -262,6 +262,24 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
 /// unit, a fraction of a knot span).
 /// An obstacle row's tangent plane turns with the rod: the same place if
 /// its normal turned less than 60°.
+/// Penetration a contact row holds instead of pushing out, in an implicit
+/// Euler step: half a percent of the rods' radii. A row re-seated where the
+/// spline already sags through (rows sit about one per segment) would
+/// otherwise push it out within one step and add energy; deeper than this
+/// it is pushed back to it.
+pub(crate) const CONTACT_SLACK: f64 = 5e-3;
+
+/// [`CONTACT_SLACK`] of a pair's radii: both rods' for a rod–rod (or
+/// self) row, the rod's own against an obstacle's tangent plane.
+pub(crate) fn contact_slack(rods: &[&Rod], kind: &crate::constraint::ConstraintKind, a: usize, b: usize) -> f64 {
+    let radius = |r: &Rod| r.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max);
+    let reach = match kind {
+        crate::constraint::ConstraintKind::Contact(_) => radius(rods[a]) + radius(rods[b]),
+        _ => radius(rods[a]),
+    };
+    CONTACT_SLACK * reach
+}
+
 /// A ring's abscissae are compared around its period (a row on its seam
 /// may come back as u ≈ 0 or u ≈ period).
 pub(crate) fn same_place(rods: &Arena<Rod>, a: &crate::contact::ContactPair, b: &crate::contact::ContactPair) -> bool {
@@ -349,15 +367,17 @@ fn gather_and_assemble(
             crate::force::spread(&mut ws.ext[r], rods[r].dofs(), &ctrl, &bs[0], &[-f[0], -f[1], -f[2]]);
         }
     }
+    ws.contact_slack = matches!(regime, Regime::Dynamic { .. });
     let mut crefs: Vec<ConstraintRef<'_>> = recycle(std::mem::take(&mut ws.con_refs));
     for (_, c) in constraints.iter() {
         let (a, b) = (position_of(pos, c.rod)?, position_of(pos, c.other.unwrap_or(c.rod))?);
-        crefs.push(ConstraintRef { rods: [a, b], kind: &c.kind, compliance: c.compliance, lambda: &c.multipliers });
+        crefs.push(ConstraintRef { rods: [a, b], kind: &c.kind, compliance: c.compliance, lambda: &c.multipliers, slack: 0.0 });
     }
     for &i in &ws.contact_ids {
         let p = &contacts.pairs[i];
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
-        crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: 0.0, lambda: std::slice::from_ref(&p.force) });
+        let slack = if ws.contact_slack { contact_slack(rods, &p.kind, a, b) } else { 0.0 };
+        crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: 0.0, lambda: std::slice::from_ref(&p.force), slack });
     }
     for &i in &ws.stick_ids {
         let p = &contacts.pairs[i];
@@ -365,7 +385,7 @@ fn gather_and_assemble(
         // Placed only for pairs with stick rows (see `place`).
         let kind = p.friction.as_ref().and_then(|f| f.rows.as_ref()).expect("a sticking pair has its rows");
         let compliance = p.friction.as_ref().map_or(0.0, |f| f.compliance);
-        crefs.push(ConstraintRef { rods: [a, b], kind, compliance, lambda: &[0.0, 0.0] });
+        crefs.push(ConstraintRef { rods: [a, b], kind, compliance, lambda: &[0.0, 0.0], slack: 0.0 });
     }
     let k = regime.coefficients();
     ws.sys.record_forces = matches!(regime, Regime::Trapezoidal { first: true, .. });

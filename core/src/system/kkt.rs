@@ -90,6 +90,9 @@ pub struct ConstraintRef<'a> {
     pub compliance: f64,
     /// Multipliers of the previous solve (for the sliders' second-order blocks).
     pub lambda: &'a [f64],
+    /// A violation up to this much (the measure's unit) is held rather
+    /// than corrected (contact rows in dynamics; 0 elsewhere).
+    pub slack: f64,
 }
 
 /// A bead whose abscissa is an unknown (statics): load F (force unit) and mass.
@@ -318,7 +321,7 @@ impl KktSystem {
                     self.band.add(gj, gi, v);
                 }
                 self.band.add(gi, gi, -cr.compliance);
-                self.rhs[gi] = row.rhs;
+                self.rhs[gi] = row.rhs - row.rhs.clamp(0.0, cr.slack);
             }
         }
         Ok(energy)

@@ -37,6 +37,9 @@ pub struct Workspace {
     /// others (a point an anchor already holds against an obstacle): kept
     /// out of the active set for the rest of the solve.
     pub(crate) blocked: Vec<crate::contact::ContactPair>,
+    /// The last assembly let contact rows hold a slight penetration
+    /// (`assemble::CONTACT_SLACK`: implicit Euler steps).
+    pub(crate) contact_slack: bool,
     /// Sliders that left their rod in the last solve.
     pub(crate) left: Vec<Index>,
     /// What the last `apply` overwrote (coordinates, velocities,
