@@ -262,11 +262,12 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
 /// unit, a fraction of a knot span).
 /// An obstacle row's tangent plane turns with the rod: the same place if
 /// its normal turned less than 60°.
-/// Penetration a contact row holds instead of pushing out, in an implicit
-/// Euler step: half a percent of the rods' radii. A row re-seated where the
-/// spline already sags through (rows sit about one per segment) would
-/// otherwise push it out within one step and add energy; deeper than this
-/// it is pushed back to it.
+/// Penetration a frictionless contact row holds instead of pushing out, in
+/// an implicit Euler step: half a percent of the rods' radii. A row
+/// re-seated where the spline already sags through (rows sit about one per
+/// segment) would otherwise push it out within one step and add energy;
+/// deeper than this it is pushed back to it. (Rows with friction keep no
+/// slack: with it the falling rope bridge's step diverged.)
 pub(crate) const CONTACT_SLACK: f64 = 5e-3;
 
 /// [`CONTACT_SLACK`] of a pair's radii: both rods' for a rod–rod (or
@@ -376,7 +377,7 @@ fn gather_and_assemble(
     for &i in &ws.contact_ids {
         let p = &contacts.pairs[i];
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
-        let slack = if ws.contact_slack { contact_slack(rods, &p.kind, a, b) } else { 0.0 };
+        let slack = if ws.contact_slack && p.friction.is_none() { contact_slack(rods, &p.kind, a, b) } else { 0.0 };
         crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: 0.0, lambda: std::slice::from_ref(&p.force), slack });
     }
     for &i in &ws.stick_ids {
