@@ -70,10 +70,11 @@ fn rods_pressed_across_never_pass_through() {
 /// segment and the rod bends between them) and the plane carries its
 /// weight (within 5 % over the last 0.6 s: it still rocks a little). The
 /// mechanical energy (kinetic + elastic + gravity) never grows from one
-/// step to the next beyond round-off (1e-12 of itself): a row re-seated
-/// where the rod already sags a little below the plane holds that
-/// penetration (up to half a percent of the radius) instead of pushing it
-/// out — which had added up to 7.5e-5 of the energy in one step.
+/// step to the next beyond round-off (1e-12 of itself) in this scene: a
+/// row re-seated where the rod already sags a little below the plane holds
+/// that penetration (up to half a percent of the radius, the depth the rod
+/// then rests at) instead of pushing it out — which had added up to 7.5e-5
+/// of the energy in one step.
 #[test]
 fn rod_dropped_on_a_plane_comes_to_rest_on_it() {
     let mut w = World::new(IntegrationParameters { dt: 2e-3, gravity: [0.0, 0.0, -9.81], ..Default::default() });

@@ -266,8 +266,10 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
 /// an implicit Euler step: half a percent of the rods' radii. A row
 /// re-seated where the spline already sags through (rows sit about one per
 /// segment) would otherwise push it out within one step and add energy;
-/// deeper than this it is pushed back to it. (Rows with friction keep no
-/// slack: with it the falling rope bridge's step diverged.)
+/// deeper than this it is pushed back to it; a rod at rest sinks to it.
+/// (Rows with friction keep no slack: with it the falling rope bridge's
+/// step diverged — perhaps a held row with its stick rows pulling, dropped
+/// and re-anchored every round until the active-set cap.)
 pub(crate) const CONTACT_SLACK: f64 = 5e-3;
 
 /// [`CONTACT_SLACK`] of a pair's radii: both rods' for a rod–rod (or
