@@ -183,13 +183,13 @@ impl ContactDetector for RodContacts {
         // capsules can be within reach only if their boxes overlap.
         let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
         let boxes: Vec<(Vector3<f64>, Vector3<f64>)> = caps.iter().map(|c| (c.p.inf(&c.q) - grow(c), c.p.sup(&c.q) + grow(c))).collect();
-        // Candidates (every pair of neighbouring cells visited once: a cell
-        // with itself and with the 13 cells after it).
         // Arc length between two capsules of one rod (around a ring).
         let along = |a: &Capsule, b: &Capsule| {
             let d = (b.sa - a.sa).abs();
             if rods[a.rod].1.is_closed() { d.min(chain[a.rod] - d) } else { d }
         };
+        // Candidates (every pair of neighbouring cells visited once: a cell
+        // with itself and with the 13 cells after it).
         let mut found: Vec<(usize, usize, f64, f64, f64)> = Vec::new();
         const FORWARD: [[i64; 3]; 14] = [
             [0, 0, 0], [1, 0, 0], [-1, 1, 0], [0, 1, 0], [1, 1, 0], [-1, -1, 1], [0, -1, 1],
@@ -267,8 +267,6 @@ impl ContactDetector for RodContacts {
         let dup_cell = spacing.iter().copied().fold(0.5 * rmax, f64::max);
         type Kept = HashMap<(RodHandle, RodHandle, Cell), Vec<(Vector3<f64>, Vector3<f64>)>, BuildHasherDefault<CellHasher>>;
         let mut kept: Kept = HashMap::default();
-        // Each kept capsule pair moved to the splines' closest points
-        // near the two capsules.
         // A capsule's span grown by a segment each way: the chords may pick
         // a capsule next to the one holding a crossing's touching point, and
         // a row held inside the chord's own span then pushes at a slant (a
@@ -282,6 +280,8 @@ impl ContactDetector for RodContacts {
                 ((c.ua - grow).max(u0), (c.ub + grow).min(u1))
             }
         };
+        // Each kept capsule pair moved to the splines' closest points
+        // within those windows.
         let mut rows: Vec<(f64, usize, usize, Contact, Vector3<f64>, Vector3<f64>)> = Vec::new();
         for (i, j, s, t, _) in found {
             if !nearest(i, j) && !nearest(j, i) {

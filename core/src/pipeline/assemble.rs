@@ -258,10 +258,6 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
     Ok(energy)
 }
 
-/// Two contact rows at the same place (abscissae within half a parameter
-/// unit, a fraction of a knot span).
-/// An obstacle row's tangent plane turns with the rod: the same place if
-/// its normal turned less than 60°.
 /// Penetration a frictionless contact row holds instead of pushing out, in
 /// an implicit Euler step: half a percent of the rods' radii. A row
 /// re-seated where the spline already sags through (rows sit about one per
@@ -272,17 +268,26 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
 /// and re-anchored every round until the active-set cap.)
 pub(crate) const CONTACT_SLACK: f64 = 5e-3;
 
-/// [`CONTACT_SLACK`] of a pair's radii: both rods' for a rod–rod (or
-/// self) row, the rod's own against an obstacle's tangent plane.
-pub(crate) fn contact_slack(rods: &[&Rod], kind: &crate::constraint::ConstraintKind, a: usize, b: usize) -> f64 {
+/// The penetration pair `p` (on rods `a`, `b`) may hold: [`CONTACT_SLACK`]
+/// of both rods' radii for a rod–rod (or self) row, of the rod's own
+/// against an obstacle's tangent plane; none with friction or outside an
+/// implicit Euler step (`on`).
+pub(crate) fn contact_slack(on: bool, p: &crate::contact::ContactPair, a: &Rod, b: &Rod) -> f64 {
+    if !on || p.friction.is_some() {
+        return 0.0;
+    }
     let radius = |r: &Rod| r.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max);
-    let reach = match kind {
-        crate::constraint::ConstraintKind::Contact(_) => radius(rods[a]) + radius(rods[b]),
-        _ => radius(rods[a]),
+    let reach = match p.kind {
+        crate::constraint::ConstraintKind::Contact(_) => radius(a) + radius(b),
+        _ => radius(a),
     };
     CONTACT_SLACK * reach
 }
 
+/// Two contact rows at the same place (abscissae within half a parameter
+/// unit, a fraction of a knot span).
+/// An obstacle row's tangent plane turns with the rod: the same place if
+/// its normal turned less than 60°.
 /// A ring's abscissae are compared around its period (a row on its seam
 /// may come back as u ≈ 0 or u ≈ period).
 pub(crate) fn same_place(rods: &Arena<Rod>, a: &crate::contact::ContactPair, b: &crate::contact::ContactPair) -> bool {
@@ -379,7 +384,7 @@ fn gather_and_assemble(
     for &i in &ws.contact_ids {
         let p = &contacts.pairs[i];
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
-        let slack = if ws.contact_slack && p.friction.is_none() { contact_slack(rods, &p.kind, a, b) } else { 0.0 };
+        let slack = contact_slack(ws.contact_slack, p, rods[a], rods[b]);
         crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: 0.0, lambda: std::slice::from_ref(&p.force), slack });
     }
     for &i in &ws.stick_ids {

@@ -281,7 +281,7 @@ fn update_active_set(world: &mut World) -> Result<bool> {
         p.kind.linearize(&[a, b], &mut rows[..1])?;
         let (Some(ra), Some(rb)) = (pos(p.rods[0]), pos(p.rods[1])) else { continue };
         // Deeper than the penetration a row may hold (see `assemble::CONTACT_SLACK`).
-        let held = if ws.contact_slack && p.friction.is_none() { rows[0].rhs.clamp(0.0, super::assemble::contact_slack(&[a, b], &p.kind, 0, 1)) } else { 0.0 };
+        let held = rows[0].rhs.clamp(0.0, super::assemble::contact_slack(ws.contact_slack, p, a, b));
         if -rows[0].rhs + row_change(ws, &rows[0], [ra, rb]) < -held {
             p.active = true;
             changed = true;
