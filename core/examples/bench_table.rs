@@ -229,13 +229,13 @@ fn breakdown(n: usize, reps: usize) -> [f64; 7] {
     let mut sys = KktSystem::default();
     let rods = [&rod];
     let t_sys = time_median(reps, || {
-        sys.assemble(&layout, &rods, &ext, &[], &[], &[], k, false).unwrap();
+        sys.assemble(&layout, &rods, &[], &ext, &[], &[], &[], k, false).unwrap();
     });
     // (3) the factorisation the step uses here (no multiplier rows, c_m > 0):
     // band LDLᵀ (copy of the lower band + elimination), on the assembled band;
     // (3') for comparison, the pivoting band LU (the fallback, and the path of
     // systems with constraint rows).
-    sys.assemble(&layout, &rods, &ext, &[], &[], &[], k, false).unwrap();
+    sys.assemble(&layout, &rods, &[], &ext, &[], &[], &[], k, false).unwrap();
     let band = sys.band.clone();
     let mut ldlt = BandLdlt::new();
     let mut ldlt_ok = true;
@@ -248,7 +248,7 @@ fn breakdown(n: usize, reps: usize) -> [f64; 7] {
     // (4) full solve = equilibration + factorisation + solve + 1 refinement.
     let mut t_solve_v = Vec::new();
     for i in 0..reps + 2 {
-        sys.assemble(&layout, &rods, &ext, &[], &[], &[], k, false).unwrap();
+        sys.assemble(&layout, &rods, &[], &ext, &[], &[], &[], k, false).unwrap();
         let s = Instant::now();
         sys.solve(&layout, strandkit_core::LinearSolver::Band, |g| strandkit_core::Unknown::Index { index: g }).unwrap();
         if i >= 2 {

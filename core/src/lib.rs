@@ -43,7 +43,7 @@ pub use pipeline::{RelaxReport, StepReport};
 pub use rod::{Cut, Jet, Rod, RodBuilder, RodOptions, StrainMode};
 pub use section::Section;
 pub use system::{Factorisation, LinearSolver};
-pub use world::{Constraint, Energy, Event, IntegrationParameters, Item, Scheme, World};
+pub use world::{Constraint, Energy, Event, IntegrationParameters, Item, Scheme, Units, World};
 
 /// Everything a scene script needs, in one import: the world and its
 /// objects, every constraint kind and load kind by name.

@@ -245,12 +245,12 @@ impl PyRod {
     fn set_excess_link(&mut self, py: Python<'_>, turns: f64) -> PyResult<()> {
         self.with_mut(py, |r| guard(|| r.set_excess_link(turns)))
     }
-    /// Twist Tw of a closed rod (turns), plus the imposed excess link.
-    /// model="frenet": (1/2π)∮τ ds with the exact Frenet torsion
-    /// (SingularError if the ring has an inflection); model="reference":
-    /// (1/2π)∮ω ds with the material twist of the energy, defined
-    /// everywhere, and Tw + Wr is conserved while the ring deforms (up to
-    /// ±2 per strand passage: rods do not touch themselves yet).
+    /// Twist Tw (turns), plus the imposed excess link. model="frenet"
+    /// (closed rods only): (1/2π)∮τ ds with the exact Frenet torsion
+    /// (SingularError if the ring has an inflection); model="reference"
+    /// (closed or open rods with roll): (1/2π)∫ω ds with the material twist
+    /// of the energy, defined everywhere; on a ring Tw + Wr is conserved
+    /// while it deforms (up to ±2 per strand passage without contact).
     fn twist(&self, py: Python<'_>) -> PyResult<f64> {
         self.with(py, |r| guard(|| r.twist()))
     }
@@ -497,11 +497,30 @@ impl PyRod {
         }
     }
     /// The rod options (the core's RodOptions) as a dict: samples_per_segment,
-    /// terms, model, curvature_threshold, drag, poisson_update.
+    /// terms, model, curvature_threshold, drag, roll_drag, poisson_update.
     #[getter]
     fn options<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
         let o = self.with(py, |r| Ok(*r.options()))?;
         convert::from_json(py, &serde_json::to_value(o).unwrap_or_default())
+    }
+    /// The rod's drag coefficients in a fluid of viscosity `viscosity` (the
+    /// world's, by default; 0 for its own only), as a dict: `trans` (force
+    /// per velocity per length, each axis), `roll` (torque per angular
+    /// velocity per length, times ∫b b ds) and `roll_r2` (4πη, times
+    /// ∫r² b b ds): its own `drag`/`roll_drag` plus the resistive-force drag.
+    #[pyo3(signature = (viscosity = None))]
+    fn drag<'py>(&self, py: Python<'py>, viscosity: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
+        let world_eta = match &self.state {
+            RodState::InWorld { world, .. } => read(world.bind(py))?.inner.params.viscosity,
+            RodState::Free(_) => 0.0,
+        };
+        let eta = viscosity.unwrap_or(world_eta);
+        let d = self.with(py, |r| guard(|| r.drag(eta)))?;
+        let out = PyDict::new(py);
+        out.set_item("trans", d.trans)?;
+        out.set_item("roll", d.roll)?;
+        out.set_item("roll_r2", d.roll_r2)?;
+        Ok(out)
     }
     /// Frame model ("frenet" | "reference").
     #[getter]
@@ -705,7 +724,7 @@ macro_rules! builder_fn {
         $(#[$doc])*
         #[pyfunction]
         #[pyo3(signature = ($($arg),*, *, section = None, material = None, n_control_points = 20, knots = "clamped",
-            with_roll = true, roll = None, sections = None, samples_per_segment = None, drag = None,
+            with_roll = true, roll = None, sections = None, samples_per_segment = None, drag = None, roll_drag = None,
             curvature_threshold = None, stretch = None, bend = None, twist = None, poisson_update = None,
             model = None, **options))]
         #[allow(clippy::too_many_arguments)]
@@ -721,6 +740,7 @@ macro_rules! builder_fn {
             sections: Option<&Bound<'py, PyAny>>,
             samples_per_segment: Option<Bound<'py, PyAny>>,
             drag: Option<Bound<'py, PyAny>>,
+            roll_drag: Option<Bound<'py, PyAny>>,
             curvature_threshold: Option<Bound<'py, PyAny>>,
             stretch: Option<Bound<'py, PyAny>>,
             bend: Option<Bound<'py, PyAny>>,
@@ -732,6 +752,7 @@ macro_rules! builder_fn {
             let mut given: Vec<(String, Bound<'py, PyAny>)> = [
                 ("samples_per_segment", samples_per_segment),
                 ("drag", drag),
+                ("roll_drag", roll_drag),
                 ("curvature_threshold", curvature_threshold),
                 ("stretch", stretch),
                 ("bend", bend),
@@ -763,7 +784,8 @@ builder_fn!(
     /// coordinates per control point, no twist), `roll` (θ per control
     /// point, rad). Rod options (the core's RodOptions; None = its
     /// default): `samples_per_segment` (Gauss points, 1..8, default 5),
-    /// `drag` (force/(velocity·length), default 0), `curvature_threshold`
+    /// `drag` (force/(velocity·length), default 0), `roll_drag`
+    /// (torque/(angular velocity·length), default 0), `curvature_threshold`
     /// (1/length, 0 = 1/rest length), `stretch`, `bend`, `twist` (energy
     /// terms on/off, default True), `poisson_update` (sections contract
     /// with stretch, II.59, default False), `model` (frame model:
@@ -838,6 +860,20 @@ builder_fn!(
     }
 );
 
+/// Resistive-force theory drag of a slender rod (SPEC §3): for viscosity
+/// `viscosity` (Pa·s in SI, pN·ns/nm² in molecular units), `radius` and
+/// `length` (length unit), returns (γ⊥, γ∥, γθ) per unit length =
+/// (4πη/(ln(L/r) + ½), γ⊥/2, 4πηr²): force per velocity per length on each
+/// transverse and on the axial direction, torque per angular velocity per
+/// length on the roll. A World's `viscosity` applies γ⊥ on every axis (the
+/// smaller axial drag is not modelled) and γθ on the roll.
+#[pyfunction]
+#[pyo3(signature = (viscosity, radius, length))]
+fn resistive_force_drag(viscosity: f64, radius: f64, length: f64) -> PyResult<(f64, f64, f64)> {
+    let [a, b, c] = guard(|| strandkit_core::rod::drag::resistive_force(viscosity, radius, length))?;
+    Ok((a, b, c))
+}
+
 /// A rod from `Rod.to_json()` text (free).
 #[pyfunction]
 fn rod_from_json(text: &str) -> PyResult<PyRod> {
@@ -855,5 +891,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(through_points, m)?)?;
     m.add_function(wrap_pyfunction!(from_control_points, m)?)?;
     m.add_function(wrap_pyfunction!(rod_from_json, m)?)?;
+    m.add_function(wrap_pyfunction!(resistive_force_drag, m)?)?;
     Ok(())
 }

@@ -47,6 +47,7 @@ from ._native import (
     from_control_points,
     helix,
     read_dcd,
+    resistive_force_drag,
     rod_from_json,
     straight,
     through_points,
@@ -57,7 +58,7 @@ from ._native import (
     write_psf,
     write_vtk,
 )
-from . import constraints, loads, obstacles
+from . import constraints, loads, obstacles, units
 from ._progress import progress
 from .constraints import *  # noqa: F401,F403  (Kind, kind, clamp and one helper per constraint kind)
 from .errors import (

@@ -15,6 +15,7 @@ pub mod distributed;
 pub mod gravity;
 pub mod point_force;
 pub mod point_torque;
+pub mod thermal;
 pub mod trap;
 
 use crate::constraint::catalogue::FieldInfo;

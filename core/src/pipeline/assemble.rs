@@ -5,7 +5,7 @@ use crate::bead::Bead;
 use crate::constraint::MAX_TOUCHED;
 use crate::contact::{ContactDetector, ContactSet};
 use crate::error::Result;
-use crate::force::{gravity::Gravity, ForceField, Load};
+use crate::force::{gravity::Gravity, thermal::Thermal, ForceField, Load};
 use crate::handles::{Arena, RodHandle};
 use crate::rod::Rod;
 use crate::system::kkt::{BeadRef, Coefficients, ConstraintRef, PointMass};
@@ -337,6 +337,12 @@ fn gather_and_assemble(
         let fk = &mut ws.field_k;
         l.add_stiffness(rods[r], t, &mut |i, j, v| fk.push((r, i, j, v)))?;
     }
+    if ws.thermal_h > 0.0 {
+        for (r, rod) in rods.iter().enumerate() {
+            let field = Thermal { kt: ws.thermal_kt, h: ws.thermal_h, drag: rod.drag(params.viscosity)?, normals: &ws.thermal_normals[r] };
+            field.add_force(rod, t, &mut ws.ext[r])?;
+        }
+    }
     ws.masses.clear();
     for (_, b) in beads.iter() {
         let r = position_of(pos, b.rod)?;
@@ -395,9 +401,17 @@ fn gather_and_assemble(
         let compliance = p.friction.as_ref().map_or(0.0, |f| f.compliance);
         crefs.push(ConstraintRef { rods: [a, b], kind, compliance, lambda: &[0.0, 0.0], slack: 0.0 });
     }
-    let k = regime.coefficients();
+    let mut k = regime.coefficients();
+    if params.overdamped && matches!(regime, Regime::Dynamic { .. } | Regime::Trapezoidal { .. }) {
+        k.mass = 0.0;
+        k.momentum = 0.0;
+    }
     ws.sys.record_forces = matches!(regime, Regime::Trapezoidal { first: true, .. });
-    let mut energy = ws.sys.assemble(&ws.layout, rods, &ws.ext, &crefs, &ws.masses, &ws.field_k, k, params.parallel);
+    ws.drags.clear();
+    for rod in rods {
+        ws.drags.push(rod.drag(params.viscosity)?);
+    }
+    let mut energy = ws.sys.assemble(&ws.layout, rods, &ws.drags, &ws.ext, &crefs, &ws.masses, &ws.field_k, k, params.parallel);
     if energy.is_ok() && regime.bead_unknowns() {
         let static_beads: Vec<BeadRef> = beads
             .iter()

@@ -59,16 +59,13 @@ fn substeps(world: &mut World, h: f64, n: u32) -> Result<StepReport> {
 
 /// One step of `h`.
 fn step_by(world: &mut World, h: f64) -> Result<StepReport> {
-    super::beads::predict(world, h)?;
-    let (energy, solved, solves) = match world.params.scheme {
-        Scheme::ImplicitEuler => {
-            let (energy, solved) = solve::assemble_and_solve(world, Regime::Dynamic { h })?;
-            solve::commit(world, 1.0, Some(1.0 / h), Some(energy))?;
-            (energy, solved, 1)
-        }
-        Scheme::Trapezoidal => super::trapezoidal::step(world, h)?,
-        Scheme::TrBdf2 => super::trapezoidal::tr_bdf2(world, h)?,
-    };
+    let noise = super::thermal::begin(world, h)?;
+    let stepped = advance(world, h);
+    world.ws.thermal_h = 0.0;
+    let (energy, solved, solves) = stepped?;
+    if let Some(n) = noise {
+        world.noise = n;
+    }
     world.time += h;
     world.steps += 1;
     let mut events = Vec::new();
@@ -89,5 +86,21 @@ fn step_by(world: &mut World, h: f64) -> Result<StepReport> {
         substeps: 1,
         solves: solves as u32,
         events,
+    })
+}
+
+/// The scheme's solves of one step of `h` (beads predicted first).
+fn advance(world: &mut World, h: f64) -> Result<(f64, crate::system::Solved, usize)> {
+    super::beads::predict(world, h)?;
+    Ok(match world.params.scheme {
+        Scheme::ImplicitEuler => {
+            let (energy, solved) = solve::assemble_and_solve(world, Regime::Dynamic { h })?;
+            // Brownian dynamics has no velocity to update.
+            let velocity = (!world.params.overdamped).then_some(1.0 / h);
+            solve::commit(world, 1.0, velocity, Some(energy))?;
+            (energy, solved, 1)
+        }
+        Scheme::Trapezoidal => super::trapezoidal::step(world, h)?,
+        Scheme::TrBdf2 => super::trapezoidal::tr_bdf2(world, h)?,
     })
 }

@@ -113,7 +113,7 @@ fn bdf2_velocity(world: &mut World, h2: f64) {
     let World { rods, ws, .. } = world;
     let st = &mut ws.trapezoidal;
     for (r, (_, rod)) in rods.iter_mut().enumerate() {
-        rod.drag_times(&st.dx[r], &mut st.extra[r]);
+        rod.drag_times(&ws.drags[r], &st.dx[r], &mut st.extra[r]);
         st.extra[r].iter_mut().for_each(|e| *e *= b / h2);
         let (_, v) = rod.state_mut();
         for ((v, v0), x) in v.iter_mut().zip(&st.v_n[r]).zip(&st.dx[r]) {
@@ -228,7 +228,7 @@ fn prepare(world: &mut World, h: f64) {
     let World { rods, ws, .. } = world;
     let st = &mut ws.trapezoidal;
     for (r, (_, rod)) in rods.iter_mut().enumerate() {
-        rod.drag_times(&st.dx[r], &mut st.extra[r]);
+        rod.drag_times(&ws.drags[r], &st.dx[r], &mut st.extra[r]);
         for (e, f) in st.extra[r].iter_mut().zip(&st.f_n[r]) {
             *e = 0.5 * f - *e / h;
         }
@@ -251,10 +251,12 @@ fn finish_velocities(world: &mut World, h: f64) -> Result<()> {
             });
         }
     }
+    // Brownian dynamics has no velocity: it stays as it was.
+    let keep = world.params.overdamped;
     for (r, (_, rod)) in rods.iter_mut().enumerate() {
         let (_, v) = rod.state_mut();
         for ((v, v0), x) in v.iter_mut().zip(&st.v_n[r]).zip(&st.dx[r]) {
-            *v = 2.0 * x / h - v0;
+            *v = if keep { *v0 } else { 2.0 * x / h - v0 };
         }
     }
     Ok(())

@@ -7,6 +7,7 @@
 mod arc;
 pub mod assemble;
 pub mod build;
+pub mod drag;
 mod plastic;
 mod poisson;
 mod samples;
@@ -46,6 +47,10 @@ pub struct RodOptions {
     /// Viscous drag coefficient c_d (force per unit velocity per unit length):
     /// distributed force −c_d v, D_ij = ∫ c_d b_i b_j ds0 (III.10).
     pub drag: f64,
+    /// Roll drag coefficient c_θ (torque per angular velocity per unit
+    /// length): distributed torque −c_θ θ̇ (rods with roll only).
+    #[serde(default)]
+    pub roll_drag: f64,
     /// Poisson contraction of the section with stretch (II.59), updated
     /// after every solve; off by default.
     #[serde(default)]
@@ -60,6 +65,7 @@ impl Default for RodOptions {
             model: FrameModel::Frenet,
             curvature_threshold: 0.0,
             drag: 0.0,
+            roll_drag: 0.0,
             poisson_update: false,
         }
     }
@@ -140,6 +146,7 @@ impl Rod {
             )));
         }
         crate::error::non_negative("drag coefficient", opts.drag)?;
+        crate::error::non_negative("roll drag coefficient", opts.roll_drag)?;
         let mut opts = opts;
         if dofs == 3 {
             opts.terms.twist = false;
@@ -288,6 +295,7 @@ impl Rod {
         self.material.validate()?;
         crate::error::non_negative("curvature_threshold", self.opts.curvature_threshold)?;
         crate::error::non_negative("drag coefficient", self.opts.drag)?;
+        crate::error::non_negative("roll drag coefficient", self.opts.roll_drag)?;
         crate::error::finite("excess link", self.excess_link)?;
         if self.excess_link != 0.0 && (self.dofs != 4 || self.knots.kind() != crate::spline::KnotKind::Periodic) {
             return Err(Error::invalid("excess link", self.excess_link, "0 unless the rod is a ring with roll coordinate"));
@@ -548,11 +556,6 @@ impl Rod {
     /// y = M x with the consistent mass matrix (II.70–II.75).
     pub fn mass_times(&self, x: &[f64], y: &mut [f64]) {
         self.blocks_times(&self.cache.seg_mass, Some(&self.cache.seg_inertia), x, y);
-    }
-
-    /// y = D x with the viscous drag matrix (III.10: positions only).
-    pub fn drag_times(&self, x: &[f64], y: &mut [f64]) {
-        self.blocks_times(&self.cache.seg_drag, None, x, y);
     }
 
     /// y = B x for a matrix given by per-segment 4×4 blocks on each axis

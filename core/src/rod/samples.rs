@@ -2,7 +2,7 @@
 //! integration over the rest arc length makes it constant): Gauss points,
 //! basis values, weights w = Gauss weight × span/2 × |r0'|, stiffnesses from
 //! the blended section, rest curvatures and twist, and the per-segment
-//! consistent mass, roll inertia and drag blocks (II.70–II.75, III.10).
+//! consistent mass, roll inertia and unit drag blocks (II.70–II.75, III.10).
 use super::Rod;
 use crate::energy::{self, invariants::LocalState, FrameState, SampleConsts, Strains};
 use crate::error::{Error, Result};
@@ -31,15 +31,20 @@ pub(crate) struct Cache {
     pub seg_ctrl: Vec<[usize; 4]>,
     /// First sample of each segment; segment s owns samples[seg_start[s]..seg_start[s+1]].
     pub seg_start: Vec<usize>,
-    /// ∫ μ b_k b_l ds0 (translation), ∫ ρ I0 b_k b_l ds0 (roll), ∫ c_d b_k b_l ds0.
+    /// ∫ μ b_k b_l ds0 (translation), ∫ ρ I0 b_k b_l ds0 (roll).
     pub seg_mass: Vec<Block4>,
     pub seg_inertia: Vec<Block4>,
-    pub seg_drag: Vec<Block4>,
+    /// ∫ b_k b_l ds0 and ∫ r² b_k b_l ds0 (r² = A/π): the drag matrices
+    /// per unit coefficient (III.10; the roll's resistive-force drag 4πηr²).
+    pub seg_bb: Vec<Block4>,
+    pub seg_r2bb: Vec<Block4>,
     /// ∫ μ b_k ds0 (for gravity) and ∫ b_k ds0 (for distributed forces).
     pub seg_mass_weight: Vec<[f64; 4]>,
     pub seg_len_weight: Vec<[f64; 4]>,
     pub rest_length: f64,
     pub mass: f64,
+    /// ∫ A ds0 / rest length: the mean section area (for resistive-force drag).
+    pub mean_area: f64,
 }
 
 pub(crate) fn point(q: &[f64], dofs: usize, ctrl: &[usize; 4], b: &[f64; 4]) -> [f64; 4] {
@@ -120,7 +125,8 @@ impl Cache {
         let rest_states = rod.opts.model.initial_states(&raw.iter().map(|r| (r.4, r.3)).collect::<Vec<_>>(), rod.is_closed())?;
         c.seg_mass = vec![[[0.0; 4]; 4]; nseg];
         c.seg_inertia = vec![[[0.0; 4]; 4]; nseg];
-        c.seg_drag = vec![[[0.0; 4]; 4]; nseg];
+        c.seg_bb = vec![[[0.0; 4]; 4]; nseg];
+        c.seg_r2bb = vec![[[0.0; 4]; 4]; nseg];
         c.seg_mass_weight = vec![[0.0; 4]; nseg];
         c.seg_len_weight = vec![[0.0; 4]; nseg];
         for (idx, (seg, u, basis, wt, s0, speed0)) in raw.into_iter().enumerate() {
@@ -145,6 +151,7 @@ impl Cache {
             let mu = rho * p.area;
             let rho_i0 = rho * p.i0;
             c.mass += wt * mu;
+            c.mean_area += wt * p.area / c.rest_length;
             for k in 0..4 {
                 c.seg_mass_weight[seg][k] += wt * mu * basis[0][k];
                 c.seg_len_weight[seg][k] += wt * basis[0][k];
@@ -152,7 +159,8 @@ impl Cache {
                     let bb = wt * basis[0][k] * basis[0][l];
                     c.seg_mass[seg][k][l] += mu * bb;
                     c.seg_inertia[seg][k][l] += rho_i0 * bb;
-                    c.seg_drag[seg][k][l] += rod.opts.drag * bb;
+                    c.seg_bb[seg][k][l] += bb;
+                    c.seg_r2bb[seg][k][l] += p.area / std::f64::consts::PI * bb;
                 }
             }
             c.samples.push(Sample { seg, u, basis, w: wt, consts, rest });

@@ -148,15 +148,18 @@ impl Rod {
         Ok(sum / (4.0 * PI))
     }
 
-    /// Twist of a closed rod (turns), plus the imposed excess link. Frenet
-    /// model: (1/2π) ∮ τ ds with the exact Frenet torsion (not the
+    /// Twist (turns), plus the imposed excess link. Frenet model (rings
+    /// only): (1/2π) ∮ τ ds with the exact Frenet torsion (not the
     /// regularised one of the energy); errors where the ring has an
-    /// inflection (τ undefined). Reference model: (1/2π) ∮ ω ds with the
-    /// material twist ω = θ′/|r′| + ω_ref of the energy (SPEC §2.3) on the
-    /// energy's quadrature, defined everywhere (∮ θ′ du = 0 on a ring).
+    /// inflection (τ undefined). Reference model (rings and open rods):
+    /// (1/2π) ∫ ω ds with the material twist ω = θ′/|r′| + ω_ref of the
+    /// energy (SPEC §2.3) on the energy's quadrature, defined everywhere
+    /// (∮ θ′ du = 0 on a ring; on an open rod it includes θ(end) − θ(start)).
     pub fn twist(&self) -> Result<f64> {
-        self.require_ring("twist")?;
         if self.opts.model == crate::energy::FrameModel::Reference {
+            if self.dofs != 4 {
+                return Err(Error::input("twist: the rod has no roll coordinate (built with_roll=False), so no material twist"));
+            }
             let strains = self.strains();
             let mut sum = 0.0;
             for (s, st) in self.cache.samples.iter().zip(&strains) {
@@ -166,6 +169,7 @@ impl Rod {
             }
             return Ok(sum / (2.0 * PI) + self.excess_link);
         }
+        self.require_ring("twist")?;
         let undefined = || Error::singular("twist: the ring has an inflection (straight somewhere), so its Frenet torsion (and the Frenet model's twist) is undefined there");
         let mut sum = 0.0;
         let pts = self.centreline_points(8)?;

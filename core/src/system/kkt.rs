@@ -67,6 +67,7 @@ fn name_unknown(e: Error, describe: &impl Fn(usize) -> crate::error::Unknown) ->
     }
 }
 use crate::rod::assemble::{assemble_ranges, Need, SegRange};
+use crate::rod::drag::Drag;
 use crate::rod::{Rod, SegBlock};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -116,7 +117,7 @@ const PAR_MIN_SEGMENTS: usize = 2048;
 /// Turns a segment's stiffness block K into c_k K + c_m M + c_d D on each
 /// axis (II.70–II.75, III.10), upper half only (M, J, D are symmetric, so
 /// the upper half carries them).
-fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4], j: &[[f64; 4]; 4], dr: &[[f64; 4]; 4]) {
+fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4], j: &[[f64; 4]; 4], drag: Option<&([[f64; 4]; 4], [[f64; 4]; 4])>) {
     if k.stiffness != 1.0 {
         let n = 4 * d;
         for row in 0..n {
@@ -127,12 +128,13 @@ fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4],
     }
     for kk in 0..4 {
         for l in kk..4 {
-            let t = k.mass * m[kk][l] + k.drag * dr[kk][l];
+            let (dt, dr) = drag.map_or((0.0, 0.0), |(t, r)| (k.drag * t[kk][l], k.drag * r[kk][l]));
+            let t = k.mass * m[kk][l] + dt;
             for a in 0..3 {
                 blk.hess[(kk * d + a) * 16 + l * d + a] += t;
             }
             if d == 4 {
-                blk.hess[(kk * 4 + 3) * 16 + l * 4 + 3] += k.mass * j[kk][l];
+                blk.hess[(kk * 4 + 3) * 16 + l * 4 + 3] += k.mass * j[kk][l] + dr;
             }
         }
     }
@@ -191,11 +193,13 @@ pub struct PointMass {
 
 impl KktSystem {
     /// Assembles A and B for `rods` (in layout order) with external
-    /// generalised forces `ext[r]`. Returns the total elastic energy.
+    /// generalised forces `ext[r]` and drag `drags[r]` (none when shorter).
+    /// Returns the total elastic energy.
     pub fn assemble(
         &mut self,
         layout: &Layout,
         rods: &[&Rod],
+        drags: &[Drag],
         ext: &[Vec<f64>],
         cons: &[ConstraintRef],
         point_masses: &[PointMass],
@@ -261,7 +265,8 @@ impl KktSystem {
             for g in &ranges {
                 for (s, blk) in (g.first..).zip(blocks[g.offset..g.offset + g.len].iter_mut()) {
                     energy += blk.energy;
-                    self.scatter_segment(layout, g.rod, rods[g.rod], s, blk, k);
+                    let drag = drags.get(g.rod).filter(|d| k.drag != 0.0 && **d != Drag::default());
+                    self.scatter_segment(layout, g.rod, rods[g.rod], s, blk, k, drag);
                 }
             }
         }
@@ -329,7 +334,8 @@ impl KktSystem {
 
     /// One segment's block into the right-hand side (−c_f ∂U/∂q) and the
     /// band (c_k K + c_m M + c_d D).
-    fn scatter_segment(&mut self, layout: &Layout, r: usize, rod: &Rod, s: usize, blk: &mut SegBlock, k: Coefficients) {
+    #[allow(clippy::too_many_arguments)]
+    fn scatter_segment(&mut self, layout: &Layout, r: usize, rod: &Rod, s: usize, blk: &mut SegBlock, k: Coefficients, drag: Option<&Drag>) {
         let d = rod.dofs;
         let nl = 4 * d;
         let cache = &rod.cache;
@@ -357,7 +363,8 @@ impl KktSystem {
                 }
             }
         }
-        add_inertia(blk, d, k, &cache.seg_mass[s], &cache.seg_inertia[s], &cache.seg_drag[s]);
+        let drag = drag.map(|dr| rod.seg_drag(dr, s));
+        add_inertia(blk, d, k, &cache.seg_mass[s], &cache.seg_inertia[s], drag.as_ref());
         self.band.add_sym_block(&idx[..nl], &blk.hess, 16);
     }
 

@@ -23,6 +23,13 @@ pub struct Workspace {
     pub(crate) masses: Vec<crate::system::kkt::PointMass>,
     pub(crate) field_k: Vec<(usize, usize, usize, f64)>,
     pub(crate) ext: Vec<Vec<f64>>,
+    /// Each rod's drag in the last assembly (layout order).
+    pub(crate) drags: Vec<crate::rod::drag::Drag>,
+    /// The thermal noise of the step under way: its h (0: none), kT and
+    /// standard normals per rod (layout order).
+    pub(crate) thermal_h: f64,
+    pub(crate) thermal_kt: f64,
+    pub(crate) thermal_normals: Vec<Vec<f64>>,
     pub(crate) rod_ids: Vec<Index>,
     pub(crate) con_ids: Vec<Index>,
     /// Slot index → position of each rod in iteration order.

@@ -15,7 +15,7 @@ pub use constraints::Constraint;
 pub use energy::Energy;
 pub use events::Event;
 pub use groups::{Broken, ConstraintState, Groups, Item, Member, ObjectState};
-pub use params::{IntegrationParameters, Scheme};
+pub use params::{IntegrationParameters, Scheme, Units};
 
 use crate::bead::Bead;
 use crate::clip::Clip;
@@ -57,6 +57,9 @@ pub struct World {
     /// Contact detectors run before each solve.
     #[serde(default)]
     pub(crate) detectors: Vec<Detector>,
+    /// The thermal noise's random stream (its seed and position).
+    #[serde(default)]
+    pub(crate) noise: crate::force::thermal::Stream,
 }
 
 /// Consecutive dynamic steps that ended with more energy than they started

@@ -50,6 +50,55 @@ pub struct IntegrationParameters {
     /// thesis' method, the default) or the trapezoidal rule.
     #[serde(default)]
     pub scheme: Scheme,
+    /// Temperature T of the thermal bath (kelvin); 0: no thermal noise.
+    /// With T > 0 every dynamic step adds the random forces of Langevin
+    /// dynamics (SPEC §3) at kT = k_B T, k_B in `units`; every rod then
+    /// needs drag (its own, or the fluid's `viscosity`).
+    #[serde(default)]
+    pub temperature: f64,
+    /// Viscosity η of the surrounding fluid (pressure × time: Pa·s in SI,
+    /// pN·ns/nm² in molecular units; water at 20 °C is 1.0e-3 Pa·s =
+    /// 1.0 pN·ns/nm²). Adds resistive-force drag to every rod (SPEC §3):
+    /// 4πη/(ln(L/r) + ½) per length on each axis, 4πηr² on the roll.
+    #[serde(default)]
+    pub viscosity: f64,
+    /// The unit system of the world's numbers, which fixes k_B: `si`
+    /// (m, kg, s, N, J) or `molecular` (nm, pN, ns; energy pN·nm,
+    /// kT = 4.116 pN·nm at 298.15 K).
+    #[serde(default)]
+    pub units: Units,
+    /// Seed of the thermal noise's random stream (an integer ≥ 0).
+    #[serde(default)]
+    pub seed: u64,
+    /// Brownian (overdamped) dynamics: the mass and momentum terms are
+    /// dropped, D ΔX/h = F + P + R; velocities are not updated.
+    #[serde(default)]
+    pub overdamped: bool,
+}
+
+/// The unit system of a world's numbers (SPEC §3: SI by default; molecular
+/// units for DNA work). Only Boltzmann's constant depends on it: the
+/// equations are the same in any consistent system.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Units {
+    /// Metre, kilogram, second (force N, energy J).
+    #[default]
+    Si,
+    /// Nanometre, piconewton, nanosecond (energy pN·nm, mass 1e-21 kg,
+    /// modulus pN/nm² = 1 MPa, viscosity pN·ns/nm² = 1e-3 Pa·s).
+    Molecular,
+}
+
+impl Units {
+    /// Boltzmann's constant in the system's energy unit per kelvin.
+    pub fn boltzmann(self) -> f64 {
+        match self {
+            Units::Si => crate::force::thermal::BOLTZMANN_SI,
+            // 1 pN·nm = 1e-21 J.
+            Units::Molecular => crate::force::thermal::BOLTZMANN_SI * 1e21,
+        }
+    }
 }
 
 /// How a dynamic step advances in time (SPEC §3). Both solve the same
@@ -99,6 +148,11 @@ impl Default for IntegrationParameters {
             adaptive_dt: false,
             max_halvings: default_max_halvings(),
             scheme: Scheme::ImplicitEuler,
+            temperature: 0.0,
+            viscosity: 0.0,
+            units: Units::Si,
+            seed: 0,
+            overdamped: false,
         }
     }
 }
@@ -114,6 +168,11 @@ fn default_max_halvings() -> u32 {
 }
 
 impl IntegrationParameters {
+    /// kT = k_B T in the world's energy unit.
+    pub fn kt(&self) -> f64 {
+        self.units.boltzmann() * self.temperature
+    }
+
     pub fn validate(&self) -> Result<()> {
         crate::error::positive("plastic_tolerance", self.plastic_tolerance)?;
         crate::error::positive("dt", self.dt)?;
@@ -121,6 +180,8 @@ impl IntegrationParameters {
             crate::error::finite("gravity", g)?;
         }
         crate::error::positive("relax_tolerance", self.relax_tolerance)?;
+        crate::error::non_negative("temperature (K)", self.temperature)?;
+        crate::error::non_negative("viscosity", self.viscosity)?;
         if !(self.divergence_factor > 1.0) {
             return Err(Error::invalid("divergence_factor", self.divergence_factor, "> 1 (inf: no guard)"));
         }
