@@ -3,7 +3,7 @@
 from typing import Any, Sequence, final
 
 __version__: str
-__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'Obstacle', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_beads_on_spring', 'build_cable_on_clips', 'build_harness', 'build_necklace', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'obstacle_capsule', 'obstacle_mesh_arrays', 'obstacle_mesh_data', 'obstacle_mesh_file', 'obstacle_plane', 'obstacle_sphere', 'read_dcd', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
+__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'Obstacle', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_beads_on_spring', 'build_cable_on_clips', 'build_harness', 'build_necklace', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'obstacle_capsule', 'obstacle_mesh_arrays', 'obstacle_mesh_data', 'obstacle_mesh_file', 'obstacle_plane', 'obstacle_sphere', 'read_dcd', 'resistive_force_drag', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
 
 def bead_positions(world):
     """Bead positions of a world (length unit), shape (N, 3): the sample points of every rod in world order (one bead per sample point)."""
@@ -19,11 +19,11 @@ def build_rope_bridge(*, span, n_planks, plank_mass, sag, width, handrail_height
     """Rope bridge (SPEC §9.2); see `strandkit.builders.rope_bridge`."""
 def constraint_catalogue():
     """Every constraint kind the core registers, as a list of dicts: `name` (serde tag), `helper` (Python function name), `rods` (1 or 2), `doc`, `fields` (each: `name`, `ty`, `unit`, `doc`, `default` as JSON text or None, `roll_keyword`)."""
-def curve(f, length, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):
+def curve(f, length, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, roll_drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):
     """Rod along a curve given by arc length: `f(s)` → (x, y, z) for s in [0, `length`] (length unit)."""
-def from_control_points(points, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):
+def from_control_points(points, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, roll_drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):
     """Rod from explicit control points: array (n, 3), or (n, 4) whose last column is the roll θ (rad)."""
-def helix(radius, pitch, turns, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):
+def helix(radius, pitch, turns, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, roll_drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):
     """Circular helix about z starting at (radius, 0, 0): `radius` and `pitch` (rise per turn; > 0 right-handed) in length unit, `turns`."""
 def load_catalogue():
     """Every load kind the core registers (as `constraint_catalogue`, without `rods`)."""
@@ -41,11 +41,13 @@ def obstacle_sphere(center, radius):
     """A ball of `radius` (length) about `center` (length)."""
 def read_dcd(path):
     """Reads a DCD written by strandkit: (header dict, positions (F, N, 3) float32 in Å)."""
+def resistive_force_drag(viscosity, radius, length):
+    """Resistive-force theory drag of a slender rod (SPEC §3): for viscosity `viscosity` (Pa·s in SI, pN·ns/nm² in molecular units), `radius` and `length` (length unit), returns (γ⊥, γ∥, γθ) per unit length = (4πη/(ln(L/r) + ½), γ⊥/2, 4πηr²): force per velocity per length on each transverse and on the axial direction, torque per angular velocity per length on the roll."""
 def rod_from_json(text):
     """A rod from `Rod.to_json()` text (free)."""
-def straight(start, end, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):
+def straight(start, end, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, roll_drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):
     """Straight rod from `start` to `end` (length unit)."""
-def through_points(points, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):
+def through_points(points, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, roll_drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):
     """Rod through `points` (array (n, 3), length unit; roughly evenly spaced): one control point per point, solved by interpolation."""
 def tube_mesh(obj, *, rings_per_segment=6, points_per_ring=12, radius_scale=1.0, caps=True):
     """Tube mesh of a World (all rods) or a Rod: (vertices (N,3) length unit, normals (N,3), triangles (T,3) vertex indices, part (N,) rod index)."""
@@ -394,6 +396,8 @@ class Rod:
     """Coordinates per control point: 4 (x, y, z, θ) or 3."""
     domain: Any
     """Parameter domain (u_start, u_end)."""
+    def drag(self, viscosity=None):
+        """The rod's drag coefficients in a fluid of viscosity `viscosity` (the world's, by default; 0 for its own only), as a dict: `trans` (force per velocity per length, each axis), `roll` (torque per angular velocity per length, times ∫b b ds) and `roll_r2` (4πη, times ∫r² b b ds): its own `drag`/`roll_drag` plus the resistive-force drag."""
     elastic_energy: Any
     """Elastic energy U (energy unit)."""
     energy: Any
@@ -430,7 +434,7 @@ class Rod:
     n_control_points: Any
     n_segments: Any
     options: Any
-    """The rod options (the core's RodOptions) as a dict: samples_per_segment, terms, model, curvature_threshold, drag, poisson_update."""
+    """The rod options (the core's RodOptions) as a dict: samples_per_segment, terms, model, curvature_threshold, drag, roll_drag, poisson_update."""
     plastic_offsets: Any
     """Plastic offsets Δε_p at the sample points, shape (m, 4), same columns and units as `strains`."""
     def position(self, u):
@@ -456,7 +460,7 @@ class Rod:
     def to_json(self):
         """The rod as JSON (serde; floats round-trip exactly)."""
     def twist(self):
-        """Twist Tw of a closed rod (turns), plus the imposed excess link."""
+        """Twist Tw (turns), plus the imposed excess link."""
     def u_at_arc_length(self, s):
         """The abscissa u at rest arc length s (length unit, 0 ≤ s ≤ rest_length): a material coordinate that deformation does not move, e.g."""
     u_end: Any
@@ -543,7 +547,7 @@ class Topology:
 @final
 class World:
     """A simulation world: rods, constraints and loads, advanced by `step()` (linearised implicit Euler, or a second-order scheme) or brought to equilibrium by `relax()`."""
-    def __new__(cls, *, adaptive_dt: bool = False, divergence_factor: float = 10.0, dt: float = 0.001, gravity: Sequence[float] = ..., linear_solver: str = 'Auto', max_halvings: int = 10, parallel: bool = True, plastic_tolerance: float = 1e-06, relax_max_iterations: int = 500, relax_tolerance: float = 1e-10, scheme: str = 'implicit_euler', **params: Any) -> World: ...
+    def __new__(cls, *, adaptive_dt: bool = False, divergence_factor: float = 10.0, dt: float = 0.001, gravity: Sequence[float] = ..., linear_solver: str = 'Auto', max_halvings: int = 10, overdamped: bool = False, parallel: bool = True, plastic_tolerance: float = 1e-06, relax_max_iterations: int = 500, relax_tolerance: float = 1e-10, scheme: str = 'implicit_euler', seed: int = 0, temperature: float = 0.0, units: str = 'si', viscosity: float = 0.0, **params: Any) -> World: ...
     def __copy__(self): ...
     def __deepcopy__(self, _memo): ...
     def __reduce__(self): ...
