@@ -27,7 +27,7 @@ def dna_fragment():
     i = math.pi / 4  # nm⁴, radius 1 nm
     young = 50.0 * KT / i  # B = A kT with A = 50 nm
     shear = 100.0 * KT / (2 * i)  # C = 100 nm × kT
-    dna = sk.Material("dna", young, young / (2 * shear) - 1, 1.7e-3)  # density 1700 kg/m³ in zg/nm³
+    dna = sk.Material("dna", young, young / (2 * shear) - 1, 1.7e-3)  # density 1700 kg/m³ in ag/nm³
     return sk.straight((0, 0, 0), (LENGTH, 0, 0), section=1.0, material=dna, n_control_points=8, model="reference")
 
 

@@ -327,6 +327,15 @@ impl Section {
         }
     }
 
+    /// Radius the surrounding fluid sees (L), for resistive-force drag: a
+    /// tube's outer radius, else the radius of the circle of equal area.
+    pub fn hydrodynamic_radius(&self) -> Result<f64> {
+        Ok(match *self {
+            Section::Tube { outer_radius, .. } => outer_radius,
+            _ => (self.props()?.area / std::f64::consts::PI).sqrt(),
+        })
+    }
+
     /// Radius of the bounding circle centred on the centroid (L), for
     /// collision and display.
     pub fn bounding_radius(&self) -> f64 {

@@ -863,7 +863,8 @@ builder_fn!(
 /// Resistive-force theory drag of a slender rod (SPEC §3): for viscosity
 /// `viscosity` (Pa·s in SI, pN·ns/nm² in molecular units), `radius` and
 /// `length` (length unit), returns (γ⊥, γ∥, γθ) per unit length =
-/// (4πη/(ln(L/r) + ½), γ⊥/2, 4πηr²): force per velocity per length on each
+/// (4πη/(ln(L/r) + ½), γ⊥/2, 4πηr²), SPEC §3's approximations (slender-body
+/// theory's γ∥ is 2πη/(ln(L/r) − ½), 16 % above γ⊥/2 at L/r = 1000): force per velocity per length on each
 /// transverse and on the axial direction, torque per angular velocity per
 /// length on the roll. A World's `viscosity` applies γ⊥ on every axis (the
 /// smaller axial drag is not modelled) and γθ on the roll.

@@ -7,9 +7,9 @@ from ``World(units=...)``:
 * ``"si"`` (default): metre, kilogram, second; force N, energy J,
   viscosity Pa·s.
 * ``"molecular"``: nanometre, piconewton, nanosecond; energy pN·nm
-  (kT = 4.116 pN·nm at 298.15 K, 4.114 at 298 K), mass 1e-21 kg (zeptogram), modulus
+  (kT = 4.116 pN·nm at 298.15 K, 4.114 at 298 K), mass 1e-21 kg (attogram, ag), modulus
   pN/nm² (= 1 MPa), viscosity pN·ns/nm² (= 1e-3 Pa·s: water is 1.0),
-  density zg/nm³ (= 1e6 kg/m³).
+  density ag/nm³ (= 1e6 kg/m³).
 
 >>> import strandkit as sk
 >>> round(sk.units.kT(298.15, "molecular"), 3)   # pN·nm
@@ -26,7 +26,8 @@ __all__ = ["BOLTZMANN", "WATER_VISCOSITY", "kT", "to_molecular", "to_si", "SI_PE
 #: Boltzmann's constant per unit system (energy unit per kelvin; exact SI value).
 BOLTZMANN = {"si": 1.380649e-23, "molecular": 1.380649e-23 * 1e21}
 
-#: Viscosity of water at 20 °C in each system (Pa·s; pN·ns/nm²).
+#: Viscosity of water at 20 °C in each system (Pa·s; pN·ns/nm²); at 25 °C
+#: it is 0.89e-3 Pa·s.
 WATER_VISCOSITY = {"si": 1.0e-3, "molecular": 1.0}
 
 #: One molecular unit of each quantity in SI units.
@@ -38,13 +39,14 @@ SI_PER_MOLECULAR = {
     "mass": 1e-21,  # pN·ns²/nm in kg
     "viscosity": 1e-3,  # pN·ns/nm² in Pa·s
     "modulus": 1e6,  # pN/nm² in Pa
-    "density": 1e6,  # zg/nm³ in kg/m³
+    "density": 1e6,  # ag/nm³ in kg/m³
     "velocity": 1.0,  # nm/ns in m/s
     "torque": 1e-21,  # pN·nm in N·m
     "stiffness": 1e-3,  # pN/nm in N/m
     "bending_stiffness": 1e-30,  # pN·nm² in N·m²
     "drag": 1e-12,  # pN·ns/nm (force per velocity) in N·s/m
     "drag_per_length": 1e-3,  # pN·ns/nm² (force per velocity per length, as η) in N·s/m²
+    "roll_drag": 1e-21,  # pN·ns (torque per angular velocity per length) in N·s
 }
 
 

@@ -337,9 +337,15 @@ fn gather_and_assemble(
         let fk = &mut ws.field_k;
         l.add_stiffness(rods[r], t, &mut |i, j, v| fk.push((r, i, j, v)))?;
     }
+    // Each rod's drag, once per assembly: the D/h blocks, the trapezoidal
+    // rule's D ΔX/h and the thermal force all use these (statics: none).
+    ws.drags.clear();
+    for rod in rods {
+        ws.drags.push(if matches!(regime, Regime::Statics { .. }) { Default::default() } else { rod.drag(params.viscosity)? });
+    }
     if ws.thermal_h > 0.0 {
         for (r, rod) in rods.iter().enumerate() {
-            let field = Thermal { kt: ws.thermal_kt, h: ws.thermal_h, drag: rod.drag(params.viscosity)?, normals: &ws.thermal_normals[r] };
+            let field = Thermal { kt: ws.thermal_kt, h: ws.thermal_h, drag: ws.drags[r], normals: &ws.thermal_normals[r] };
             field.add_force(rod, t, &mut ws.ext[r])?;
         }
     }
@@ -407,10 +413,6 @@ fn gather_and_assemble(
         k.momentum = 0.0;
     }
     ws.sys.record_forces = matches!(regime, Regime::Trapezoidal { first: true, .. });
-    ws.drags.clear();
-    for rod in rods {
-        ws.drags.push(rod.drag(params.viscosity)?);
-    }
     let mut energy = ws.sys.assemble(&ws.layout, rods, &ws.drags, &ws.ext, &crefs, &ws.masses, &ws.field_k, k, params.parallel);
     if energy.is_ok() && regime.bead_unknowns() {
         let static_beads: Vec<BeadRef> = beads

@@ -18,6 +18,7 @@ pub fn step(world: &mut World) -> Result<StepReport> {
     // The contact set changes during the solve (detection, active set,
     // friction state): a refused step puts it back.
     let contacts = (!world.contacts.is_empty() || !world.detectors.is_empty()).then(|| world.contacts.clone());
+    world.ws.bridge = None;
     let first = step_by(world, h);
     if let (Err(_), Some(c)) = (&first, contacts) {
         world.contacts = c;
@@ -25,11 +26,16 @@ pub fn step(world: &mut World) -> Result<StepReport> {
     if !world.params.adaptive_dt || !matches!(first, Err(Error::Diverged { .. } | Error::NonFinite { .. } | Error::NotConverged { .. })) {
         return first; // a refused step left the world unchanged
     }
+    // The sub-steps follow the refused step's Brownian path (thermal.rs).
+    let normals = super::thermal::take_first(world);
     let before = world.clone();
     let mut last = first;
     for j in 1..=world.params.max_halvings {
         let n = 1u32 << j;
-        match substeps(world, h / n as f64, n) {
+        super::thermal::bridge(world, n as usize, normals.as_ref());
+        let tried = substeps(world, h / n as f64, n);
+        world.ws.bridge = None;
+        match tried {
             Ok(report) => return Ok(report),
             Err(e) => {
                 *world = before.clone();
@@ -60,11 +66,26 @@ fn substeps(world: &mut World, h: f64, n: u32) -> Result<StepReport> {
 /// One step of `h`.
 fn step_by(world: &mut World, h: f64) -> Result<StepReport> {
     let noise = super::thermal::begin(world, h)?;
-    let stepped = advance(world, h);
-    world.ws.thermal_h = 0.0;
-    let (energy, solved, solves) = stepped?;
+    // thermal_h marks the assembly of a thermal step: off again whatever
+    // happens, a panic included (Python catches it and the world lives on).
+    struct Off<'a>(&'a mut World);
+    impl Drop for Off<'_> {
+        fn drop(&mut self) {
+            self.0.ws.thermal_h = 0.0;
+        }
+    }
+    let (energy, solved, solves) = {
+        let guard = Off(world);
+        advance(guard.0, h)?
+    };
     if let Some(n) = noise {
         world.noise = n;
+    }
+    if world.params.overdamped {
+        // Brownian dynamics has no velocity.
+        for (_, rod) in world.rods.iter_mut() {
+            rod.state_mut().1.iter_mut().for_each(|v| *v = 0.0);
+        }
     }
     world.time += h;
     world.steps += 1;
@@ -95,7 +116,7 @@ fn advance(world: &mut World, h: f64) -> Result<(f64, crate::system::Solved, usi
     Ok(match world.params.scheme {
         Scheme::ImplicitEuler => {
             let (energy, solved) = solve::assemble_and_solve(world, Regime::Dynamic { h })?;
-            // Brownian dynamics has no velocity to update.
+            // Brownian dynamics has no velocity to update (zeroed after the step).
             let velocity = (!world.params.overdamped).then_some(1.0 / h);
             solve::commit(world, 1.0, velocity, Some(energy))?;
             (energy, solved, 1)

@@ -21,7 +21,7 @@ mod rupture;
 mod solve;
 pub(crate) mod trapezoidal;
 pub mod statics;
-mod thermal;
+pub(crate) mod thermal;
 
 use crate::error::Result;
 use crate::system::Factorisation;

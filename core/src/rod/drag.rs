@@ -4,6 +4,8 @@
 //! The translational drag is isotropic (γ_⊥ on every axis): resistive-force
 //! theory's smaller axial drag γ_∥ ≈ γ_⊥/2 is not modelled, which slows
 //! axial motion but leaves every equilibrium (thermal) average unchanged.
+//! r is the section's hydrodynamic radius (a tube's outer radius, else
+//! that of the circle of equal area).
 use super::Rod;
 use crate::error::{Error, Result};
 use std::f64::consts::PI;
@@ -21,8 +23,10 @@ pub struct Drag {
 
 /// Resistive-force theory for a slender rod of length `length` and radius
 /// `radius` in a fluid of viscosity `eta` (SPEC §3): (γ_⊥, γ_∥, γ_θ) =
-/// (4πη/(ln(L/r) + ½), γ_⊥/2, 4πηr²) per unit length: force per velocity
-/// per length, and torque per angular velocity per length.
+/// (4πη/(ln(L/r) + ½), γ_⊥/2, 4πηr²) per unit length, SPEC §3's
+/// approximations (slender-body theory's γ_∥ is 2πη/(ln(L/r) − ½), 16 %
+/// above γ_⊥/2 at L/r = 1000): force per velocity per length, and torque
+/// per angular velocity per length.
 pub fn resistive_force(eta: f64, radius: f64, length: f64) -> Result<[f64; 3]> {
     crate::error::non_negative("viscosity", eta)?;
     crate::error::positive("radius", radius)?;
@@ -44,7 +48,7 @@ impl Rod {
         if eta == 0.0 {
             return Ok(own);
         }
-        let radius = (self.cache.mean_area / PI).sqrt();
+        let radius = self.cache.mean_r2.sqrt();
         let [perp, _, _] = resistive_force(eta, radius, self.rest_length())?;
         let roll_r2 = if self.dofs == 4 { 4.0 * PI * eta } else { 0.0 };
         Ok(Drag { trans: own.trans + perp, roll_r2, ..own })

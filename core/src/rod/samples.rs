@@ -34,8 +34,9 @@ pub(crate) struct Cache {
     /// ∫ μ b_k b_l ds0 (translation), ∫ ρ I0 b_k b_l ds0 (roll).
     pub seg_mass: Vec<Block4>,
     pub seg_inertia: Vec<Block4>,
-    /// ∫ b_k b_l ds0 and ∫ r² b_k b_l ds0 (r² = A/π): the drag matrices
-    /// per unit coefficient (III.10; the roll's resistive-force drag 4πηr²).
+    /// ∫ b_k b_l ds0 and ∫ r² b_k b_l ds0 (r the section's hydrodynamic
+    /// radius): the drag matrices per unit coefficient (III.10; the roll's
+    /// resistive-force drag 4πηr²).
     pub seg_bb: Vec<Block4>,
     pub seg_r2bb: Vec<Block4>,
     /// ∫ μ b_k ds0 (for gravity) and ∫ b_k ds0 (for distributed forces).
@@ -43,8 +44,9 @@ pub(crate) struct Cache {
     pub seg_len_weight: Vec<[f64; 4]>,
     pub rest_length: f64,
     pub mass: f64,
-    /// ∫ A ds0 / rest length: the mean section area (for resistive-force drag).
-    pub mean_area: f64,
+    /// ∫ r² ds0 / rest length, r the hydrodynamic radius (for
+    /// resistive-force drag).
+    pub mean_r2: f64,
 }
 
 pub(crate) fn point(q: &[f64], dofs: usize, ctrl: &[usize; 4], b: &[f64; 4]) -> [f64; 4] {
@@ -151,7 +153,8 @@ impl Cache {
             let mu = rho * p.area;
             let rho_i0 = rho * p.i0;
             c.mass += wt * mu;
-            c.mean_area += wt * p.area / c.rest_length;
+            let r2 = sec.hydrodynamic_radius()?.powi(2);
+            c.mean_r2 += wt * r2 / c.rest_length;
             for k in 0..4 {
                 c.seg_mass_weight[seg][k] += wt * mu * basis[0][k];
                 c.seg_len_weight[seg][k] += wt * basis[0][k];
@@ -160,7 +163,7 @@ impl Cache {
                     c.seg_mass[seg][k][l] += mu * bb;
                     c.seg_inertia[seg][k][l] += rho_i0 * bb;
                     c.seg_bb[seg][k][l] += bb;
-                    c.seg_r2bb[seg][k][l] += p.area / std::f64::consts::PI * bb;
+                    c.seg_r2bb[seg][k][l] += r2 * bb;
                 }
             }
             c.samples.push(Sample { seg, u, basis, w: wt, consts, rest });

@@ -154,11 +154,13 @@ impl Rod {
     /// inflection (τ undefined). Reference model (rings and open rods):
     /// (1/2π) ∫ ω ds with the material twist ω = θ′/|r′| + ω_ref of the
     /// energy (SPEC §2.3) on the energy's quadrature, defined everywhere
-    /// (∮ θ′ du = 0 on a ring; on an open rod it includes θ(end) − θ(start)).
+    /// (∮ θ′ du = 0 on a ring; on an open rod, which needs the roll
+    /// coordinate, it includes θ(end) − θ(start)).
     pub fn twist(&self) -> Result<f64> {
         if self.opts.model == crate::energy::FrameModel::Reference {
             if self.dofs != 4 {
-                return Err(Error::input("twist: the rod has no roll coordinate (built with_roll=False), so no material twist"));
+                // Without roll only a ring's (reference) twist is defined.
+                self.require_ring("twist")?;
             }
             let strains = self.strains();
             let mut sum = 0.0;

@@ -208,8 +208,13 @@ impl KktSystem {
         parallel: bool,
     ) -> Result<f64> {
         let bw = layout.bandwidth;
-        self.inertia = k.mass > 0.0;
-        self.mass_scale = rods.iter().fold(0.0f64, |m, r| m.max(k.mass * r.mass() / r.n_ctrl() as f64));
+        // Drag holds the rigid modes as mass does (Brownian dynamics has no mass).
+        let drag_of = |i: usize| drags.get(i).map_or(0.0, |d| d.trans);
+        self.inertia = k.mass > 0.0 || k.drag > 0.0 && (0..rods.len()).all(|i| drag_of(i) > 0.0);
+        self.mass_scale = rods
+            .iter()
+            .enumerate()
+            .fold(0.0f64, |m, (i, r)| m.max((k.mass * r.mass() + k.drag * drag_of(i) * r.rest_length()) / r.n_ctrl() as f64));
         self.band.reshape(layout.n, bw, bw);
         self.rhs.clear();
         self.rhs.resize(layout.n, 0.0);

@@ -30,6 +30,11 @@ pub struct Workspace {
     pub(crate) thermal_h: f64,
     pub(crate) thermal_kt: f64,
     pub(crate) thermal_normals: Vec<Vec<f64>>,
+    /// Whether this try of the step drew normals, and the normals of the
+    /// step's first try; the Brownian bridge of a retried step.
+    pub(crate) thermal_drawn: bool,
+    pub(crate) thermal_first: Vec<Vec<f64>>,
+    pub(crate) bridge: Option<crate::pipeline::thermal::Bridge>,
     pub(crate) rod_ids: Vec<Index>,
     pub(crate) con_ids: Vec<Index>,
     /// Slot index → position of each rod in iteration order.

@@ -67,11 +67,16 @@ pub struct IntegrationParameters {
     /// kT = 4.116 pN·nm at 298.15 K).
     #[serde(default)]
     pub units: Units,
-    /// Seed of the thermal noise's random stream (an integer ≥ 0).
+    /// Seed of the thermal noise's random stream (an integer ≥ 0). A new
+    /// seed starts its stream from the beginning (seeds A, B, A replay A's
+    /// numbers from the start).
     #[serde(default)]
     pub seed: u64,
     /// Brownian (overdamped) dynamics: the mass and momentum terms are
-    /// dropped, D ΔX/h = F + P + R; velocities are not updated.
+    /// dropped, D ΔX/h = F + P + R; velocities stay zero. Every rod needs
+    /// drag. With implicit Euler a mode relaxing at rate λ = k/γ keeps a
+    /// variance 1/(1 + λh/2) of kT/k; the trapezoidal rule keeps it exactly
+    /// but its Newton iterations may stall when h ≫ 1/λ of the stiffest mode.
     #[serde(default)]
     pub overdamped: bool,
 }
@@ -85,7 +90,7 @@ pub enum Units {
     /// Metre, kilogram, second (force N, energy J).
     #[default]
     Si,
-    /// Nanometre, piconewton, nanosecond (energy pN·nm, mass 1e-21 kg,
+    /// Nanometre, piconewton, nanosecond (energy pN·nm, mass 1e-21 kg = 1 ag,
     /// modulus pN/nm² = 1 MPa, viscosity pN·ns/nm² = 1e-3 Pa·s).
     Molecular,
 }
