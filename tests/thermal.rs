@@ -413,6 +413,16 @@ fn thermal_bad_input_is_refused() {
     w2.add_rod(dna_with(50.0, 10, 50.0, 100.0, true, RodOptions { drag: 1.0, model: FrameModel::Reference, ..Default::default() }));
     let e = w2.step().unwrap_err().to_string();
     assert!(e.contains("roll"), "{e}");
+    // A Frenet rod with roll: its roll's reference is undefined where straight.
+    let mut w4 = world(1e-3, 1.0, 1);
+    w4.add_rod(dna_with(50.0, 10, 50.0, 100.0, true, RodOptions::default()));
+    assert!(w4.step().unwrap_err().to_string().contains("model='reference'"));
+    // Brownian dynamics without drag, even at T = 0.
+    let mut w5 = world(1e-3, 0.0, 1);
+    w5.params.temperature = 0.0;
+    w5.params.overdamped = true;
+    w5.add_rod(dna(50.0, 10, 50.0, 100.0, false));
+    assert!(w5.step().unwrap_err().to_string().contains("without drag"));
     // TR-BDF2 has no matching noise.
     let mut w3 = world(1e-3, 1.0, 1);
     w3.params.scheme = Scheme::TrBdf2;
