@@ -42,7 +42,7 @@ def obstacle_sphere(center, radius):
 def read_dcd(path):
     """Reads a DCD written by strandkit: (header dict, positions (F, N, 3) float32 in Å)."""
 def resistive_force_drag(viscosity, radius, length):
-    """Resistive-force theory drag of a slender rod (SPEC §3): for viscosity `viscosity` (Pa·s in SI, pN·ns/nm² in molecular units), `radius` and `length` (length unit), returns (γ⊥, γ∥, γθ) per unit length = (4πη/(ln(L/r) + ½), γ⊥/2, 4πηr²): force per velocity per length on each transverse and on the axial direction, torque per angular velocity per length on the roll."""
+    """Resistive-force theory drag of a slender rod (SPEC §3): for viscosity `viscosity` (Pa·s in SI, pN·ns/nm² in molecular units), `radius` and `length` (length unit), returns (γ⊥, γ∥, γθ) per unit length = (4πη/(ln(L/r) + ½), γ⊥/2, 4πηr²), SPEC §3's approximations (slender-body theory's γ∥ is 2πη/(ln(L/r) − ½), 16 % above γ⊥/2 at L/r = 1000): force per velocity per length on each transverse and on the axial direction, torque per angular velocity per length on the roll."""
 def rod_from_json(text):
     """A rod from `Rod.to_json()` text (free)."""
 def straight(start, end, *, section=None, material=None, n_control_points=20, knots="clamped", with_roll=True, roll=None, sections=None, samples_per_segment=None, drag=None, roll_drag=None, curvature_threshold=None, stretch=None, bend=None, twist=None, poisson_update=None, model=None, **options):
