@@ -266,8 +266,37 @@ fn probe_mc_free() {
     let kt = Units::Molecular.boltzmann() * 298.15;
     let mut rod = dna_opts(l, n, radius, spp, true);
     let mut bend = dna_opts(l, n, radius, spp, false);
-    let mut q = rod.coords().to_vec();
-    let mut e = rod.elastic_energy();
+    let q = rod.coords().to_vec();
+    let mut crod = rod.clone();
+    let m = metropolis(q, n, l, a_p, moves, seed, kt, |q| {
+        rod.set_coords(q).unwrap();
+        bend.set_coords(q).unwrap();
+        (rod.elastic_energy(), bend.elastic_energy())
+    }, &mut crod);
+    println!(
+        "MCfree L={l} n={n} r={radius} spp={spp} moves={moves}: <R²>/WLC = {:.4} ± {:.4}  <t0·tL> = {:.4} ± {:.4} (WLC {:.4})  <Eb>/kT = {:.3} ± {:.3}  <Es>/kT = {:.3} ± {:.3}  contour/L {:.5}  {}",
+        m.r2.0, m.r2.1, m.tt.0, m.tt.1, (-l / a_p).exp(), m.eb.0, m.eb.1, m.es.0, m.es.1, m.contour, m.tuning
+    );
+}
+
+/// What [`metropolis`] measured: (mean, blocked error) of ⟨R²⟩/WLC, t0·tL,
+/// bending and stretch energies / kT; the mean contour / L; the moves' tuning.
+struct McStats {
+    r2: (f64, f64),
+    tt: (f64, f64),
+    eb: (f64, f64),
+    es: (f64, f64),
+    contour: f64,
+    tuning: String,
+}
+
+/// Metropolis MC of a free chain from control points `q` (3 per point):
+/// [`propose`]'s moves, step sizes tuned to 40 % acceptance during the
+/// first fifth (discarded), `energy(q)` = (total, bending); observables
+/// every `n` moves, the contour (on `crod`) every 200 samples.
+#[allow(clippy::too_many_arguments)]
+fn metropolis(mut q: Vec<f64>, n: usize, l: f64, a_p: f64, moves: usize, seed: u64, kt: f64, mut energy: impl FnMut(&[f64]) -> (f64, f64), crod: &mut Rod) -> McStats {
+    let (mut e, _) = energy(&q);
     let mut rng = Xs(0x9E3779B97F4A7C15 ^ seed.wrapping_mul(0x2545F4914F6CDD1D));
     let mut piv = 0.2f64;
     let h = l / (n - 3) as f64;
@@ -279,31 +308,13 @@ fn probe_mc_free() {
     let t0 = std::time::Instant::now();
     let mut qn = q.clone();
     for k in 0..moves {
-        qn.copy_from_slice(&q);
-        let pivot = rng.next() < 0.5;
+        let pivot = propose(&mut rng, &q, &mut qn, n, piv, loc);
         if pivot {
-            let c = ((rng.next() * n as f64) as usize).min(n - 1);
-            let tail = rng.next() < 0.5;
-            let axis = rng.unit();
-            let ang = piv * (2.0 * rng.next() - 1.0);
-            let rot = nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_unchecked(axis), ang);
-            let pc = Vector3::new(q[3 * c], q[3 * c + 1], q[3 * c + 2]);
-            let range: Vec<usize> = if tail { (c + 1..n).collect() } else { (0..c).collect() };
-            for j in range {
-                let pj = Vector3::new(q[3 * j], q[3 * j + 1], q[3 * j + 2]);
-                let v = pc + rot * (pj - pc);
-                qn[3 * j..3 * j + 3].copy_from_slice(v.as_slice());
-            }
             try_p += 1;
         } else {
-            let i = ((rng.next() * n as f64) as usize).min(n - 1);
-            for a in 0..3 {
-                qn[3 * i + a] += loc * (2.0 * rng.next() - 1.0);
-            }
             try_l += 1;
         }
-        rod.set_coords(&qn).unwrap();
-        let e1 = rod.elastic_energy();
+        let (e1, _) = energy(&qn);
         if e1 <= e || rng.next() < (-(e1 - e) / kt).exp() {
             e = e1;
             q.copy_from_slice(&qn);
@@ -324,29 +335,23 @@ fn probe_mc_free() {
             let (r2, tt, _) = chain_obs(&q, n, l, a_p);
             r2s.push(r2);
             tts.push(tt);
-            bend.set_coords(&q).unwrap();
-            let eb = bend.elastic_energy();
+            let (et, eb) = energy(&q);
             ebs.push(eb / kt);
-            ess.push((e - eb) / kt);
+            ess.push((et - eb) / kt);
             if r2s.len() % 200 == 0 {
-                rod.set_coords(&q).unwrap();
-                contour.0 += contour_length(&rod) / l;
+                crod.set_coords(&q).unwrap();
+                contour.0 += contour_length(crod) / l;
                 contour.1 += 1;
             }
         }
     }
-    let (r2, r2e) = blocked(&r2s);
-    let (tt, tte) = blocked(&tts);
-    let (eb, ebe) = blocked(&ebs);
-    let (es, ese) = blocked(&ess);
-    println!(
-        "MCfree L={l} n={n} r={radius} spp={spp} moves={moves}: <R²>/WLC = {r2:.4} ± {r2e:.4}  <t0·tL> = {tt:.4} ± {tte:.4} (WLC {:.4})  <Eb>/kT = {eb:.3} ± {ebe:.3}  <Es>/kT = {es:.3} ± {ese:.3}  contour/L {:.5}  acc p {:.2} (piv {piv:.3}) l {:.2} (loc {loc:.4})  {:.1}s",
-        (-l / a_p).exp(),
-        contour.0 / contour.1.max(1) as f64,
+    let tuning = format!(
+        "acc p {:.2} (piv {piv:.3}) l {:.2} (loc {loc:.4})  {:.1}s",
         acc_p as f64 / try_p.max(1) as f64,
         acc_l as f64 / try_l.max(1) as f64,
         t0.elapsed().as_secs_f64()
     );
+    McStats { r2: blocked(&r2s), tt: blocked(&tts), eb: blocked(&ebs), es: blocked(&ess), contour: contour.0 / contour.1.max(1) as f64, tuning }
 }
 
 /// Langevin dynamics of free chains with blocking errors. WLD="L,n,eta,dt,steps,rods,r,burnfrac,seed".
@@ -426,15 +431,8 @@ impl StretchX {
             let (a, b) = (u0 + (u1 - u0) * seg as f64 / nseg as f64, u0 + (u1 - u0) * (seg + 1) as f64 / nseg as f64);
             for (x, wt) in gx.iter().zip(gw.iter()) {
                 let u = 0.5 * (a + b) + 0.5 * (b - a) * x;
-                let (c, bas) = rod.basis_at(u).unwrap();
-                let mut r1 = Vector3::zeros();
-                for k in 0..4 {
-                    r1 += bas[1][k] * Vector3::new(q0[3 * c[k]], q0[3 * c[k] + 1], q0[3 * c[k] + 2]);
-                }
-                ctrl.push(c);
-                d1.push(bas[1]);
-                speed0.push(r1.norm());
-                w.push(wt * 0.5 * (b - a) * r1.norm());
+                let speed = push_point(rod, q0, u, &mut ctrl, &mut d1, &mut speed0);
+                w.push(wt * 0.5 * (b - a) * speed);
             }
         }
         let m = w.len();
@@ -474,15 +472,8 @@ impl StretchX {
             let xi = 0.5 * (t[j + 1] + t[j + 2]);
             let wt = (t[j + 3] - t[j]) / 3.0;
             let u = (u0 + xi).clamp(u0, u1);
-            let (c, bas) = rod.basis_at(u).unwrap();
-            let mut r1 = Vector3::zeros();
-            for k in 0..4 {
-                r1 += bas[1][k] * Vector3::new(q0[3 * c[k]], q0[3 * c[k] + 1], q0[3 * c[k] + 2]);
-            }
-            ctrl.push(c);
-            d1.push(bas[1]);
-            speed0.push(r1.norm());
-            w.push(wt * r1.norm());
+            let speed = push_point(rod, q0, u, &mut ctrl, &mut d1, &mut speed0);
+            w.push(wt * speed);
         }
         let k = nalgebra::DMatrix::from_diagonal(&nalgebra::DVector::from_vec(w));
         StretchX { ctrl, d1, speed0, k, s }
@@ -523,92 +514,29 @@ fn probe_mc_fix() {
         bend.set_coords(&q).unwrap();
         println!("check: core stretch {:.6e} here {:.6e}", f2.elastic_energy() - bend.elastic_energy(), check.energy(&q));
     }
-    let mut q = full.coords().to_vec();
+    let q = full.coords().to_vec();
     let energy = |bend: &mut Rod, q: &[f64]| -> (f64, f64) {
         bend.set_coords(q).unwrap();
         let eb = bend.elastic_energy();
         (eb + st.energy(q), eb)
     };
-    let mut e = energy(&mut bend, &q).0;
-    let mut rng = Xs(0x9E3779B97F4A7C15 ^ seed.wrapping_mul(0x2545F4914F6CDD1D));
-    let mut piv = 0.2f64;
-    let h = l / (n - 3) as f64;
-    let mut loc = 0.02 * h;
-    let burn = moves / 5;
-    let (mut acc_p, mut try_p, mut acc_l, mut try_l) = (0usize, 0usize, 0usize, 0usize);
-    let (mut r2s, mut tts, mut ebs, mut ess) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    let mut contour = (0.0, 0);
     let mut crod = full.clone();
-    let t0 = std::time::Instant::now();
-    let mut qn = q.clone();
-    for k in 0..moves {
-        qn.copy_from_slice(&q);
-        let pivot = rng.next() < 0.5;
-        if pivot {
-            let c = ((rng.next() * n as f64) as usize).min(n - 1);
-            let tail = rng.next() < 0.5;
-            let axis = rng.unit();
-            let ang = piv * (2.0 * rng.next() - 1.0);
-            let rot = nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_unchecked(axis), ang);
-            let pc = Vector3::new(q[3 * c], q[3 * c + 1], q[3 * c + 2]);
-            let range: Vec<usize> = if tail { (c + 1..n).collect() } else { (0..c).collect() };
-            for j in range {
-                let pj = Vector3::new(q[3 * j], q[3 * j + 1], q[3 * j + 2]);
-                let v = pc + rot * (pj - pc);
-                qn[3 * j..3 * j + 3].copy_from_slice(v.as_slice());
-            }
-            try_p += 1;
-        } else {
-            let i = ((rng.next() * n as f64) as usize).min(n - 1);
-            for a in 0..3 {
-                qn[3 * i + a] += loc * (2.0 * rng.next() - 1.0);
-            }
-            try_l += 1;
-        }
-        let (e1, _) = energy(&mut bend, &qn);
-        if e1 <= e || rng.next() < (-(e1 - e) / kt).exp() {
-            e = e1;
-            q.copy_from_slice(&qn);
-            if pivot {
-                acc_p += 1
-            } else {
-                acc_l += 1
-            }
-        }
-        if k < burn && k % 2000 == 1999 {
-            let (fp, fl) = (acc_p as f64 / try_p.max(1) as f64, acc_l as f64 / try_l.max(1) as f64);
-            piv *= if fp > 0.4 { 1.1 } else { 0.9 };
-            loc *= if fl > 0.4 { 1.1 } else { 0.9 };
-            piv = piv.min(1.0);
-            (acc_p, try_p, acc_l, try_l) = (0, 0, 0, 0);
-        }
-        if k >= burn && k % n == 0 {
-            let (r2, tt, _) = chain_obs(&q, n, l, a_p);
-            r2s.push(r2);
-            tts.push(tt);
-            let (et, eb) = energy(&mut bend, &q);
-            ebs.push(eb / kt);
-            ess.push((et - eb) / kt);
-            if r2s.len() % 200 == 0 {
-                crod.set_coords(&q).unwrap();
-                contour.0 += contour_length(&crod) / l;
-                contour.1 += 1;
-            }
-        }
-    }
-    let (r2, r2e) = blocked(&r2s);
-    let (tt, tte) = blocked(&tts);
-    let (eb, ebe) = blocked(&ebs);
-    let (es, ese) = blocked(&ess);
-    let c = contour.0 / contour.1.max(1) as f64;
+    let m = metropolis(q, n, l, a_p, moves, seed, kt, |q| energy(&mut bend, q), &mut crod);
+    let c = m.contour;
     println!(
-        "MCfix mode={mode} pts={pts} L={l} n={n} r={radius} moves={moves}: <R²>/WLC = {r2:.4} ± {r2e:.4} (÷WLC(contour): {:.4})  <t0·tL> = {tt:.4} ± {tte:.4} (WLC {:.4}, at contour {:.4})  <Eb>/kT = {eb:.3} ± {ebe:.3}  <Es>/kT = {es:.3} ± {ese:.3}  contour/L {c:.5}  acc p {:.2} (piv {piv:.3}) l {:.2} (loc {loc:.4})  {:.1}s",
-        r2 * wlc_r2(a_p, l) / wlc_r2(a_p, c * l),
+        "MCfix mode={mode} pts={pts} L={l} n={n} r={radius} moves={moves}: <R²>/WLC = {:.4} ± {:.4} (÷WLC(contour): {:.4})  <t0·tL> = {:.4} ± {:.4} (WLC {:.4}, at contour {:.4})  <Eb>/kT = {:.3} ± {:.3}  <Es>/kT = {:.3} ± {:.3}  contour/L {c:.5}  {}",
+        m.r2.0,
+        m.r2.1,
+        m.r2.0 * wlc_r2(a_p, l) / wlc_r2(a_p, c * l),
+        m.tt.0,
+        m.tt.1,
         (-l / a_p).exp(),
         (-c * l / a_p).exp(),
-        acc_p as f64 / try_p.max(1) as f64,
-        acc_l as f64 / try_l.max(1) as f64,
-        t0.elapsed().as_secs_f64()
+        m.eb.0,
+        m.eb.1,
+        m.es.0,
+        m.es.1,
+        m.tuning
     );
 }
 
@@ -669,64 +597,7 @@ fn probe_arc() {
         x[1] = l - q0[3 * (n - 2)];
         x[nv - 2] = pe.x;
         x[nv - 1] = pe.y;
-        let d = 1e-4;
-        for _it in 0..60 {
-            let e0 = energy(&x).0;
-            let mut g = nalgebra::DVector::zeros(nv);
-            let mut hm = nalgebra::DMatrix::zeros(nv, nv);
-            let mut ep = vec![0.0; nv];
-            let mut em = vec![0.0; nv];
-            for i in 0..nv {
-                let mut y = x.clone();
-                y[i] += d;
-                ep[i] = energy(&y).0;
-                y[i] -= 2.0 * d;
-                em[i] = energy(&y).0;
-                g[i] = (ep[i] - em[i]) / (2.0 * d);
-                hm[(i, i)] = (ep[i] - 2.0 * e0 + em[i]) / (d * d);
-            }
-            for i in 0..nv {
-                for j in 0..i {
-                    let mut y = x.clone();
-                    y[i] += d;
-                    y[j] += d;
-                    let epp = energy(&y).0;
-                    let v = (epp - ep[i] - ep[j] + e0) / (d * d);
-                    hm[(i, j)] = v;
-                    hm[(j, i)] = v;
-                }
-            }
-            let mut lam = 0.0;
-            let scale = (0..nv).map(|i| hm[(i, i)].abs()).fold(0.0f64, f64::max);
-            let step = loop {
-                let mut hl = hm.clone();
-                for i in 0..nv {
-                    hl[(i, i)] += lam;
-                }
-                if let Some(ch) = hl.cholesky() {
-                    break ch.solve(&g);
-                }
-                lam = if lam == 0.0 { 1e-8 * scale } else { lam * 10.0 };
-            };
-            if std::env::var("ARCDBG").is_ok() && lam > 0.0 {
-                println!("  lam {lam:.3e} of {scale:.3e}");
-            }
-            let mut t = 1.0;
-            loop {
-                let y: Vec<f64> = x.iter().zip(step.iter()).map(|(a, s)| a - t * s).collect();
-                if energy(&y).0 <= e0 || t < 1e-8 {
-                    x = y;
-                    break;
-                }
-                t *= 0.5;
-            }
-            if std::env::var("ARCDBG").is_ok() {
-                println!("  it {_it} E {e0:.6e} |g| {:.3e} t {t}", g.norm());
-            }
-            if g.norm() < 1e-9 * b / l {
-                break;
-            }
-        }
+        fd_newton(&mut x, &mut |y: &[f64]| energy(y).0, 1e-4);
         let (e, eb) = energy(&x);
         let exact = 0.5 * b * phi * phi / l;
         let q = to_q(&x);
@@ -797,6 +668,20 @@ fn fd_newton(x: &mut Vec<f64>, f: &mut dyn FnMut(&[f64]) -> f64, d: f64) {
     }
 }
 
+/// A stretch sample at `u`: its control points, basis derivatives and rest
+/// speed |r0′(u)| (returned too), from the rest coordinates `q0`.
+fn push_point(rod: &Rod, q0: &[f64], u: f64, ctrl: &mut Vec<[usize; 4]>, d1: &mut Vec<[f64; 4]>, speed0: &mut Vec<f64>) -> f64 {
+    let (c, bas) = rod.basis_at(u).unwrap();
+    let mut r1 = Vector3::zeros();
+    for k in 0..4 {
+        r1 += bas[1][k] * Vector3::new(q0[3 * c[k]], q0[3 * c[k] + 1], q0[3 * c[k] + 2]);
+    }
+    ctrl.push(c);
+    d1.push(bas[1]);
+    speed0.push(r1.norm());
+    r1.norm()
+}
+
 /// Locking of a short-wavelength bending mode: transverse control-point
 /// displacements y_i = a sin(π k i/(n−1)) held, the axial coordinates x_i
 /// (i ≥ 1) relaxed; E_min(a) with the core stretch and with B-bar.
@@ -855,6 +740,35 @@ fn probe_mode() {
             esh[1]
         );
     }
+}
+
+/// A Metropolis proposal on the control polygon `q` (3 coordinates per
+/// point) into `qn`: half the time a pivot (one side rotated about a
+/// control point by up to `piv` rad; Jacobian 1, symmetric), else one
+/// point moved by up to `loc` per axis. Returns whether it pivoted.
+fn propose(rng: &mut Xs, q: &[f64], qn: &mut [f64], n: usize, piv: f64, loc: f64) -> bool {
+    qn.copy_from_slice(q);
+    let pivot = rng.next() < 0.5;
+    if pivot {
+        let c = ((rng.next() * n as f64) as usize).min(n - 1);
+        let tail = rng.next() < 0.5;
+        let axis = rng.unit();
+        let ang = piv * (2.0 * rng.next() - 1.0);
+        let rot = nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_unchecked(axis), ang);
+        let pc = Vector3::new(q[3 * c], q[3 * c + 1], q[3 * c + 2]);
+        let range: Vec<usize> = if tail { (c + 1..n).collect() } else { (0..c).collect() };
+        for j in range {
+            let pj = Vector3::new(q[3 * j], q[3 * j + 1], q[3 * j + 2]);
+            let v = pc + rot * (pj - pc);
+            qn[3 * j..3 * j + 3].copy_from_slice(v.as_slice());
+        }
+    } else {
+        let i = ((rng.next() * n as f64) as usize).min(n - 1);
+        for a in 0..3 {
+            qn[3 * i + a] += loc * (2.0 * rng.next() - 1.0);
+        }
+    }
+    pivot
 }
 
 fn main() {
