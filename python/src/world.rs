@@ -647,6 +647,13 @@ impl PyWorld {
             p.dt,
             p.gravity
         );
+        if p.temperature > 0.0 || p.viscosity > 0.0 || p.overdamped || p.units != strandkit_core::Units::Si {
+            let units = serde_json::to_value(p.units).ok().and_then(|v| v.as_str().map(String::from)).unwrap_or_default();
+            s += &format!(", units='{units}', temperature={} K, viscosity={}, seed={}", p.temperature, p.viscosity, p.seed);
+            if p.overdamped {
+                s += ", overdamped=True";
+            }
+        }
         if !groups.is_empty() {
             s += &format!(", groups={}", convert::py_strs(groups));
         }

@@ -69,6 +69,24 @@ def test_bad_thermal_settings_are_typed_errors():
     w2.add_rod(dna())
     with pytest.raises(sk.InvalidInputError, match="TR-BDF2"):
         w2.step()
+    # A Frenet rod with roll: its roll is undefined where the rod is straight.
+    w3 = thermal_world()
+    w3.add_rod(sk.straight((0, 0, 0), (10, 0, 0), section=1.0, material=sk.Material("dna", 262.0, -0.5, 1.7e-3),
+                           n_control_points=6, model="frenet"))
+    with pytest.raises(sk.InvalidInputError, match="model='reference'"):
+        w3.step()
+    # Brownian dynamics needs drag even at T = 0.
+    w4 = thermal_world(temperature=0.0, viscosity=0.0, overdamped=True)
+    w4.add_rod(dna())
+    with pytest.raises(sk.InvalidInputError, match="without drag"):
+        w4.step()
+
+
+def test_world_repr_shows_the_bath():
+    w = thermal_world(overdamped=True)
+    text = repr(w)
+    assert "units='molecular'" in text and "temperature=298.15 K" in text and "overdamped=True" in text
+    assert "temperature" not in repr(sk.World())
 
 
 def test_restart_under_noise_is_bit_exact():
