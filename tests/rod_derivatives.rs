@@ -43,6 +43,8 @@ struct Case {
     n_ctrl: usize,
     /// Position perturbation (length unit; roll gets 7.5 × this in rad).
     amplitude: f64,
+    /// Stretch at the Greville points (`RodOptions::stretch_at_greville`).
+    greville: bool,
 }
 
 fn material() -> Material {
@@ -60,6 +62,7 @@ fn build(c: &Case) -> Rod {
         }),
     };
     let b = b.control_points(c.n_ctrl).knots(c.knots).with_roll(c.roll).material(material());
+    let b = b.options(RodOptions { stretch_at_greville: c.greville, ..Default::default() });
     let b = if c.varying_section {
         b.sections((0..c.n_ctrl).map(|i| Section::circle(0.02 + 0.003 * (i % 5) as f64).unwrap()).collect())
     } else {
@@ -214,9 +217,21 @@ macro_rules! case_test {
                 varying_section: $var,
                 n_ctrl: $n,
                 amplitude: $amp,
+                greville: false,
             });
         }
     };
+}
+
+/// Greville stretch samples (the energy, forces and stiffness of the
+/// stretch-only samples go through the same chain rule).
+#[test]
+fn helix_clamped_roll_varying_section_greville() {
+    check_case(&Case { name: "helix_clamped_roll_varying_section_greville", shape: Shape::Helix, knots: KnotKind::Clamped, roll: true, varying_section: true, n_ctrl: 12, amplitude: 0.04, greville: true });
+}
+#[test]
+fn ring_periodic_no_roll_greville() {
+    check_case(&Case { name: "ring_periodic_no_roll_greville", shape: Shape::Ring, knots: KnotKind::Periodic, roll: false, varying_section: false, n_ctrl: 10, amplitude: 0.04, greville: true });
 }
 
 case_test!(straight_clamped_roll, Shape::Straight, KnotKind::Clamped, true, false, 9, 0.04);
@@ -248,6 +263,7 @@ fn no_roll_rod_has_no_twist_energy() {
         varying_section: false,
         n_ctrl: 12,
         amplitude: 0.04,
+        greville: false,
     };
     let all_on = RodOptions { terms: EnergyTerms { stretch: true, bend: true, twist: true }, ..Default::default() };
     let no_twist = RodOptions { terms: EnergyTerms { stretch: true, bend: true, twist: false }, ..Default::default() };
@@ -291,7 +307,7 @@ fn rest_energy_is_zero() {
         (Shape::Helix, KnotKind::Uniform, false),
         (Shape::Ring, KnotKind::Periodic, true),
     ] {
-        let mut rod = build(&Case { name: "rest", shape, knots, roll, varying_section: true, n_ctrl: 10, amplitude: 0.04 });
+        let mut rod = build(&Case { name: "rest", shape, knots, roll, varying_section: true, n_ctrl: 10, amplitude: 0.04, greville: false });
         let e = rod.elastic_energy();
         let q = deform(&rod, 7);
         rod.set_coords(&q).unwrap();

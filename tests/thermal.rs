@@ -451,3 +451,69 @@ fn units_and_resistive_force_drag() {
     let d = rod.drag(1.0).unwrap();
     assert!((d.trans - 0.5 - perp).abs() < 1e-9 * perp && d.roll == 0.25 && (d.roll_r2 - 4.0 * std::f64::consts::PI).abs() < 1e-12);
 }
+
+/// Stretch locking and its cure (README, known limitations): with the
+/// stretch at 5 Gauss points per segment a bent cubic segment carries
+/// stretch energy its one axial coordinate cannot relax, so the n − 1 axial
+/// modes of a free chain hold more than (n − 1) kT/2; collocated at the
+/// Greville points (`stretch_at_greville`) they hold their equipartition
+/// share. Free chains at L = A = 50 nm, 10 control points (7 nm segments).
+#[test]
+fn greville_stretch_removes_the_locking() {
+    let mut held = Vec::new();
+    for greville in [false, true] {
+        let options = RodOptions { stretch_at_greville: greville, ..Default::default() };
+        let bend_only = RodOptions { terms: strandkit_core::energy::EnergyTerms { stretch: false, bend: true, twist: false }, ..options };
+        let mut w = world(1e-3, 0.01, 17);
+        let mut twins = Vec::new();
+        for _ in 0..16 {
+            let h = w.add_rod(dna_with(50.0, 10, 50.0, 100.0, false, options));
+            twins.push((h, dna_with(50.0, 10, 50.0, 100.0, false, bend_only)));
+        }
+        let modes = 16.0 * 9.0;
+        let (m, se) = sample(&mut w, 10000, |w| {
+            twins
+                .iter_mut()
+                .map(|(h, twin)| {
+                    let rod = w.rod(*h).unwrap();
+                    twin.set_coords(rod.coords()).unwrap();
+                    rod.elastic_energy() - twin.elastic_energy()
+                })
+                .sum::<f64>()
+                / (0.5 * kt() * modes)
+        });
+        println!("stretch at {}: stretch energy / ((n − 1) kT/2) = {m:.4} ± {se:.4}", if greville { "Greville points" } else { "Gauss points" });
+        held.push(m);
+    }
+    assert!(held[0] > 1.08, "Gauss stretch: no locking seen ({})", held[0]);
+    assert!((held[1] - 1.0).abs() < 0.03, "Greville stretch: {} of equipartition", held[1]);
+}
+
+/// Greville stretch keeps a uniform tension exact: a straight rod pulled
+/// by F stretches by F L / EA (the weights sum to the length), and a
+/// Poisson-free relax lands there as with the Gauss stretch.
+#[test]
+fn greville_stretch_keeps_uniform_tension_exact() {
+    for greville in [false, true] {
+        let material = Material::new("steel", 2e11, 0.3, 7800.0).unwrap();
+        let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0))
+            .control_points(12)
+            .with_roll(false)
+            .section(Section::circle(1e-3).unwrap())
+            .material(material)
+            .options(RodOptions { stretch_at_greville: greville, ..Default::default() })
+            .build()
+            .unwrap();
+        let mut w = World::new(IntegrationParameters::default());
+        let h = w.add_rod(rod);
+        w.clamp(h, rod_start(&w, h), 0.0).unwrap();
+        let u1 = w.rod(h).unwrap().domain().1;
+        let force = 100.0;
+        w.add_load(Load::PointForce(PointForce { rod: h, u: u1, force: [force, 0.0, 0.0] })).unwrap();
+        w.relax().unwrap();
+        let x = w.rod(h).unwrap().position(u1).unwrap().x;
+        let ea = 2e11 * std::f64::consts::PI * 1e-6;
+        println!("greville {greville}: extension {:.6e} vs F L/EA {:.6e}", x - 1.0, force / ea);
+        assert!(((x - 1.0) / (force / ea) - 1.0).abs() < 1e-6, "greville {greville}: {} vs {}", x - 1.0, force / ea);
+    }
+}

@@ -401,7 +401,7 @@ fn divergence(world: &World, budget: f64, growth: &mut crate::world::Growth) -> 
     for ((h, rod), k0) in world.rods.iter().zip(&world.ws.energy_before) {
         let e1 = rod.elastic_energy() + rod.kinetic_energy();
         // Energy of a 1e-6 strain: below it, nothing counts as growth.
-        let f = rod.cache().samples.first().map_or(0.0, |s| 1e-12 * s.consts.ea * rod.rest_length());
+        let f = 1e-12 * rod.cache().ea_ref() * rod.rest_length();
         after += e1;
         floor += f;
         let ratio = e1 / (k0 + f);

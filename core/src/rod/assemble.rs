@@ -9,7 +9,10 @@
 use super::samples::local_state;
 use super::Rod;
 use crate::energy::invariants::{Mat11, TH, TH1};
-use crate::energy::{density_into, energy_density, ActiveSlots, LocalEnergy};
+use crate::energy::{density_into, energy_density, ActiveSlots, EnergyTerms, FrameModel, FrameState, LocalEnergy};
+
+/// The terms of a Greville stretch sample.
+const STRETCH_ONLY: EnergyTerms = EnergyTerms { stretch: true, bend: false, twist: false };
 use rayon::prelude::*;
 
 /// One segment's contribution. Local index k*dofs + α (k = 0..4).
@@ -75,6 +78,11 @@ impl Rod {
                 let ls = local_state(&self.q, self.dofs, ctrl, &s.basis);
                 u += s.w * energy_density(&ls, &s.consts, self.frame_state(i), self.opts.terms, self.opts.model);
             }
+            let stretch = if self.opts.terms.stretch { &c.stretch[c.seg_stretch_start[seg]..c.seg_stretch_start[seg + 1]] } else { &[] };
+            for s in stretch {
+                let ls = local_state(&self.q, self.dofs, ctrl, &s.basis);
+                u += s.w * energy_density(&ls, &s.consts, &FrameState::None, STRETCH_ONLY, FrameModel::Frenet);
+            }
         }
         u
     }
@@ -109,27 +117,36 @@ impl Rod {
         acc.k = [[[0.0; 4]; 4]; 16];
         let c = &self.cache;
         let ctrl = &c.seg_ctrl[seg];
-        for (i, s) in c.samples[c.seg_start[seg]..c.seg_start[seg + 1]].iter().enumerate() {
-            let b = &s.basis;
-            let ls = local_state(&self.q, dofs, ctrl, b);
-            let state = self.frame_state(c.seg_start[seg] + i);
-            density_into(&ls, &s.consts, state, self.opts.terms, self.opts.model, true, e);
-            out.energy += s.w * e.w;
-            // ∂U/∂q_(k,α) = w Σ_a β_k^a ∂W/∂d_(a,α), over all three position
-            // slots (fixed bounds; the inactive slots' entries are zero).
+        // ∂U/∂q_(k,α) = w Σ_a β_k^a ∂W/∂d_(a,α), over all three position
+        // slots (fixed bounds; the inactive slots' entries are zero).
+        let mut add = |out: &mut SegBlock, e: &LocalEnergy, b: &[[f64; 4]; 4], w: f64, np: usize, th: bool, th1: bool| {
+            out.energy += w * e.w;
             let g = &e.grad;
             for k in 0..4 {
                 for al in 0..3 {
                     let v = b[1][k] * g[al] + b[2][k] * g[3 + al] + b[3][k] * g[6 + al];
-                    out.grad[k * dofs + al] += s.w * v;
+                    out.grad[k * dofs + al] += w * v;
                 }
                 if dofs == 4 {
-                    out.grad[k * 4 + 3] += s.w * (b[0][k] * g[TH] + b[1][k] * g[TH1]);
+                    out.grad[k * 4 + 3] += w * (b[0][k] * g[TH] + b[1][k] * g[TH1]);
                 }
             }
             if need == Need::Hessian {
-                acc.add_sample(&e.hess, b, s.w, np, th, th1);
+                acc.add_sample(&e.hess, b, w, np, th, th1);
             }
+        };
+        for (i, s) in c.samples[c.seg_start[seg]..c.seg_start[seg + 1]].iter().enumerate() {
+            let ls = local_state(&self.q, dofs, ctrl, &s.basis);
+            let state = self.frame_state(c.seg_start[seg] + i);
+            density_into(&ls, &s.consts, state, self.opts.terms, self.opts.model, true, e);
+            add(out, e, &s.basis, s.w, np, th, th1);
+        }
+        // Greville stretch samples (empty unless `stretch_at_greville`): r' only.
+        let stretch = if self.opts.terms.stretch { &c.stretch[c.seg_stretch_start[seg]..c.seg_stretch_start[seg + 1]] } else { &[] };
+        for s in stretch {
+            let ls = local_state(&self.q, dofs, ctrl, &s.basis);
+            density_into(&ls, &s.consts, &FrameState::None, STRETCH_ONLY, FrameModel::Frenet, true, e);
+            add(out, e, &s.basis, s.w, np.max(1), false, false);
         }
         if need == Need::Hessian {
             acc.write_upper(out, dofs);

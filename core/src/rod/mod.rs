@@ -55,6 +55,15 @@ pub struct RodOptions {
     /// after every solve; off by default.
     #[serde(default)]
     pub poisson_update: bool,
+    /// Stretch energy collocated at the Greville points of the derivative
+    /// space (the two ends and each segment's midpoint, weighted by the
+    /// quadratic B-splines' integrals) instead of the Gauss points: as many
+    /// stretch samples as axial strain modes, so a bent cubic segment is
+    /// not locked by stretch it cannot relax (thermal statistics at coarse
+    /// resolution; see README). Bending and twist stay at the Gauss points.
+    /// Clamped, general or periodic knots; no stretch plasticity.
+    #[serde(default)]
+    pub stretch_at_greville: bool,
 }
 
 impl Default for RodOptions {
@@ -67,6 +76,7 @@ impl Default for RodOptions {
             drag: 0.0,
             roll_drag: 0.0,
             poisson_update: false,
+            stretch_at_greville: false,
         }
     }
 }

@@ -103,6 +103,7 @@ impl Rod {
         m.yield_limits = yield_limits;
         m.rupture_limits = rupture_limits;
         m.validate()?;
+        super::samples::check_greville_plasticity(self.opts.stretch_at_greville, &m)?;
         self.material = m;
         Ok(())
     }

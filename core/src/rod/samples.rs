@@ -25,12 +25,35 @@ pub(crate) struct Sample {
 
 pub(crate) type Block4 = [[f64; 4]; 4];
 
+/// A stretch-only sample (`RodOptions::stretch_at_greville`): basis at its
+/// abscissa, weight in rest arc length, constants (EA and |r0'| only).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct StretchSample {
+    pub basis: [[f64; 4]; 4],
+    pub w: f64,
+    pub consts: SampleConsts,
+}
+
+/// Stretch plasticity acts through the Gauss samples' stretch, which the
+/// Greville collocation replaces.
+pub(crate) fn check_greville_plasticity(greville: bool, m: &crate::material::Material) -> Result<()> {
+    let stretch_yield = m.yield_limits.is_some_and(|l| l.stretch.0.is_finite() || l.stretch.1.is_finite());
+    if greville && stretch_yield {
+        return Err(Error::input("stretch_at_greville: a stretch yield limit is not supported (the plastic stretch offsets live at the Gauss samples); disable one of them"));
+    }
+    Ok(())
+}
+
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Cache {
     pub samples: Vec<Sample>,
     pub seg_ctrl: Vec<[usize; 4]>,
     /// First sample of each segment; segment s owns samples[seg_start[s]..seg_start[s+1]].
     pub seg_start: Vec<usize>,
+    /// Stretch-only samples (Greville collocation; empty otherwise), and
+    /// the first of each segment as `seg_start`.
+    pub stretch: Vec<StretchSample>,
+    pub seg_stretch_start: Vec<usize>,
     /// ∫ μ b_k b_l ds0 (translation), ∫ ρ I0 b_k b_l ds0 (roll).
     pub seg_mass: Vec<Block4>,
     pub seg_inertia: Vec<Block4>,
@@ -168,7 +191,71 @@ impl Cache {
             }
             c.samples.push(Sample { seg, u, basis, w: wt, consts, rest });
         }
+        c.seg_stretch_start = vec![0; nseg + 1];
+        if rod.opts.stretch_at_greville {
+            check_greville_plasticity(true, &rod.material)?;
+            c.samples.iter_mut().for_each(|s| s.consts.ea = 0.0);
+            c.greville_stretch(rod, e)?;
+        }
         Ok(c)
+    }
+
+    /// The stretch samples at the Greville points of the quadratic
+    /// (derivative) space: each segment's midpoint with weight
+    /// (ℓ_{s−1} + ℓ_s + ℓ_{s+1})/3 (ℓ_s the segment's rest length; segments
+    /// beyond an open rod's ends count 0, a ring's wrap), and an open rod's
+    /// two ends with ℓ/3 of the end segments. On uniform knots at uniform
+    /// rest speed these are the integrals ∫ψ_j ds0 of the quadratic
+    /// B-splines; in general they still sum to the rest length, so a
+    /// uniform tension stretches the rod by exactly F L / EA.
+    fn greville_stretch(&mut self, rod: &Rod, e: f64) -> Result<()> {
+        let knots = &rod.knots;
+        let kind = knots.kind();
+        if kind == crate::spline::KnotKind::Uniform {
+            return Err(Error::input("stretch_at_greville needs clamped, general or periodic knots (uniform knots' derivative space reaches outside the domain)"));
+        }
+        let ring = kind == crate::spline::KnotKind::Periodic;
+        let nseg = knots.n_segments();
+        let mut lengths = vec![0.0; nseg];
+        for smp in &self.samples {
+            lengths[smp.seg] += smp.w;
+        }
+        let span = |s: isize| -> f64 {
+            let n = nseg as isize;
+            let s = if ring { s.rem_euclid(n) } else { s };
+            if s < 0 || s >= n {
+                return 0.0;
+            }
+            lengths[s as usize]
+        };
+        let secs = rod.rest_sections();
+        for seg in 0..nseg {
+            let (a, b) = knots.segment_interval(seg);
+            let mut points = Vec::with_capacity(3);
+            if !ring && seg == 0 {
+                points.push((a, span(0) / 3.0));
+            }
+            let s = seg as isize;
+            points.push((0.5 * (a + b), (span(s - 1) + span(s) + span(s + 1)) / 3.0));
+            if !ring && seg + 1 == nseg {
+                points.push((b, span(s) / 3.0));
+            }
+            let ctrl = self.seg_ctrl[seg];
+            for (u, wu) in points {
+                let basis = knots.basis(seg, u);
+                let speed0 = local_state(&rod.q_rest, rod.dofs, &ctrl, &basis).r1.norm();
+                let sec = Section::blend([&secs[ctrl[0]], &secs[ctrl[1]], &secs[ctrl[2]], &secs[ctrl[3]]], basis[0])?;
+                let consts = SampleConsts { ea: e * sec.props()?.area, speed0, ..Default::default() };
+                self.stretch.push(StretchSample { basis, w: wu, consts });
+            }
+            self.seg_stretch_start[seg + 1] = self.stretch.len();
+        }
+        Ok(())
+    }
+
+    /// A representative axial stiffness EA (force): the first sample's.
+    pub fn ea_ref(&self) -> f64 {
+        self.stretch.first().map(|s| s.consts.ea).or_else(|| self.samples.first().map(|s| s.consts.ea)).unwrap_or(0.0)
     }
 
     /// Re-derives the plastic part of every sample's constants from the
@@ -196,6 +283,15 @@ impl Cache {
                 s.basis[0],
             )?;
             set_stiffness(&mut s.consts, &sec.props()?, e, g);
+            if !self.stretch.is_empty() {
+                s.consts.ea = 0.0; // the stretch lives at the Greville samples
+            }
+        }
+        for (seg, ctrl) in self.seg_ctrl.iter().enumerate() {
+            for st in &mut self.stretch[self.seg_stretch_start[seg]..self.seg_stretch_start[seg + 1]] {
+                let sec = Section::blend([&rod_sections[ctrl[0]], &rod_sections[ctrl[1]], &rod_sections[ctrl[2]], &rod_sections[ctrl[3]]], st.basis[0])?;
+                st.consts.ea = e * sec.props()?.area;
+            }
         }
         Ok(())
     }
