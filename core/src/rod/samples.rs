@@ -34,6 +34,48 @@ pub(crate) struct StretchSample {
     pub consts: SampleConsts,
 }
 
+/// Weights (in u) of an open rod's Greville stretch samples `points`
+/// (segment, u): Σ_j w_j N_k'(ξ_j) = N_k(u_end) − N_k(u_start) for
+/// k = 1..n (k = 0 follows, Σ_k N_k' = 0), a banded square system.
+fn open_rod_weights(knots: &crate::spline::KnotVector, seg_ctrl: &[[usize; 4]], points: &[(usize, f64)]) -> Result<Vec<f64>> {
+    use crate::linalg::band::{BandLu, BandMatrix};
+    let n = knots.n_ctrl();
+    let m = points.len();
+    if m + 1 != n {
+        return Err(Error::input(format!("stretch_at_greville: {m} samples for {n} control points (repeated interior knots are not supported)")));
+    }
+    let mut a = BandMatrix::new(m, 5, 5);
+    for (j, &(seg, u)) in points.iter().enumerate() {
+        let b = knots.basis(seg, u);
+        for (l, &k) in seg_ctrl[seg].iter().enumerate() {
+            if k >= 1 {
+                if !a.in_band(k - 1, j) {
+                    return Err(Error::input("stretch_at_greville: sample outside its band (unexpected knot vector)"));
+                }
+                a.add(k - 1, j, b[1][l]);
+            }
+        }
+    }
+    let (u0, u1) = knots.domain();
+    let mut rhs = vec![0.0; m];
+    for (u, sign) in [(u1, 1.0), (u0, -1.0)] {
+        let seg = knots.locate(u)?;
+        let b = knots.basis(seg, u);
+        for (l, &k) in seg_ctrl[seg].iter().enumerate() {
+            if k >= 1 {
+                rhs[k - 1] += sign * b[0][l];
+            }
+        }
+    }
+    let mut lu = BandLu::new();
+    lu.factor(&a)?;
+    lu.solve_in_place(&mut rhs)?;
+    if let Some(j) = rhs.iter().position(|w| !(*w > 0.0)) {
+        return Err(Error::input(format!("stretch_at_greville: sample {j}'s weight is {} (not positive) on this knot vector", rhs[j])));
+    }
+    Ok(rhs)
+}
+
 /// Stretch plasticity acts through the Gauss samples' stretch, which the
 /// Greville collocation replaces.
 pub(crate) fn check_greville_plasticity(greville: bool, m: &crate::material::Material) -> Result<()> {
@@ -201,13 +243,13 @@ impl Cache {
     }
 
     /// The stretch samples at the Greville points of the quadratic
-    /// (derivative) space: each segment's midpoint with weight
-    /// (ℓ_{s−1} + ℓ_s + ℓ_{s+1})/3 (ℓ_s the segment's rest length; segments
-    /// beyond an open rod's ends count 0, a ring's wrap), and an open rod's
-    /// two ends with ℓ/3 of the end segments. On uniform knots at uniform
-    /// rest speed these are the integrals ∫ψ_j ds0 of the quadratic
-    /// B-splines; in general they still sum to the rest length, so a
-    /// uniform tension stretches the rod by exactly F L / EA.
+    /// (derivative) space: each segment's midpoint, and an open rod's two
+    /// ends — as many as axial strain modes (n − 1 open, n on a ring). Their
+    /// weights make the sum exact on that space: Σ_j w_j N_k'(ξ_j)/|r0'(ξ_j)|
+    /// = ∫ N_k' du for every basis function k, so the virtual work of a
+    /// uniform tension is the Gauss stretch's and a pulled rod stretches by
+    /// exactly F L / EA (weights from a banded solve; on a ring's unit spans
+    /// they are 1 by symmetry). Weights must come out positive (a stiffness).
     fn greville_stretch(&mut self, rod: &Rod, e: f64) -> Result<()> {
         let knots = &rod.knots;
         let kind = knots.kind();
@@ -216,38 +258,35 @@ impl Cache {
         }
         let ring = kind == crate::spline::KnotKind::Periodic;
         let nseg = knots.n_segments();
-        let mut lengths = vec![0.0; nseg];
-        for smp in &self.samples {
-            lengths[smp.seg] += smp.w;
-        }
-        let span = |s: isize| -> f64 {
-            let n = nseg as isize;
-            let s = if ring { s.rem_euclid(n) } else { s };
-            if s < 0 || s >= n {
-                return 0.0;
-            }
-            lengths[s as usize]
-        };
-        let secs = rod.rest_sections();
+        // (segment, u) of each sample, in u order.
+        let mut points = Vec::with_capacity(nseg + 2);
         for seg in 0..nseg {
             let (a, b) = knots.segment_interval(seg);
-            let mut points = Vec::with_capacity(3);
             if !ring && seg == 0 {
-                points.push((a, span(0) / 3.0));
+                points.push((seg, a));
             }
-            let s = seg as isize;
-            points.push((0.5 * (a + b), (span(s - 1) + span(s) + span(s + 1)) / 3.0));
+            points.push((seg, 0.5 * (a + b)));
             if !ring && seg + 1 == nseg {
-                points.push((b, span(s) / 3.0));
+                points.push((seg, b));
             }
+        }
+        let weights_u = if ring {
+            // Unit spans: by symmetry each midpoint weighs its span.
+            (0..nseg).map(|s| {
+                let (a, b) = knots.segment_interval(s);
+                b - a
+            }).collect()
+        } else {
+            open_rod_weights(knots, &self.seg_ctrl, &points)?
+        };
+        let secs = rod.rest_sections();
+        for (&(seg, u), wu) in points.iter().zip(weights_u) {
             let ctrl = self.seg_ctrl[seg];
-            for (u, wu) in points {
-                let basis = knots.basis(seg, u);
-                let speed0 = local_state(&rod.q_rest, rod.dofs, &ctrl, &basis).r1.norm();
-                let sec = Section::blend([&secs[ctrl[0]], &secs[ctrl[1]], &secs[ctrl[2]], &secs[ctrl[3]]], basis[0])?;
-                let consts = SampleConsts { ea: e * sec.props()?.area, speed0, ..Default::default() };
-                self.stretch.push(StretchSample { basis, w: wu, consts });
-            }
+            let basis = knots.basis(seg, u);
+            let speed0 = local_state(&rod.q_rest, rod.dofs, &ctrl, &basis).r1.norm();
+            let sec = Section::blend([&secs[ctrl[0]], &secs[ctrl[1]], &secs[ctrl[2]], &secs[ctrl[3]]], basis[0])?;
+            let consts = SampleConsts { ea: e * sec.props()?.area, speed0, ..Default::default() };
+            self.stretch.push(StretchSample { basis, w: wu * speed0, consts });
             self.seg_stretch_start[seg + 1] = self.stretch.len();
         }
         Ok(())
