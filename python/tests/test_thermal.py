@@ -131,3 +131,20 @@ def test_trap_variance_is_kt_over_k():
     ratio = float(np.mean(x**2)) / (KT / k)
     print(f"<dx²>/(kT/k) = {ratio:.4f}")
     assert abs(ratio - 1) < 0.1
+
+
+def test_greville_stretch_option():
+    """`stretch_at_greville=True` (the locking cure): a pulled rod still
+    stretches by F L / EA; uniform knots are refused."""
+    rod = sk.straight((0, 0, 0), (1, 0, 0), section=1e-3, material=sk.Material("steel", 2e11, 0.3, 7800.0),
+                      n_control_points=12, with_roll=False, stretch_at_greville=True)
+    assert rod.options["stretch_at_greville"] is True
+    w = sk.World()
+    rod = w.add_rod(rod)
+    sk.clamp(w, rod)
+    w.add_load(sk.point_force(rod, rod.u_end, (100.0, 0, 0)))
+    w.relax()
+    ea = 2e11 * math.pi * 1e-6
+    assert rod.position(rod.u_end)[0] - 1 == pytest.approx(100.0 / ea, rel=1e-6)
+    with pytest.raises(sk.InvalidInputError, match="uniform knots"):
+        sk.straight((0, 0, 0), (1, 0, 0), section=1e-3, material="steel", knots="uniform", stretch_at_greville=True)
