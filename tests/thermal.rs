@@ -458,7 +458,7 @@ fn units_and_resistive_force_drag() {
 /// modes of a free chain hold more than (n − 1) kT/2; collocated at the
 /// Greville points (`stretch_at_greville`) they hold their equipartition
 /// share. Free chains at L = A = 50 nm, 10 control points (7 nm segments):
-/// measured 1.170 ± 0.018 (Gauss) and 1.026 ± 0.018 (Greville; 3 %).
+/// measured 1.170 ± 0.018 (Gauss) and 1.026 ± 0.018 (Greville; 6 %).
 #[test]
 fn greville_stretch_removes_the_locking() {
     let mut held = Vec::new();
@@ -486,8 +486,9 @@ fn greville_stretch_removes_the_locking() {
         println!("stretch at {}: stretch energy / ((n − 1) kT/2) = {m:.4} ± {se:.4}", if greville { "Greville points" } else { "Gauss points" });
         held.push(m);
     }
-    assert!(held[0] > 1.08, "Gauss stretch: no locking seen ({})", held[0]);
-    assert!((held[1] - 1.0).abs() < 0.03, "Greville stretch: {} of equipartition", held[1]);
+    // The gap is the claim; the Greville value within 3 of its batch errors.
+    assert!(held[0] > 1.08 && held[0] - held[1] > 0.08, "no locking cured: Gauss {}, Greville {}", held[0], held[1]);
+    assert!((held[1] - 1.0).abs() < 0.06, "Greville stretch: {} of equipartition", held[1]);
 }
 
 /// Greville stretch keeps a uniform tension exact: a straight clamped rod
@@ -518,4 +519,23 @@ fn greville_stretch_keeps_uniform_tension_exact() {
         println!("greville {greville}: extension {:.6e} vs F L/EA {:.6e}", x - 1.0, force / ea);
         assert!(((x - 1.0) / (force / ea) - 1.0).abs() < 1e-6, "greville {greville}: {} vs {}", x - 1.0, force / ea);
     }
+}
+
+/// What the Greville stretch refuses (it would read the Gauss samples'
+/// stretch, which it replaces): rupture limits, stretch yield, the Poisson
+/// update, stretch plastic offsets.
+#[test]
+fn greville_stretch_refuses_what_reads_the_gauss_stretch() {
+    let options = RodOptions { stretch_at_greville: true, ..Default::default() };
+    let build = |o: RodOptions, m: Material| RodBuilder::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0)).control_points(8).with_roll(false).section(Section::circle(0.01).unwrap()).material(m).options(o).build();
+    let plain = Material::new("m", 1e7, 0.3, 1000.0).unwrap();
+    let limits = strandkit_core::material::StrainLimits { stretch: (-0.1, 0.1), bend: (-1.0, 1.0), twist: (-1.0, 1.0) };
+    let breaking = Material { rupture_limits: Some(limits), ..plain.clone() };
+    assert!(build(options, breaking).unwrap_err().to_string().contains("rupture limits"));
+    assert!(build(RodOptions { poisson_update: true, ..options }, plain.clone()).unwrap_err().to_string().contains("poisson_update"));
+    let mut rod = build(options, plain).unwrap();
+    assert!(rod.set_strain_limits(Some(limits), None).unwrap_err().to_string().contains("stretch yield"));
+    let mut offsets = rod.plastic_offsets();
+    offsets[0].eps = 0.01;
+    assert!(rod.set_plastic_offsets(&offsets).is_err());
 }

@@ -135,7 +135,8 @@ def test_trap_variance_is_kt_over_k():
 
 def test_greville_stretch_option():
     """`stretch_at_greville=True` (the locking cure): a pulled rod still
-    stretches by F L / EA; uniform knots are refused."""
+    stretches by F L / EA; the Poisson update (which reads the Gauss
+    samples' stretch) is refused with it."""
     rod = sk.straight((0, 0, 0), (1, 0, 0), section=1e-3, material=sk.Material("steel", 2e11, 0.3, 7800.0),
                       n_control_points=12, with_roll=False, stretch_at_greville=True)
     assert rod.options["stretch_at_greville"] is True
@@ -146,5 +147,5 @@ def test_greville_stretch_option():
     w.relax()
     ea = 2e11 * math.pi * 1e-6
     assert rod.position(rod.u_end)[0] - 1 == pytest.approx(100.0 / ea, rel=1e-6)
-    with pytest.raises(sk.InvalidInputError, match="uniform knots"):
-        sk.straight((0, 0, 0), (1, 0, 0), section=1e-3, material="steel", knots="uniform", stretch_at_greville=True)
+    with pytest.raises(sk.InvalidInputError, match="poisson_update"):
+        sk.straight((0, 0, 0), (1, 0, 0), section=1e-3, material="steel", poisson_update=True, stretch_at_greville=True)

@@ -146,7 +146,7 @@ impl Rod {
         for s in stretch {
             let ls = local_state(&self.q, dofs, ctrl, &s.basis);
             density_into(&ls, &s.consts, &FrameState::None, STRETCH_ONLY, FrameModel::Frenet, true, e);
-            add(out, e, &s.basis, s.w, np.max(1), false, false);
+            add(out, e, &s.basis, s.w, 1, false, false);
         }
         if need == Need::Hessian {
             acc.write_upper(out, dofs);

@@ -56,12 +56,15 @@ pub struct RodOptions {
     #[serde(default)]
     pub poisson_update: bool,
     /// Stretch energy collocated at the Greville points of the derivative
-    /// space (the two ends and each segment's midpoint, weighted by the
-    /// quadratic B-splines' integrals) instead of the Gauss points: as many
-    /// stretch samples as axial strain modes, so a bent cubic segment is
-    /// not locked by stretch it cannot relax (thermal statistics at coarse
-    /// resolution; see README). Bending and twist stay at the Gauss points.
-    /// Clamped, general or periodic knots; no stretch plasticity.
+    /// space (each segment's midpoint and an open rod's two ends) instead of
+    /// the Gauss points, with weights exact on that space: as many stretch
+    /// samples as axial strain modes, so a bent cubic segment is not locked
+    /// by stretch it cannot relax (thermal statistics at coarse resolution;
+    /// see README), and a uniform tension stays exact. Bending and twist
+    /// stay at the Gauss points, and so do the stretch strains `strains()`
+    /// reports, which on bent rods are no longer the energy's. Refused with
+    /// stretch plasticity, rupture limits and `poisson_update`, and on
+    /// knots whose end span is much shorter than its neighbour.
     #[serde(default)]
     pub stretch_at_greville: bool,
 }

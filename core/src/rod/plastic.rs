@@ -91,6 +91,9 @@ impl Rod {
         if let Some(i) = offsets.iter().position(|s| as_array(s).iter().any(|x| !x.is_finite())) {
             return Err(Error::input(format!("plastic offset of sample {i} is not finite")));
         }
+        if self.opts.stretch_at_greville && offsets.iter().any(|s| s.eps != 0.0) {
+            return Err(Error::input("plastic offsets: a stretch offset has no effect with stretch_at_greville (the stretch lives at the Greville samples)"));
+        }
         self.plastic = offsets.to_vec();
         self.cache.refresh_plastic(&self.plastic);
         Ok(())
@@ -103,7 +106,7 @@ impl Rod {
         m.yield_limits = yield_limits;
         m.rupture_limits = rupture_limits;
         m.validate()?;
-        super::samples::check_greville_plasticity(self.opts.stretch_at_greville, &m)?;
+        super::samples::check_greville(self.opts.stretch_at_greville, &m, self.opts.poisson_update)?;
         self.material = m;
         Ok(())
     }

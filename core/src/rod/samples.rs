@@ -76,14 +76,29 @@ fn open_rod_weights(knots: &crate::spline::KnotVector, seg_ctrl: &[[usize; 4]], 
     Ok(rhs)
 }
 
-/// Stretch plasticity acts through the Gauss samples' stretch, which the
-/// Greville collocation replaces.
-pub(crate) fn check_greville_plasticity(greville: bool, m: &crate::material::Material) -> Result<()> {
-    let stretch_yield = m.yield_limits.is_some_and(|l| l.stretch.0.is_finite() || l.stretch.1.is_finite());
-    if greville && stretch_yield {
-        return Err(Error::input("stretch_at_greville: a stretch yield limit is not supported (the plastic stretch offsets live at the Gauss samples); disable one of them"));
+/// What the Greville stretch does not support (checked when a rod is built
+/// and when its limits change): stretch plasticity (the offsets live at the
+/// Gauss samples), rupture (a cut at a Gauss point can leave an end span
+/// too short for positive weights, and the Gauss samples' stretch, which
+/// rupture reads, is no longer the energy's on bent rods) and the Poisson
+/// update (which reads it too).
+pub(crate) fn check_greville(greville: bool, m: &crate::material::Material, poisson_update: bool) -> Result<()> {
+    if !greville {
+        return Ok(());
     }
-    Ok(())
+    let stretch_yield = m.yield_limits.is_some_and(|l| l.stretch.0.is_finite() || l.stretch.1.is_finite());
+    let what = if stretch_yield {
+        "a stretch yield limit"
+    } else if m.rupture_limits.is_some() {
+        "rupture limits"
+    } else if poisson_update {
+        "poisson_update"
+    } else {
+        return Ok(());
+    };
+    Err(Error::input(format!(
+        "stretch_at_greville: {what} not supported (they read the stretch at the Gauss samples, which the Greville collocation replaces); disable one of them"
+    )))
 }
 
 #[derive(Clone, Debug, Default)]
@@ -235,7 +250,7 @@ impl Cache {
         }
         c.seg_stretch_start = vec![0; nseg + 1];
         if rod.opts.stretch_at_greville {
-            check_greville_plasticity(true, &rod.material)?;
+            check_greville(true, &rod.material, rod.opts.poisson_update)?;
             c.samples.iter_mut().for_each(|s| s.consts.ea = 0.0);
             c.greville_stretch(rod, e)?;
         }
@@ -247,16 +262,14 @@ impl Cache {
     /// ends — as many as axial strain modes (n − 1 open, n on a ring). Their
     /// weights make the sum exact on that space: Σ_j w_j N_k'(ξ_j)/|r0'(ξ_j)|
     /// = ∫ N_k' du for every basis function k, so the virtual work of a
-    /// uniform tension is the Gauss stretch's and a pulled rod stretches by
-    /// exactly F L / EA (weights from a banded solve; on a ring's unit spans
-    /// they are 1 by symmetry). Weights must come out positive (a stiffness).
+    /// uniform tension on straight segments is the Gauss stretch's and a
+    /// pulled rod stretches by exactly F L / EA (weights from a banded
+    /// solve; on a ring's unit spans they are 1 by symmetry). Weights must
+    /// come out positive (a stiffness): an end span much shorter than its
+    /// neighbour (< ≈ 0.26 of it) is refused.
     fn greville_stretch(&mut self, rod: &Rod, e: f64) -> Result<()> {
         let knots = &rod.knots;
-        let kind = knots.kind();
-        if kind == crate::spline::KnotKind::Uniform {
-            return Err(Error::input("stretch_at_greville needs clamped, general or periodic knots (uniform knots' derivative space reaches outside the domain)"));
-        }
-        let ring = kind == crate::spline::KnotKind::Periodic;
+        let ring = knots.kind() == crate::spline::KnotKind::Periodic;
         let nseg = knots.n_segments();
         // (segment, u) of each sample, in u order.
         let mut points = Vec::with_capacity(nseg + 2);
@@ -284,6 +297,9 @@ impl Cache {
             let ctrl = self.seg_ctrl[seg];
             let basis = knots.basis(seg, u);
             let speed0 = local_state(&rod.q_rest, rod.dofs, &ctrl, &basis).r1.norm();
+            if !(speed0 > 0.0) || !speed0.is_finite() {
+                return Err(Error::input(format!("rest shape has zero or undefined tangent at u = {u} (coincident control points?)")));
+            }
             let sec = Section::blend([&secs[ctrl[0]], &secs[ctrl[1]], &secs[ctrl[2]], &secs[ctrl[3]]], basis[0])?;
             let consts = SampleConsts { ea: e * sec.props()?.area, speed0, ..Default::default() };
             self.stretch.push(StretchSample { basis, w: wu * speed0, consts });
