@@ -39,7 +39,7 @@ pub fn normals_per_rod(rod: &Rod) -> usize {
 /// Lower Cholesky factor of a symmetric positive semi-definite 4×4 block
 /// (a zero pivot, as from a rank-deficient quadrature, zeroes its column:
 /// for a PSD matrix that column is zero below the pivot too).
-fn cholesky4(a: &[[f64; 4]; 4]) -> [[f64; 4]; 4] {
+pub(crate) fn cholesky4(a: &[[f64; 4]; 4]) -> [[f64; 4]; 4] {
     let mut l = [[0.0; 4]; 4];
     let scale = (0..4).fold(0.0f64, |m, i| m.max(a[i][i]));
     for j in 0..4 {
@@ -63,14 +63,18 @@ impl ForceField for Thermal<'_> {
             return Err(Error::input(format!("thermal force: {} normals for a rod that needs {}", self.normals.len(), normals_per_rod(rod))));
         }
         let c = (2.0 * self.kt / self.h).sqrt();
+        // The translation's block is trans × ∫bb ds0: its factor is √trans
+        // times the rod's cached one; only the roll's (two blocks mixed) is
+        // factored here.
+        let ct = c * self.drag.trans.sqrt();
         for (s, ctrl) in rod.cache.seg_ctrl.iter().enumerate() {
-            let (t, r) = rod.seg_drag(&self.drag, s);
-            let (lt, lr) = (cholesky4(&t), cholesky4(&r));
+            let lt = &rod.cache.seg_bb_chol[s];
+            let lr = if d == 4 { cholesky4(&rod.seg_drag(&self.drag, s).1) } else { [[0.0; 4]; 4] };
             let xi = &self.normals[s * 4 * d..(s + 1) * 4 * d];
             for k in 0..4 {
                 for l in 0..=k {
                     for a in 0..3 {
-                        f[ctrl[k] * d + a] += c * lt[k][l] * xi[l * d + a];
+                        f[ctrl[k] * d + a] += ct * lt[k][l] * xi[l * d + a];
                     }
                     if d == 4 {
                         f[ctrl[k] * d + 3] += c * lr[k][l] * xi[l * d + 3];

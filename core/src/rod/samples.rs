@@ -119,6 +119,8 @@ pub(crate) struct Cache {
     /// resistive-force drag 4πηr²).
     pub seg_bb: Vec<Block4>,
     pub seg_r2bb: Vec<Block4>,
+    /// Lower Cholesky factors of `seg_bb` (the thermal force's, SPEC §3).
+    pub seg_bb_chol: Vec<Block4>,
     /// ∫ μ b_k ds0 (for gravity) and ∫ b_k ds0 (for distributed forces).
     pub seg_mass_weight: Vec<[f64; 4]>,
     pub seg_len_weight: Vec<[f64; 4]>,
@@ -248,6 +250,7 @@ impl Cache {
             }
             c.samples.push(Sample { seg, u, basis, w: wt, consts, rest });
         }
+        c.seg_bb_chol = c.seg_bb.iter().map(crate::force::thermal::cholesky4).collect();
         c.seg_stretch_start = vec![0; nseg + 1];
         if rod.opts.stretch_at_greville {
             check_greville(true, &rod.material, rod.opts.poisson_update)?;
