@@ -216,6 +216,8 @@ fn dna_opts(length: f64, n_ctrl: usize, r: f64, spp: usize, stretch: bool) -> Ro
     let material = Material::new("dna", e, nu, 1.7e-3).unwrap();
     let mut opts = RodOptions { model: FrameModel::Frenet, samples_per_segment: spp, ..Default::default() };
     opts.terms.stretch = stretch;
+    opts.stretch_at_greville = stretch && std::env::var("GREV").is_ok();
+    opts.sampling_length = std::env::var("SL").map(|s| s.parse().unwrap()).unwrap_or(0.0);
     RodBuilder::straight(Vector3::zeros(), Vector3::new(length, 0.0, 0.0))
         .control_points(n_ctrl)
         .with_roll(false)
@@ -367,7 +369,7 @@ fn probe_wlc_dyn() {
     let mut bend = dna_opts(l, n, radius, spp, false);
     let t0 = std::time::Instant::now();
     let burn = (steps as f64 * bf) as usize;
-    let (mut r2s, mut tts, mut ebs, mut ess, mut trace) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut r2s, mut tts, mut ebs, mut ess, mut trace, mut lcs) = (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let rec = 10;
     for k in 0..steps {
         w.step().unwrap();
@@ -383,6 +385,9 @@ fn probe_wlc_dyn() {
                 es += (r.elastic_energy() - b) / kt / rods as f64;
             }
             trace.push(r2);
+            if k >= burn && k % (10 * rec) == 0 {
+                lcs.push(w.rods().map(|(_, r)| contour_length(r)).sum::<f64>() / rods as f64);
+            }
             if k >= burn {
                 r2s.push(r2);
                 tts.push(tt);
@@ -398,6 +403,8 @@ fn probe_wlc_dyn() {
     // R² trace in 10 windows of the whole run (burn-in included)
     let nw = trace.len() / 10;
     let win: Vec<f64> = trace.chunks(nw).take(10).map(|c| (c.iter().sum::<f64>() / c.len() as f64 * 1000.0).round() / 1000.0).collect();
+    let lc = lcs.iter().sum::<f64>() / lcs.len() as f64;
+    println!("contour/L = {:.4}; <R²>/WLC(Lc) = {:.4}", lc / l, r2 * wlc_r2(50.0, l) / wlc_r2(50.0, lc));
     println!(
         "DYN L={l} n={n} r={radius} spp={spp} eta={eta} dt={dt} steps={steps} rods={rods}: <R²>/WLC = {r2:.4} ± {r2e:.4}  <t0·tL> = {tt:.4} ± {tte:.4} (WLC {:.4})  <Eb>/kT = {eb:.3} ± {ebe:.3}  <Es>/kT = {es:.3} ± {ese:.3}  {:.1}s  windows {win:?}",
         (-l / 50.0).exp(),

@@ -149,3 +149,27 @@ def test_greville_stretch_option():
     assert rod.position(rod.u_end)[0] - 1 == pytest.approx(100.0 / ea, rel=1e-6)
     with pytest.raises(sk.InvalidInputError, match="poisson_update"):
         sk.straight((0, 0, 0), (1, 0, 0), section=1e-3, material="steel", poisson_update=True, stretch_at_greville=True)
+
+
+def test_sampling_length_option():
+    """`sampling_length=` (length unit): heavier short modes for equilibrium
+    sampling; a rigid translation keeps the physical mass (its kinetic
+    energy is unchanged), negative or non-finite lengths are refused."""
+    def rod(ell):
+        return sk.straight((0, 0, 0), (50.0, 0, 0), section=1.0, material=sk.Material("dna", 350.0, 0.3, 1.7e-3),
+                           n_control_points=20, with_roll=False, sampling_length=ell)
+    plain, heavy = rod(0.0), rod(5.0)
+    assert heavy.options["sampling_length"] == 5.0
+    v = np.tile([1.0, -2.0, 0.5], 20)
+    plain.velocities = v
+    heavy.velocities = v
+    assert heavy.kinetic_energy == pytest.approx(plain.kinetic_energy, rel=1e-9)
+    wiggle = np.zeros(60)
+    wiggle[1::6] = 1.0
+    wiggle[4::6] = -1.0
+    plain.velocities = wiggle
+    heavy.velocities = wiggle
+    assert heavy.kinetic_energy > 10 * plain.kinetic_energy
+    for bad in (-1.0, float("nan"), float("inf")):
+        with pytest.raises(sk.InvalidInputError, match="sampling length"):
+            rod(bad)

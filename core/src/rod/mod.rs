@@ -67,6 +67,19 @@ pub struct RodOptions {
     /// knots whose end span is much shorter than its neighbour.
     #[serde(default)]
     pub stretch_at_greville: bool,
+    /// Sampling length ℓ (m; 0 = physical inertia): adds ℓ⁴ ∫ μ b_k″ b_l″
+    /// ds0 to the mass (and ℓ⁴ ∫ ρI₀ b_k″ b_l″ ds0 to the roll inertia), so
+    /// modes shorter than ℓ oscillate no faster than a bending mode of
+    /// length ≈ ℓ ("Fourier acceleration"). A constant, isotropic,
+    /// positive mass leaves the Boltzmann distribution of the configurations
+    /// unchanged — equilibrium averages under noise are those of the
+    /// physical rod, reached with steps set by ℓ instead of the stiffest
+    /// short mode — but the motion is fictitious: use it for equilibrium
+    /// statistics only. The drag blocks get the same term (each mode keeps
+    /// the damping rate drag/mass; the noise follows). Rigid translations
+    /// keep their physical mass and drag (Σ b_k″ = 0).
+    #[serde(default)]
+    pub sampling_length: f64,
 }
 
 impl Default for RodOptions {
@@ -80,6 +93,7 @@ impl Default for RodOptions {
             roll_drag: 0.0,
             poisson_update: false,
             stretch_at_greville: false,
+            sampling_length: 0.0,
         }
     }
 }
@@ -160,6 +174,7 @@ impl Rod {
         }
         crate::error::non_negative("drag coefficient", opts.drag)?;
         crate::error::non_negative("roll drag coefficient", opts.roll_drag)?;
+        crate::error::non_negative("sampling length", opts.sampling_length)?;
         let mut opts = opts;
         if dofs == 3 {
             opts.terms.twist = false;
@@ -309,6 +324,7 @@ impl Rod {
         crate::error::non_negative("curvature_threshold", self.opts.curvature_threshold)?;
         crate::error::non_negative("drag coefficient", self.opts.drag)?;
         crate::error::non_negative("roll drag coefficient", self.opts.roll_drag)?;
+        crate::error::non_negative("sampling length", self.opts.sampling_length)?;
         crate::error::finite("excess link", self.excess_link)?;
         if self.excess_link != 0.0 && (self.dofs != 4 || self.knots.kind() != crate::spline::KnotKind::Periodic) {
             return Err(Error::invalid("excess link", self.excess_link, "0 unless the rod is a ring with roll coordinate"));

@@ -237,15 +237,28 @@ impl Cache {
             c.mass += wt * mu;
             let r2 = sec.hydrodynamic_radius()?.powi(2);
             c.mean_r2 += wt * r2 / c.rest_length;
+            // Sampling inertia ℓ⁴ ∫ b_k″ b_l″ ds0 (RodOptions::sampling_length),
+            // with d²/ds0² ≈ d²/du² / |r0′|²: any constant symmetric positive
+            // term keeps the Boltzmann distribution, so the dropped |r0′|′
+            // term costs nothing but exactness of the mode frequencies. The
+            // drag blocks (and with them the noise, by fluctuation–
+            // dissipation) get the same term, so every mode keeps the damping
+            // rate drag/mass: heavy short modes would otherwise take
+            // mass/drag to reach the bath's temperature.
+            let l4 = rod.opts.sampling_length.powi(4) / speed0.powi(4);
+            if !l4.is_finite() {
+                return Err(Error::input(format!("sampling length {} m is too large for this rod (ℓ⁴ overflows)", rod.opts.sampling_length)));
+            }
             for k in 0..4 {
                 c.seg_mass_weight[seg][k] += wt * mu * basis[0][k];
                 c.seg_len_weight[seg][k] += wt * basis[0][k];
                 for l in 0..4 {
                     let bb = wt * basis[0][k] * basis[0][l];
-                    c.seg_mass[seg][k][l] += mu * bb;
-                    c.seg_inertia[seg][k][l] += rho_i0 * bb;
-                    c.seg_bb[seg][k][l] += bb;
-                    c.seg_r2bb[seg][k][l] += r2 * bb;
+                    let b2 = wt * l4 * basis[2][k] * basis[2][l];
+                    c.seg_mass[seg][k][l] += mu * (bb + b2);
+                    c.seg_inertia[seg][k][l] += rho_i0 * (bb + b2);
+                    c.seg_bb[seg][k][l] += bb + b2;
+                    c.seg_r2bb[seg][k][l] += r2 * (bb + b2);
                 }
             }
             c.samples.push(Sample { seg, u, basis, w: wt, consts, rest });
