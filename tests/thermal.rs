@@ -181,6 +181,7 @@ fn trap_force_has_mean_zero_and_variance_k_kt() {
 fn brownian_centroid_diffuses_with_kt_over_total_drag() {
     let mut w = world(0.005, 1.0, 5);
     w.params.overdamped = true;
+    w.params.isotropic_drag = true;
     let mut free = Vec::new();
     for _ in 0..32 {
         free.push(w.add_rod(dna(10.0, 6, 50.0, 100.0, false)));
@@ -424,6 +425,11 @@ fn thermal_bad_input_is_refused() {
     w5.params.overdamped = true;
     w5.add_rod(dna(50.0, 10, 50.0, 100.0, false));
     assert!(w5.step().unwrap_err().to_string().contains("without drag"));
+    // Brownian dynamics with the anisotropic drag (it would need a drift).
+    let mut w6 = world(1e-3, 1.0, 1);
+    w6.params.overdamped = true;
+    w6.add_rod(dna(50.0, 10, 50.0, 100.0, false));
+    assert!(w6.step().unwrap_err().to_string().contains("isotropic_drag=True"));
     // TR-BDF2 has no matching noise.
     let mut w3 = world(1e-3, 1.0, 1);
     w3.params.scheme = Scheme::TrBdf2;
@@ -783,4 +789,93 @@ fn sampling_length_keeps_rigid_motion_physical() {
         let e = build(bad).expect_err("bad sampling length");
         assert!(e.to_string().contains("sampling length"), "{e}");
     }
+}
+
+/// Resistive-force theory's anisotropy: a straight rod pulled by a force F
+/// (uniform along it, so it translates without bending) drifts at F/(γ L) with γ = γ_∥ = γ_⊥/2 along its axis
+/// and γ_⊥ across it; a rod at 45° to the force drifts between the two
+/// directions (the drag is a tensor). Deterministic (T = 0); steady state to
+/// 1e-6. With `isotropic_drag` both directions drift at F/(γ_⊥ L).
+#[test]
+fn resistive_force_drag_is_anisotropic() {
+    let (l, force, eta) = (50.0, 2.0, 1.0);
+    let drift = |axis: Vector3<f64>, pull: Vector3<f64>, isotropic: bool| {
+        let mut w = World::new(IntegrationParameters { dt: 0.01, viscosity: eta, units: Units::Molecular, isotropic_drag: isotropic, ..Default::default() });
+        let rod = RodBuilder::straight(Vector3::zeros(), axis * l)
+            .control_points(8)
+            .with_roll(false)
+            .section(Section::circle(1.0).unwrap())
+            .material(dna_material(50.0, 100.0))
+            .build()
+            .unwrap();
+        let h = w.add_rod(rod);
+        let f = pull * (force / l);
+        w.add_load(Load::Distributed(Distributed { rod: h, force_per_length: [f.x, f.y, f.z] })).unwrap();
+        for _ in 0..200 {
+            w.step().unwrap();
+        }
+        let rod = w.rod(h).unwrap();
+        let v = rod.velocities();
+        (Vector3::new(v[0], v[1], v[2]), rod.drag(eta).unwrap())
+    };
+    let x = Vector3::x();
+    let (v_par, d) = drift(x, x, false);
+    let (perp, par) = (d.trans, d.trans + d.axial);
+    assert!((par / perp - 0.5).abs() < 1e-12, "γ_∥/γ_⊥ = {}", par / perp);
+    let expect = |g: f64| force / (g * l);
+    assert!((v_par.x / expect(par) - 1.0).abs() < 1e-6, "axial drift {} vs {}", v_par.x, expect(par));
+    let (v_perp, _) = drift(x, Vector3::y(), false);
+    assert!((v_perp.y / expect(perp) - 1.0).abs() < 1e-6, "transverse drift {} vs {}", v_perp.y, expect(perp));
+    // At 45°: v = F/L (t t·e/γ_∥ + (e − t t·e)/γ_⊥).
+    let t = Vector3::new(1.0, 1.0, 0.0).normalize();
+    let (v45, _) = drift(t, x, false);
+    let want = (t * t.x / par + (x - t * t.x) / perp) * (force / l);
+    assert!((v45 - want).norm() < 1e-6 * want.norm(), "45°: {v45:?} vs {want:?}");
+    let (v_iso, _) = drift(x, x, true);
+    assert!((v_iso.x / expect(perp) - 1.0).abs() < 1e-6, "isotropic axial drift {}", v_iso.x);
+}
+
+/// Fluctuation–dissipation exactly: the thermal force is R = B ξ with ξ the
+/// step's normals; B Bᵀ must equal 2kT D/h, D the drag matrix (anisotropic,
+/// with a sampling length's share and the roll), on a helix with roll.
+#[test]
+fn thermal_force_covariance_is_the_drag() {
+    use strandkit_core::force::thermal::{normals_per_rod, Thermal};
+    use strandkit_core::force::ForceField;
+    let rod = RodBuilder::helix(5.0, 3.0, 1.5)
+        .control_points(9)
+        .with_roll(true)
+        .section(Section::circle(1.0).unwrap())
+        .material(dna_material(50.0, 100.0))
+        .options(RodOptions { model: FrameModel::Reference, sampling_length: 3.0, roll_drag: 0.3, ..Default::default() })
+        .build()
+        .unwrap();
+    let drag = rod.drag(1.0).unwrap();
+    assert!(drag.axial < 0.0);
+    let (kt, h) = (kt(), 0.01);
+    let n = rod.coords().len();
+    let m = normals_per_rod(&rod, &drag);
+    // Columns of B: the force of each unit normal.
+    let mut b = vec![vec![0.0; n]; m];
+    for (j, col) in b.iter_mut().enumerate() {
+        let mut xi = vec![0.0; m];
+        xi[j] = 1.0;
+        Thermal { kt, h, drag, normals: &xi }.add_force(&rod, 0.0, col).unwrap();
+    }
+    let mut worst: f64 = 0.0;
+    let mut scale: f64 = 0.0;
+    for i in 0..n {
+        let mut e = vec![0.0; n];
+        e[i] = 1.0;
+        let mut d = vec![0.0; n];
+        rod.drag_times(&drag, &e, &mut d);
+        for k in 0..n {
+            let bbt: f64 = b.iter().map(|c| c[i] * c[k]).sum();
+            let want = 2.0 * kt / h * d[k];
+            worst = worst.max((bbt - want).abs());
+            scale = scale.max(want.abs());
+        }
+    }
+    println!("max |B Bᵀ − 2kT D/h| = {:.2e} of {scale:.2e}", worst);
+    assert!(worst < 1e-12 * scale, "{worst} of {scale}");
 }

@@ -507,17 +507,23 @@ impl PyRod {
     /// world's, by default; 0 for its own only), as a dict: `trans` (force
     /// per velocity per length, each axis), `roll` (torque per angular
     /// velocity per length, times ∫b b ds) and `roll_r2` (4πη, times
-    /// ∫r² b b ds): its own `drag`/`roll_drag` plus the resistive-force drag.
+    /// ∫r² b b ds): its own `drag`/`roll_drag` plus the resistive-force drag;
+    /// `axial` is added along the tangent (γ_∥ − γ_⊥ = −γ_⊥/2; 0 in a world
+    /// with `isotropic_drag=True`).
     #[pyo3(signature = (viscosity = None))]
     fn drag<'py>(&self, py: Python<'py>, viscosity: Option<f64>) -> PyResult<Bound<'py, PyDict>> {
-        let world_eta = match &self.state {
-            RodState::InWorld { world, .. } => read(world.bind(py))?.inner.params.viscosity,
-            RodState::Free(_) => 0.0,
+        let (world_eta, isotropic) = match &self.state {
+            RodState::InWorld { world, .. } => {
+                let p = &read(world.bind(py))?.inner.params;
+                (p.viscosity, p.isotropic_drag)
+            }
+            RodState::Free(_) => (0.0, false),
         };
         let eta = viscosity.unwrap_or(world_eta);
         let d = self.with(py, |r| guard(|| r.drag(eta)))?;
         let out = PyDict::new(py);
         out.set_item("trans", d.trans)?;
+        out.set_item("axial", if isotropic { 0.0 } else { d.axial })?;
         out.set_item("roll", d.roll)?;
         out.set_item("roll_r2", d.roll_r2)?;
         Ok(out)

@@ -653,6 +653,9 @@ impl PyWorld {
             if p.overdamped {
                 s += ", overdamped=True";
             }
+            if p.isotropic_drag {
+                s += ", isotropic_drag=True";
+            }
         }
         if !groups.is_empty() {
             s += &format!(", groups={}", convert::py_strs(groups));

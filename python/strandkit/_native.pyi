@@ -397,7 +397,7 @@ class Rod:
     domain: Any
     """Parameter domain (u_start, u_end)."""
     def drag(self, viscosity=None):
-        """The rod's drag coefficients in a fluid of viscosity `viscosity` (the world's, by default; 0 for its own only), as a dict: `trans` (force per velocity per length, each axis), `roll` (torque per angular velocity per length, times ∫b b ds) and `roll_r2` (4πη, times ∫r² b b ds): its own `drag`/`roll_drag` plus the resistive-force drag."""
+        """The rod's drag coefficients in a fluid of viscosity `viscosity` (the world's, by default; 0 for its own only), as a dict: `trans` (force per velocity per length, each axis), `roll` (torque per angular velocity per length, times ∫b b ds) and `roll_r2` (4πη, times ∫r² b b ds): its own `drag`/`roll_drag` plus the resistive-force drag; `axial` is added along the tangent (γ_∥ − γ_⊥ = −γ_⊥/2; 0 in a world with `isotropic_drag=True`)."""
     elastic_energy: Any
     """Elastic energy U (energy unit)."""
     energy: Any
@@ -547,7 +547,7 @@ class Topology:
 @final
 class World:
     """A simulation world: rods, constraints and loads, advanced by `step()` (linearised implicit Euler, or a second-order scheme) or brought to equilibrium by `relax()`."""
-    def __new__(cls, *, adaptive_dt: bool = False, divergence_factor: float = 10.0, dt: float = 0.001, gravity: Sequence[float] = ..., linear_solver: str = 'Auto', max_halvings: int = 10, overdamped: bool = False, parallel: bool = True, plastic_tolerance: float = 1e-06, relax_max_iterations: int = 500, relax_tolerance: float = 1e-10, scheme: str = 'implicit_euler', seed: int = 0, temperature: float = 0.0, units: str = 'si', viscosity: float = 0.0, **params: Any) -> World: ...
+    def __new__(cls, *, adaptive_dt: bool = False, divergence_factor: float = 10.0, dt: float = 0.001, gravity: Sequence[float] = ..., isotropic_drag: bool = False, linear_solver: str = 'Auto', max_halvings: int = 10, overdamped: bool = False, parallel: bool = True, plastic_tolerance: float = 1e-06, relax_max_iterations: int = 500, relax_tolerance: float = 1e-10, scheme: str = 'implicit_euler', seed: int = 0, temperature: float = 0.0, units: str = 'si', viscosity: float = 0.0, **params: Any) -> World: ...
     def __copy__(self): ...
     def __deepcopy__(self, _memo): ...
     def __reduce__(self): ...

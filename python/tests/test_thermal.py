@@ -83,9 +83,10 @@ def test_bad_thermal_settings_are_typed_errors():
 
 
 def test_world_repr_shows_the_bath():
-    w = thermal_world(overdamped=True)
+    w = thermal_world(overdamped=True, isotropic_drag=True)
     text = repr(w)
     assert "units='molecular'" in text and "temperature=298.15 K" in text and "overdamped=True" in text
+    assert "isotropic_drag=True" in text
     assert "temperature" not in repr(sk.World())
 
 
@@ -160,16 +161,43 @@ def test_sampling_length_option():
                            n_control_points=20, with_roll=False, sampling_length=ell)
     plain, heavy = rod(0.0), rod(5.0)
     assert heavy.options["sampling_length"] == 5.0
-    v = np.tile([1.0, -2.0, 0.5], 20)
+    v = np.tile([1.0, -2.0, 0.5], (20, 1))
     plain.velocities = v
     heavy.velocities = v
     assert heavy.kinetic_energy == pytest.approx(plain.kinetic_energy, rel=1e-9)
-    wiggle = np.zeros(60)
-    wiggle[1::6] = 1.0
-    wiggle[4::6] = -1.0
+    wiggle = np.zeros((20, 3))
+    wiggle[0::2, 1] = 1.0
+    wiggle[1::2, 1] = -1.0
     plain.velocities = wiggle
     heavy.velocities = wiggle
     assert heavy.kinetic_energy > 10 * plain.kinetic_energy
     for bad in (-1.0, float("nan"), float("inf")):
-        with pytest.raises(sk.InvalidInputError, match="sampling length"):
+        with pytest.raises(sk.InvalidInputError, match="sampling.length"):
             rod(bad)
+
+
+def test_anisotropic_drag_from_python():
+    """Resistive-force drag is anisotropic (γ_∥ = γ_⊥/2 along the rod) unless
+    `isotropic_drag=True`; a rod pulled along itself drifts twice as fast as
+    across; Brownian dynamics needs the isotropic drag."""
+    w = sk.World(units="molecular", viscosity=1.0, dt=0.01)
+    rods = [w.add_rod(dna(50.0, 8)) for _ in range(2)]
+    d = rods[0].drag()
+    assert d["axial"] == pytest.approx(-0.5 * d["trans"], rel=1e-12)
+    w.add_load(sk.distributed(rods[0], (0.04, 0.0, 0.0)))
+    w.add_load(sk.distributed(rods[1], (0.0, 0.04, 0.0)))
+    for _ in range(200):
+        w.step()
+    v_par = rods[0].velocities.reshape(-1, 3)[:, 0].mean()
+    v_perp = rods[1].velocities.reshape(-1, 3)[:, 1].mean()
+    assert v_par == pytest.approx(0.04 / (d["trans"] + d["axial"]), rel=1e-6)
+    assert v_perp == pytest.approx(0.04 / d["trans"], rel=1e-6)
+    iso = sk.World(units="molecular", viscosity=1.0, isotropic_drag=True)
+    assert iso.add_rod(dna(50.0, 8)).drag()["axial"] == 0.0
+    w2 = thermal_world(overdamped=True)
+    w2.add_rod(dna())
+    with pytest.raises(sk.InvalidInputError, match="isotropic_drag=True"):
+        w2.step()
+    w3 = thermal_world(overdamped=True, isotropic_drag=True)
+    w3.add_rod(dna())
+    w3.step()

@@ -31,9 +31,12 @@ pub struct Thermal<'a> {
     pub normals: &'a [f64],
 }
 
-/// Standard normals one step draws for `rod`: 4 control points × dofs per segment.
-pub fn normals_per_rod(rod: &Rod) -> usize {
-    rod.n_segments() * 4 * rod.dofs()
+/// Standard normals one step draws for `rod` under `drag`: 4 control
+/// points × dofs per segment, then with anisotropic drag 3 per Gauss sample
+/// (6 with a sampling length: the two factors of its block).
+pub fn normals_per_rod(rod: &Rod, drag: &Drag) -> usize {
+    let factors = if drag.axial == 0.0 { 0 } else if rod.options().sampling_length > 0.0 { 2 } else { 1 };
+    rod.n_segments() * 4 * rod.dofs() + 3 * factors * rod.cache.samples.len()
 }
 
 /// Lower Cholesky factor of a symmetric positive semi-definite 4×4 block
@@ -59,17 +62,19 @@ pub(crate) fn cholesky4(a: &[[f64; 4]; 4]) -> [[f64; 4]; 4] {
 impl ForceField for Thermal<'_> {
     fn add_force(&self, rod: &Rod, _time: f64, f: &mut [f64]) -> Result<()> {
         let d = rod.dofs();
-        if self.normals.len() != normals_per_rod(rod) {
-            return Err(Error::input(format!("thermal force: {} normals for a rod that needs {}", self.normals.len(), normals_per_rod(rod))));
+        let need = normals_per_rod(rod, &self.drag);
+        if self.normals.len() != need {
+            return Err(Error::input(format!("thermal force: {} normals for a rod that needs {need}", self.normals.len())));
         }
         let c = (2.0 * self.kt / self.h).sqrt();
-        // The translation's block is trans × ∫bb ds0: its factor is √trans
-        // times the rod's cached one; only the roll's (two blocks mixed) is
-        // factored here.
-        let ct = c * self.drag.trans.sqrt();
+        // D = (c_t + c_a) seg_bb ⊗ I + (−c_a) Σ_g G_g ⊗ (I − t tᵀ) (both
+        // positive: c_a = γ_∥ − γ_⊥ ≤ 0, c_t + c_a = own + γ_∥). The first
+        // block's factor is √(c_t + c_a) times the rod's cached Cholesky
+        // factor; only the roll's (two blocks mixed) is factored here.
+        let ct = c * (self.drag.trans + self.drag.axial).sqrt();
         for (s, ctrl) in rod.cache.seg_ctrl.iter().enumerate() {
             let lt = &rod.cache.seg_bb_chol[s];
-            let lr = if d == 4 { cholesky4(&rod.seg_drag(&self.drag, s).1) } else { [[0.0; 4]; 4] };
+            let lr = if d == 4 { cholesky4(&rod.seg_roll_drag(&self.drag, s)) } else { [[0.0; 4]; 4] };
             let xi = &self.normals[s * 4 * d..(s + 1) * 4 * d];
             for k in 0..4 {
                 for l in 0..=k {
@@ -78,6 +83,28 @@ impl ForceField for Thermal<'_> {
                     }
                     if d == 4 {
                         f[ctrl[k] * d + 3] += c * lr[k][l] * xi[l * d + 3];
+                    }
+                }
+            }
+        }
+        if self.drag.axial != 0.0 {
+            // Per sample and factor φ ∈ {u, v} of G_g: √(−c_a) φ ⊗ (I − t tᵀ) ξ.
+            let ca = c * (-self.drag.axial).sqrt();
+            let with_v = rod.options().sampling_length > 0.0;
+            let mut xi = self.normals[rod.n_segments() * 4 * d..].chunks_exact(3);
+            for (g, smp) in rod.cache.samples.iter().enumerate() {
+                let ctrl = &rod.cache.seg_ctrl[smp.seg];
+                let t = rod.drag_tangent(g);
+                let (u, v) = rod.drag_factors(g);
+                for phi in if with_v { [Some(u), Some(v)] } else { [Some(u), None] }.into_iter().flatten() {
+                    // invariant: normals_per_rod sized the slice for every factor
+                    let x = xi.next().expect("normals sized by normals_per_rod");
+                    let tx = t[0] * x[0] + t[1] * x[1] + t[2] * x[2];
+                    let p = [x[0] - tx * t[0], x[1] - tx * t[1], x[2] - tx * t[2]];
+                    for k in 0..4 {
+                        for a in 0..3 {
+                            f[ctrl[k] * d + a] += ca * phi[k] * p[a];
+                        }
                     }
                 }
             }

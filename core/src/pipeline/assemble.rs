@@ -341,7 +341,7 @@ fn gather_and_assemble(
     // rule's D ΔX/h and the thermal force all use these (statics: none).
     ws.drags.clear();
     for rod in rods {
-        ws.drags.push(if matches!(regime, Regime::Statics { .. }) { Default::default() } else { rod.drag(params.viscosity)? });
+        ws.drags.push(if matches!(regime, Regime::Statics { .. }) { Default::default() } else { params.drag_of(rod)? });
     }
     if ws.thermal_h > 0.0 {
         for (r, rod) in rods.iter().enumerate() {

@@ -65,6 +65,12 @@ fn substeps(world: &mut World, h: f64, n: u32) -> Result<StepReport> {
 
 /// One step of `h`.
 fn step_by(world: &mut World, h: f64) -> Result<StepReport> {
+    if world.params.viscosity > 0.0 && !world.params.isotropic_drag {
+        // The anisotropic drag's directions, constant over the step.
+        for (_, rod) in world.rods.iter_mut() {
+            rod.freeze_drag_frame();
+        }
+    }
     let noise = super::thermal::begin(world, h)?;
     // thermal_h marks the assembly of a thermal step: off again whatever
     // happens, a panic included (Python catches it and the world lives on).

@@ -58,10 +58,14 @@ pub(crate) fn begin(world: &mut World, h: f64) -> Result<Option<Stream>> {
             "{what} with sliding beads is not implemented (their motion along the rod has friction but no noise); fix the beads or remove them"
         )));
     }
-    let eta = p.viscosity;
     for (handle, rod) in world.rods.iter() {
-        let drag = rod.drag(eta)?;
+        let drag = p.drag_of(rod)?;
         let handle = crate::handles::RodHandle::from(handle);
+        if p.overdamped && drag.axial != 0.0 {
+            return Err(Error::input(format!(
+                "{what} on rod {handle:?} with anisotropic drag is not implemented (a configuration-dependent drag needs the kT ∇·D⁻¹ drift); set World(isotropic_drag=True)"
+            )));
+        }
         if drag.trans == 0.0 || rod.dofs() == 4 && drag.roll == 0.0 && drag.roll_r2 == 0.0 {
             return Err(Error::input(format!(
                 "{what} on rod {handle:?} without drag{}: the bath acts through the drag (fluctuation–dissipation); set World(viscosity=…) or the rod's drag/roll_drag",
@@ -81,12 +85,12 @@ pub(crate) fn begin(world: &mut World, h: f64) -> Result<Option<Stream>> {
     // A new seed starts its stream from the beginning (so seeds A, B, A
     // replay A's numbers).
     let mut stream = if world.noise.seed == seed { world.noise } else { Stream { seed, words: 0 } };
-    let World { rods, ws, .. } = world;
+    let World { rods, ws, params, .. } = world;
     ws.thermal_normals.resize_with(rods.len(), Vec::new);
     for (r, (_, rod)) in rods.iter().enumerate() {
         let v = &mut ws.thermal_normals[r];
         v.clear();
-        v.resize(normals_per_rod(rod), 0.0);
+        v.resize(normals_per_rod(rod, &params.drag_of(rod)?), 0.0);
         stream = stream.draw(v);
     }
     if let Some(b) = ws.bridge.as_mut().filter(|b| b.left > 0 && b.remaining.len() == rods.len()) {

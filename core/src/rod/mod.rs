@@ -124,6 +124,10 @@ pub struct Rod {
     pub(crate) excess_link: f64,
     #[serde(skip)]
     pub(crate) cache: Cache,
+    /// Unit tangent at each Gauss sample, frozen at the start of a dynamic
+    /// step for the anisotropic drag (derived from q; empty until a step).
+    #[serde(skip)]
+    pub(crate) drag_frame: Vec<[f64; 3]>,
 }
 
 impl Rod {
@@ -193,6 +197,7 @@ impl Rod {
             rest_sections: Vec::new(),
             excess_link: 0.0,
             cache: Cache::default(),
+            drag_frame: Vec::new(),
         };
         rod.prepare()?;
         rod.frames = rod.initial_frames()?;

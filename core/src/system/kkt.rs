@@ -67,7 +67,7 @@ fn name_unknown(e: Error, describe: &impl Fn(usize) -> crate::error::Unknown) ->
     }
 }
 use crate::rod::assemble::{assemble_ranges, Need, SegRange};
-use crate::rod::drag::Drag;
+use crate::rod::drag::{Drag, SegDrag};
 use crate::rod::{Rod, SegBlock};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -117,7 +117,7 @@ const PAR_MIN_SEGMENTS: usize = 2048;
 /// Turns a segment's stiffness block K into c_k K + c_m M + c_d D on each
 /// axis (II.70–II.75, III.10), upper half only (M, J, D are symmetric, so
 /// the upper half carries them).
-fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4], j: &[[f64; 4]; 4], drag: Option<&([[f64; 4]; 4], [[f64; 4]; 4])>) {
+fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4], j: &[[f64; 4]; 4], drag: Option<&SegDrag>) {
     if k.stiffness != 1.0 {
         let n = 4 * d;
         for row in 0..n {
@@ -128,13 +128,22 @@ fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4],
     }
     for kk in 0..4 {
         for l in kk..4 {
-            let (dt, dr) = drag.map_or((0.0, 0.0), |(t, r)| (k.drag * t[kk][l], k.drag * r[kk][l]));
+            let (dt, dr) = drag.map_or((0.0, 0.0), |g| (k.drag * g.trans[kk][l], k.drag * g.roll[kk][l]));
             let t = k.mass * m[kk][l] + dt;
             for a in 0..3 {
                 blk.hess[(kk * d + a) * 16 + l * d + a] += t;
             }
             if d == 4 {
                 blk.hess[(kk * 4 + 3) * 16 + l * 4 + 3] += k.mass * j[kk][l] + dr;
+            }
+            // The tangential drag's 3×3 blocks (upper triangle of the
+            // 16×16 block: all of (kk, l > kk), a ≤ b on the diagonal).
+            if let Some(ax) = drag.and_then(|g| g.axial.as_ref()) {
+                for a in 0..3 {
+                    for b in if l == kk { a } else { 0 }..3 {
+                        blk.hess[(kk * d + a) * 16 + l * d + b] += k.drag * ax[kk][l][a][b];
+                    }
+                }
             }
         }
     }

@@ -59,7 +59,8 @@ pub struct IntegrationParameters {
     /// Viscosity η of the surrounding fluid (pressure × time: Pa·s in SI,
     /// pN·ns/nm² in molecular units; water at 20 °C is 1.0e-3 Pa·s =
     /// 1.0 pN·ns/nm²). Adds resistive-force drag to every rod (SPEC §3):
-    /// 4πη/(ln(L/r) + ½) per length on each axis, 4πηr² on the roll.
+    /// γ_⊥ = 4πη/(ln(L/r) + ½) per length across the rod, γ_⊥/2 along it
+    /// (unless `isotropic_drag`), 4πηr² on the roll.
     #[serde(default)]
     pub viscosity: f64,
     /// The unit system of the world's numbers, which fixes k_B: `si`
@@ -79,6 +80,13 @@ pub struct IntegrationParameters {
     /// but its Newton iterations may stall when h ≫ 1/λ of the stiffest mode.
     #[serde(default)]
     pub overdamped: bool,
+    /// The fluid's drag without resistive-force theory's anisotropy: γ_⊥
+    /// on every axis instead of γ_∥ = γ_⊥/2 along the rod. Needed for
+    /// Brownian dynamics (`overdamped`), whose configuration-dependent
+    /// drag would need the kT ∇·D⁻¹ drift; with inertia the anisotropic
+    /// drag is exact (the tangents frozen over each step).
+    #[serde(default)]
+    pub isotropic_drag: bool,
 }
 
 /// The unit system of a world's numbers (SPEC §3: SI by default; molecular
@@ -158,6 +166,7 @@ impl Default for IntegrationParameters {
             units: Units::Si,
             seed: 0,
             overdamped: false,
+            isotropic_drag: false,
         }
     }
 }
@@ -173,6 +182,16 @@ fn default_max_halvings() -> u32 {
 }
 
 impl IntegrationParameters {
+    /// `rod`'s drag in this world's fluid (anisotropic unless
+    /// `isotropic_drag`).
+    pub fn drag_of(&self, rod: &crate::rod::Rod) -> crate::error::Result<crate::rod::drag::Drag> {
+        let mut d = rod.drag(self.viscosity)?;
+        if self.isotropic_drag {
+            d.axial = 0.0;
+        }
+        Ok(d)
+    }
+
     /// kT = k_B T in the world's energy unit.
     pub fn kt(&self) -> f64 {
         self.units.boltzmann() * self.temperature
