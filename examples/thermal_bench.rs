@@ -93,6 +93,27 @@ fn main() {
             );
         }
     }
+    // The anisotropic drag's cost (3×3 tangential blocks, and under noise
+    // 3 more normals per Gauss sample) against the isotropic drag.
+    println!("\n| control points | scheme | T | step, isotropic drag (ms) | step, anisotropic (ms) | ratio |");
+    println!("|---|---|---|---|---|---|");
+    for scheme in [Scheme::ImplicitEuler, Scheme::Trapezoidal] {
+        for temperature in [0.0, T] {
+            let n = 334;
+            let mut iso = world(n, scheme, temperature, 1e-3);
+            iso.params.isotropic_drag = true;
+            let mut aniso = world(n, scheme, temperature, 1e-3);
+            pass(&mut iso, 50);
+            pass(&mut aniso, 50);
+            let (mut ti, mut ta) = (Vec::new(), Vec::new());
+            for _ in 0..passes {
+                ti.push(pass(&mut iso, steps).0);
+                ta.push(pass(&mut aniso, steps).0);
+            }
+            let (ti, ta) = (median(ti), median(ta));
+            println!("| {n} | {scheme:?} | {temperature} K | {:.3} | {:.3} | {:.3} |", ti * 1e3, ta * 1e3, ta / ti);
+        }
+    }
     // oxDNA: ≈ 3e5 nucleotide-steps per second per core (SPEC §9.1) at
     // dt ≈ 15 fs; 1 µm = 2941 bp = 5882 nucleotides.
     let ox_steps = 3e5 / 5882.0;
