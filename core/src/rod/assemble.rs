@@ -70,19 +70,33 @@ impl Rod {
     pub fn elastic_energy(&self) -> f64 {
         // The densities alone: no chain-rule accumulators (this runs in
         // every step's divergence guard).
+        (0..self.cache.seg_ctrl.len()).map(|seg| self.segment_energy_of(seg)).sum()
+    }
+
+    /// Elastic energy of segment `seg` alone (energy unit; the segments'
+    /// energies sum to `elastic_energy`). A move that changes a few control
+    /// points changes only the segments they span: Monte Carlo samplers
+    /// can update the energy locally.
+    pub fn segment_energy(&self, seg: usize) -> crate::error::Result<f64> {
+        if seg >= self.cache.seg_ctrl.len() {
+            return Err(crate::error::Error::invalid("segment", seg, format!("< {} (the rod's segments)", self.cache.seg_ctrl.len())));
+        }
+        Ok(self.segment_energy_of(seg))
+    }
+
+    fn segment_energy_of(&self, seg: usize) -> f64 {
         let c = &self.cache;
+        let ctrl = &c.seg_ctrl[seg];
         let mut u = 0.0;
-        for (seg, ctrl) in c.seg_ctrl.iter().enumerate() {
-            for i in c.seg_start[seg]..c.seg_start[seg + 1] {
-                let s = &c.samples[i];
-                let ls = local_state(&self.q, self.dofs, ctrl, &s.basis);
-                u += s.w * energy_density(&ls, &s.consts, self.frame_state(i), self.opts.terms, self.opts.model);
-            }
-            let stretch = if self.opts.terms.stretch { &c.stretch[c.seg_stretch_start[seg]..c.seg_stretch_start[seg + 1]] } else { &[] };
-            for s in stretch {
-                let ls = local_state(&self.q, self.dofs, ctrl, &s.basis);
-                u += s.w * energy_density(&ls, &s.consts, &FrameState::None, STRETCH_ONLY, FrameModel::Frenet);
-            }
+        for i in c.seg_start[seg]..c.seg_start[seg + 1] {
+            let s = &c.samples[i];
+            let ls = local_state(&self.q, self.dofs, ctrl, &s.basis);
+            u += s.w * energy_density(&ls, &s.consts, self.frame_state(i), self.opts.terms, self.opts.model);
+        }
+        let stretch = if self.opts.terms.stretch { &c.stretch[c.seg_stretch_start[seg]..c.seg_stretch_start[seg + 1]] } else { &[] };
+        for s in stretch {
+            let ls = local_state(&self.q, self.dofs, ctrl, &s.basis);
+            u += s.w * energy_density(&ls, &s.consts, &FrameState::None, STRETCH_ONLY, FrameModel::Frenet);
         }
         u
     }
