@@ -432,6 +432,21 @@ fn thermal_bad_input_is_refused() {
     w6.params.overdamped = true;
     w6.add_rod(dna(50.0, 10, 50.0, 100.0, false));
     assert!(w6.step().unwrap_err().to_string().contains("isotropic_drag=True"));
+    // At T = 0 Brownian dynamics is a gradient flow: no drift needed.
+    let mut w7 = world(1e-3, 1.0, 1);
+    w7.params.temperature = 0.0;
+    w7.params.overdamped = true;
+    w7.add_rod(dna(50.0, 10, 50.0, 100.0, false));
+    w7.step().unwrap();
+    // The thermal force refuses an impossible drag (γ_∥ > γ_⊥).
+    use strandkit_core::force::ForceField;
+    let rod = dna(50.0, 10, 50.0, 100.0, false);
+    let mut drag = rod.drag(1.0).unwrap();
+    drag.axial = 0.5;
+    let xi = vec![0.0; strandkit_core::force::thermal::normals_per_rod(&rod, &drag)];
+    let mut f = vec![0.0; rod.coords().len()];
+    let th = strandkit_core::force::thermal::Thermal { kt: kt(), h: 1e-3, drag, normals: &xi };
+    assert!(th.add_force(&rod, 0.0, &mut f).unwrap_err().to_string().contains("axial"));
     // TR-BDF2 has no matching noise.
     let mut w3 = world(1e-3, 1.0, 1);
     w3.params.scheme = Scheme::TrBdf2;
@@ -789,6 +804,9 @@ fn sampling_length_keeps_rigid_motion_physical() {
         let (p, h) = (quad(&plain, &wiggle, drag), quad(&heavy, &wiggle, drag));
         assert!(h > 10.0 * p, "a control-point wiggle gets heavier (drag {drag}): {h} vs {p}");
     }
+    // Past 20 segment lengths the blocks are too ill-conditioned to factor.
+    let e = build(1e3).expect_err("sampling length ≫ segments");
+    assert!(e.to_string().contains("exceeds 20 segment lengths"), "{e}");
     for bad in [-1.0, f64::NAN, f64::INFINITY, 1e100] {
         let e = build(bad).expect_err("bad sampling length");
         assert!(e.to_string().contains("sampling length"), "{e}");

@@ -80,8 +80,8 @@ def test_every_kind_a_world_serves_back_is_accepted_as_given(world_rod):
 
 
 @pytest.mark.parametrize("call, accepted", [
-    (lambda: sk.World(lable=1), "dt, gravity, linear_solver"),
-    (lambda: sk.World().set_params(dtt=1.0), "dt, gravity, linear_solver"),
+    (lambda: sk.World(lable=1), "dt, gravity, isotropic_drag, linear_solver"),
+    (lambda: sk.World().set_params(dtt=1.0), "dt, gravity, isotropic_drag, linear_solver"),
     (lambda: sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", label="x"),
      "curvature_threshold, drag, model"),
     (lambda: sk.QuasiDynamic(sk.World(), dt=1e-3), "dt0"),

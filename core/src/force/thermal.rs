@@ -66,6 +66,13 @@ impl ForceField for Thermal<'_> {
         if self.normals.len() != need {
             return Err(Error::input(format!("thermal force: {} normals for a rod that needs {need}", self.normals.len())));
         }
+        let (t, a) = (self.drag.trans, self.drag.axial);
+        if !(t.is_finite() && a.is_finite() && a <= 0.0 && t + a >= 0.0 && self.kt >= 0.0 && self.h > 0.0) {
+            return Err(Error::input(format!(
+                "thermal force: drag trans {t}, axial {a}, kT {}, h {} (need axial ≤ 0 ≤ trans + axial, kT ≥ 0, h > 0)",
+                self.kt, self.h
+            )));
+        }
         let c = (2.0 * self.kt / self.h).sqrt();
         // D = (c_t + c_a) seg_bb ⊗ I + (−c_a) Σ_g G_g ⊗ (I − t tᵀ) (both
         // positive: c_a = γ_∥ − γ_⊥ ≤ 0, c_t + c_a = own + γ_∥). The first

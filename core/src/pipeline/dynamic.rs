@@ -72,12 +72,17 @@ fn step_by(world: &mut World, h: f64) -> Result<StepReport> {
         }
     }
     let noise = super::thermal::begin(world, h)?;
-    // thermal_h marks the assembly of a thermal step: off again whatever
-    // happens, a panic included (Python catches it and the world lives on).
+    // thermal_h marks the assembly of a thermal step, and the frozen drag
+    // tangents belong to it: both off again whatever happens, a panic
+    // included (Python catches it and the world lives on), so that outside
+    // a step the drag is that of the current shape.
     struct Off<'a>(&'a mut World);
     impl Drop for Off<'_> {
         fn drop(&mut self) {
             self.0.ws.thermal_h = 0.0;
+            for (_, rod) in self.0.rods.iter_mut() {
+                rod.drag_frame.clear();
+            }
         }
     }
     let (energy, solved, solves) = {

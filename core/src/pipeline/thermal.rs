@@ -61,7 +61,9 @@ pub(crate) fn begin(world: &mut World, h: f64) -> Result<Option<Stream>> {
     for (handle, rod) in world.rods.iter() {
         let drag = p.drag_of(rod)?;
         let handle = crate::handles::RodHandle::from(handle);
-        if p.overdamped && drag.axial != 0.0 {
+        // At T = 0 Brownian dynamics is a deterministic gradient flow: a
+        // configuration-dependent drag needs no drift there.
+        if p.overdamped && kt > 0.0 && drag.axial != 0.0 {
             return Err(Error::input(format!(
                 "{what} on rod {handle:?} with anisotropic drag is not implemented (a configuration-dependent drag needs the kT ∇·D⁻¹ drift); set World(isotropic_drag=True)"
             )));

@@ -6,7 +6,8 @@
 //! t_gᵀ) over the Gauss samples g, G_g their 4×4 blocks of `seg_bb`. On the
 //! roll, c_θ ∫ b_k b_l ds0 + 4πη ∫ r² b_k b_l ds0. The tangents are frozen
 //! at the start of each dynamic step (`freeze_drag_frame`): D is constant
-//! over a step, as the Itô noise needs. r is the section's hydrodynamic
+//! over a step, as the Itô noise needs (which makes the anisotropic part
+//! first order in h even under the trapezoidal rule). r is the section's hydrodynamic
 //! radius (a tube's outer radius, else that of the circle of equal area).
 use super::Rod;
 use crate::error::{Error, Result};
@@ -77,8 +78,8 @@ impl Rod {
         self.drag_frame = frame;
     }
 
-    /// Unit tangent at Gauss sample `g` of the current shape (the rest
-    /// tangent where the current one vanishes).
+    /// Unit tangent at Gauss sample `g` of the current shape (zero where
+    /// the current one vanishes: the drag there is γ_⊥ on every axis).
     fn current_tangent(&self, g: usize) -> [f64; 3] {
         let smp = &self.cache.samples[g];
         let ctrl = &self.cache.seg_ctrl[smp.seg];

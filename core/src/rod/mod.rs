@@ -72,7 +72,9 @@ pub struct RodOptions {
     /// modes shorter than ℓ oscillate no faster than a bending mode of
     /// length ≈ ℓ ("Fourier acceleration"). A constant, isotropic,
     /// positive mass leaves the Boltzmann distribution of the configurations
-    /// unchanged — equilibrium averages under noise are those of the
+    /// unchanged (without holonomic constraints: with them it carries the
+    /// Fixman factor det(J M⁻¹ Jᵀ), which depends on M) — equilibrium
+    /// averages under noise are those of the
     /// physical rod, reached with steps set by ℓ instead of the stiffest
     /// short mode — but the motion is fictitious: use it for equilibrium
     /// statistics only. The drag blocks get the same term (each mode keeps

@@ -263,6 +263,18 @@ impl Cache {
             }
             c.samples.push(Sample { seg, u, basis, w: wt, consts, rest });
         }
+        // cond(seg_bb) ≈ 100 (ℓ/h)⁴: past ℓ = 20 h (1.6e7) the factors
+        // would lose the physical (short-range) directions to round-off and
+        // the noise would no longer match the drag.
+        let ell = rod.opts.sampling_length;
+        if ell > 0.0 {
+            let h_min = (0..nseg).map(|s| c.samples[c.seg_start[s]..c.seg_start[s + 1]].iter().map(|x| x.w).sum::<f64>()).fold(f64::INFINITY, f64::min);
+            if ell > 20.0 * h_min {
+                return Err(Error::input(format!(
+                    "sampling length {ell} exceeds 20 segment lengths (shortest segment {h_min:.4}): the mass and drag blocks would be too ill-conditioned (≈ 100 (ℓ/h)⁴) to keep fluctuation–dissipation exact"
+                )));
+            }
+        }
         c.seg_bb_chol = c.seg_bb.iter().map(crate::force::thermal::cholesky4).collect();
         c.seg_stretch_start = vec![0; nseg + 1];
         if rod.opts.stretch_at_greville {

@@ -82,9 +82,13 @@ pub struct IntegrationParameters {
     pub overdamped: bool,
     /// The fluid's drag without resistive-force theory's anisotropy: γ_⊥
     /// on every axis instead of γ_∥ = γ_⊥/2 along the rod. Needed for
-    /// Brownian dynamics (`overdamped`), whose configuration-dependent
-    /// drag would need the kT ∇·D⁻¹ drift; with inertia the anisotropic
-    /// drag is exact (the tangents frozen over each step).
+    /// Brownian dynamics (`overdamped`) at T > 0, whose configuration-
+    /// dependent drag would need the kT ∇·D⁻¹ drift. With inertia the
+    /// anisotropic drag keeps the Boltzmann distribution; its tangents are
+    /// frozen at each step's start (the Itô choice), so its part of the
+    /// motion is first order in h even under the trapezoidal rule.
+    /// Snapshots written before this field existed load with it false
+    /// (anisotropic drag).
     #[serde(default)]
     pub isotropic_drag: bool,
 }
