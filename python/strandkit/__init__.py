@@ -58,7 +58,7 @@ from ._native import (
     write_psf,
     write_vtk,
 )
-from . import constraints, loads, obstacles, units
+from . import constraints, loads, obstacles, polymer, units
 from ._progress import progress
 from .constraints import *  # noqa: F401,F403  (Kind, kind, clamp and one helper per constraint kind)
 from .errors import (

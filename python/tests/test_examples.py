@@ -16,6 +16,7 @@ OUTPUTS = {
     "cables.py": ["cables.glb", "cables.png", "harness.glb"],
     "cantilever.py": ["cantilever.png"],
     "catenary.py": ["catenary.png"],
+    "dna_force_extension.py": ["dna_force_extension.png"],
     "dna_trap.py": ["dna_trap.png"],
     "necklace.py": ["necklace.dcd", "necklace.pdb", "necklace.png", "necklace.psf", "necklace_energy.png"],
     "rope_bridge.py": ["rope_bridge.dcd", "rope_bridge.pdb", "rope_bridge.png", "rope_bridge.psf", "rope_bridge_walk.png"],
