@@ -55,7 +55,8 @@ def wlc_extension(force: float, persistence: float, contour: float = math.inf, k
     """Mean extension ⟨z⟩/L of an inextensible worm-like chain (persistence
     A, contour L, default infinite) pulled at its ends by ``force``, at
     temperature energy ``kT``: ⟨z⟩/L = ∂(ln Z/L)/∂f with f = F/kT, from the
-    transfer matrix in ``lmax + 1`` Legendre states. Add F/S for an
+    transfer matrix in ``lmax + 1`` Legendre states (at least enough to
+    resolve the tangent's spread 1/√(fA)). Add F/S for an
     extensible chain of stretch modulus S."""
     a = _positive("persistence", persistence)
     l = float(contour)
@@ -64,6 +65,12 @@ def wlc_extension(force: float, persistence: float, contour: float = math.inf, k
     f = float(force) / _positive("kT", kT)
     if not math.isfinite(f) or f < 0:
         raise InvalidInputError(f"force must be finite and >= 0, got {force}")
+    # The tangent's spread about the force is ≈ 1/√(fA): the basis must
+    # resolve it (ten states per unit of √(fA)).
+    need = int(10 * math.sqrt(f * a)) + 20
+    if need > 2000:
+        raise InvalidInputError(f"force × persistence / kT = {f * a:.3g} is too large for the transfer matrix (> 4e4); use bouchiat_extension")
+    lmax = max(int(lmax), need)
     # Central differences (ln Z is even in f, so z(0) = 0 exactly).
     d = 1e-4 * max(f, 1e-3)
     return (_log_partition(f + d, a, l, lmax) - _log_partition(f - d, a, l, lmax)) / (2 * d)

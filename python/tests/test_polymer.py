@@ -29,6 +29,16 @@ def test_linear_response_and_limits():
     assert wlc_extension(0.0, 50.0, kT=KT) == pytest.approx(0.0, abs=1e-6)
 
 
+def test_high_force_keeps_enough_states():
+    # F A/kT ≈ 1200: the basis grows with √(fA); the long-chain limit
+    # z = 1 − 1/(2√(fA)) + … (Marko–Siggia's asymptote) holds.
+    z = wlc_extension(100.0, 50.0, kT=KT)
+    assert z == pytest.approx(bouchiat_extension(100.0, 50.0, kT=KT), rel=1e-4)
+    assert 1 - z == pytest.approx(0.5 / math.sqrt(100.0 * 50.0 / KT), rel=0.02)
+    with pytest.raises(sk.InvalidInputError, match="too large"):
+        wlc_extension(1e6, 50.0, kT=KT)
+
+
 def test_bad_input():
     for call in (lambda: wlc_r2(-1.0, 10.0), lambda: wlc_extension(math.nan, 50.0),
                  lambda: wlc_extension(1.0, 50.0, contour=-5.0), lambda: bouchiat_extension(-1.0, 50.0),
