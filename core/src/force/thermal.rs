@@ -97,13 +97,13 @@ impl ForceField for Thermal<'_> {
         if self.drag.axial != 0.0 {
             // Per sample and factor φ ∈ {u, v} of G_g: √(−c_a) φ ⊗ (I − t tᵀ) ξ.
             let ca = c * (-self.drag.axial).sqrt();
-            let with_v = rod.options().sampling_length > 0.0;
+            let factors = if rod.options().sampling_length > 0.0 { 2 } else { 1 };
             let mut xi = self.normals[rod.n_segments() * 4 * d..].chunks_exact(3);
             for (g, smp) in rod.cache.samples.iter().enumerate() {
                 let ctrl = &rod.cache.seg_ctrl[smp.seg];
                 let t = rod.drag_tangent(g);
                 let (u, v) = rod.drag_factors(g);
-                for phi in if with_v { [Some(u), Some(v)] } else { [Some(u), None] }.into_iter().flatten() {
+                for phi in [u, v].iter().take(factors) {
                     // invariant: normals_per_rod sized the slice for every factor
                     let x = xi.next().expect("normals sized by normals_per_rod");
                     let tx = t[0] * x[0] + t[1] * x[1] + t[2] * x[2];

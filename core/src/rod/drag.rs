@@ -82,16 +82,10 @@ impl Rod {
     /// the current one vanishes: the drag there is γ_⊥ on every axis).
     fn current_tangent(&self, g: usize) -> [f64; 3] {
         let smp = &self.cache.samples[g];
-        let ctrl = &self.cache.seg_ctrl[smp.seg];
-        let mut t = [0.0; 3];
-        for (k, &c) in ctrl.iter().enumerate() {
-            for (a, ta) in t.iter_mut().enumerate() {
-                *ta += smp.basis[1][k] * self.q[c * self.dofs + a];
-            }
-        }
-        let n = (t[0] * t[0] + t[1] * t[1] + t[2] * t[2]).sqrt();
+        let r1 = super::samples::local_state(&self.q, self.dofs, &self.cache.seg_ctrl[smp.seg], &smp.basis).r1;
+        let n = r1.norm();
         if n > 0.0 && n.is_finite() {
-            t.map(|x| x / n)
+            (r1 / n).into()
         } else {
             [0.0; 3]
         }
