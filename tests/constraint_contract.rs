@@ -112,6 +112,20 @@ fn examples(name: &str) -> Vec<Example> {
             ex(Open, Barycentric { points: vec![(0.5, 0.25), (2.5, 0.5), (4.0, 0.25)], driven: 1.7, axes: [true, true, false, true] }),
             ex(Closed, Barycentric { points: vec![(7.5, 0.6), (1.0, 0.4)], driven: 0.2, axes: [false, true, true, false] }),
         ],
+        "BasePairStep" => {
+            let step = |ua, ub, ua_next, ub_next| BasePairStep {
+                ua,
+                ub,
+                ua_next,
+                ub_next,
+                rest_shift: [0.1, -0.05, 0.34],
+                rest_rotation: [0.02, -0.03, 0.6],
+                translation_stiffness: [900.0, 1100.0, 3000.0],
+                rotation_stiffness: [600.0, 650.0, 1200.0],
+                twist_stretch: -250.0,
+            };
+            vec![ex(Two, step(1.2, 6.1, 1.9, 5.4)), ex(SameRod, step(0.5, 4.2, 1.1, 3.6))]
+        }
         _ => vec![],
     }
 }
@@ -380,6 +394,15 @@ fn bad_parameters(k: &ConstraintKind) -> Vec<ConstraintKind> {
             push(Barycentric { points: p, ..b.clone() }.into());
             push(Barycentric { points: vec![], ..b.clone() }.into());
             push(Barycentric { points: vec![(1.0, 0.2); 5], ..b.clone() }.into());
+        }
+        ConstraintKind::BasePairStep(b) => {
+            push(BasePairStep { rest_shift: [nan, 0.0, 0.0], ..b.clone() }.into());
+            push(BasePairStep { rest_rotation: [0.0, nan, 0.0], ..b.clone() }.into());
+            push(BasePairStep { translation_stiffness: [1.0, 0.0, 1.0], ..b.clone() }.into());
+            push(BasePairStep { rotation_stiffness: [1.0, 1.0, -1.0], ..b.clone() }.into());
+            // Not positive definite: coupling² ≥ rise × twist stiffness.
+            push(BasePairStep { twist_stretch: 2000.0, ..b.clone() }.into());
+            push(BasePairStep { twist_stretch: nan, ..b.clone() }.into());
         }
     }
     out

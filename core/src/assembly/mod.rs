@@ -44,6 +44,9 @@ pub struct AssemblyConstraint {
     pub breaking: Option<Breaking>,
     #[serde(default)]
     pub label: Option<String>,
+    /// Labels of constraints whose breaking removes this one too.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub breaks_with: Vec<String>,
 }
 
 impl AssemblyConstraint {
@@ -59,6 +62,11 @@ impl AssemblyConstraint {
     }
     pub fn label(&mut self, label: impl Into<String>) -> &mut Self {
         self.label = Some(label.into());
+        self
+    }
+    /// Removed when the constraint labelled `label` breaks.
+    pub fn breaks_with(&mut self, label: impl Into<String>) -> &mut Self {
+        self.breaks_with.push(label.into());
         self
     }
 }
@@ -150,13 +158,13 @@ impl Assembly {
     }
     /// A one-rod constraint on rod `rod` (hard, unbreakable, unlabelled until set).
     pub fn constrain(&mut self, rod: usize, kind: impl Into<ConstraintKind>) -> &mut AssemblyConstraint {
-        self.constraints.push(AssemblyConstraint { rod, other: None, kind: kind.into(), compliance: 0.0, breaking: None, label: None });
+        self.constraints.push(AssemblyConstraint { rod, other: None, kind: kind.into(), compliance: 0.0, breaking: None, label: None, breaks_with: Vec::new() });
         let n = self.constraints.len() - 1;
         &mut self.constraints[n]
     }
     /// A relative constraint between rods `a` and `b`.
     pub fn link(&mut self, a: usize, b: usize, kind: impl Into<ConstraintKind>) -> &mut AssemblyConstraint {
-        self.constraints.push(AssemblyConstraint { rod: a, other: Some(b), kind: kind.into(), compliance: 0.0, breaking: None, label: None });
+        self.constraints.push(AssemblyConstraint { rod: a, other: Some(b), kind: kind.into(), compliance: 0.0, breaking: None, label: None, breaks_with: Vec::new() });
         let n = self.constraints.len() - 1;
         &mut self.constraints[n]
     }
@@ -249,7 +257,7 @@ impl World {
             let a = asm.rod_index("constraint rod", c.rod).map_err(ctx)?;
             let b = c.other.map(|o| asm.rod_index("constraint other rod", o)).transpose().map_err(ctx)?;
             let rods = [&asm.rods[a].rod, &asm.rods[b.unwrap_or(a)].rod];
-            let probe = Constraint { breaking: c.breaking, label: c.label.clone(), ..Constraint::new(RodHandle { index: 0, generation: 0 }, b.map(|_| RodHandle { index: 1, generation: 0 }), c.kind.clone(), c.compliance) };
+            let probe = Constraint { breaking: c.breaking, label: c.label.clone(), breaks_with: c.breaks_with.clone(), ..Constraint::new(RodHandle { index: 0, generation: 0 }, b.map(|_| RodHandle { index: 1, generation: 0 }), c.kind.clone(), c.compliance) };
             probe.check(&rods).map_err(ctx)?;
         }
         for (i, l) in asm.loads.iter().enumerate() {
@@ -287,7 +295,7 @@ impl World {
         let local_batch: Vec<Constraint> = asm
             .constraints
             .iter()
-            .map(|c| Constraint { breaking: c.breaking, label: c.label.clone(), ..Constraint::new(local(c.rod), c.other.map(local), c.kind.clone(), c.compliance) })
+            .map(|c| Constraint { breaking: c.breaking, label: c.label.clone(), breaks_with: c.breaks_with.clone(), ..Constraint::new(local(c.rod), c.other.map(local), c.kind.clone(), c.compliance) })
             .collect();
         let rod_of = |h: RodHandle| -> Result<&Rod> {
             asm.rods.get(h.index as usize).map(|r| &r.rod).ok_or_else(|| Error::handle(format!("assembly rod {}", h.index)))

@@ -75,13 +75,40 @@ fn break_constraints(world: &mut World, events: &mut Vec<Event>) -> Result<()> {
             broken.push((h, f, b.policy));
         }
     }
+    let mut gone = Vec::new();
     for (h, force, policy) in broken {
         if let Some(c) = world.constraints.remove(h) {
-            if c.label.is_some() {
+            if let Some(l) = &c.label {
                 world.groups.mark_broken(h.into(), world.time, force);
+                gone.push(l.clone());
             }
             events.push(Event::ConstraintBroken { constraint: h.into(), label: c.label, time: world.time, force, policy, kind: c.kind });
         }
     }
+    remove_dependents(world, gone, events);
     Ok(())
+}
+
+/// Removes, transitively, the constraints that `breaks_with` one of the
+/// labels in `gone` (reported as broken with force 0).
+pub(crate) fn remove_dependents(world: &mut World, mut gone: Vec<String>, events: &mut Vec<Event>) {
+    while !gone.is_empty() {
+        let deps: Vec<_> = world
+            .constraints
+            .iter()
+            .filter(|(_, c)| c.breaks_with.iter().any(|l| gone.contains(l)))
+            .map(|(h, _)| h)
+            .collect();
+        gone.clear();
+        for h in deps {
+            if let Some(c) = world.constraints.remove(h) {
+                let policy = c.breaking.map(|b| b.policy).unwrap_or_default();
+                if let Some(l) = &c.label {
+                    world.groups.mark_broken(h.into(), world.time, 0.0);
+                    gone.push(l.clone());
+                }
+                events.push(Event::ConstraintBroken { constraint: h.into(), label: c.label, time: world.time, force: 0.0, policy, kind: c.kind });
+            }
+        }
+    }
 }

@@ -173,15 +173,18 @@ fn move_attachments(world: &mut World, h: RodHandle, map: &Map, events: &mut Vec
             c.other = Some(r);
         }
     }
+    let mut gone = Vec::new();
     for i in straddling {
         if let Some(c) = world.constraints.remove(i) {
             let policy = c.breaking.map(|b| b.policy).unwrap_or_default();
-            if c.label.is_some() {
+            if let Some(l) = &c.label {
                 world.groups.mark_broken(i.into(), world.time, 0.0);
+                gone.push(l.clone());
             }
             events.push(Event::ConstraintBroken { constraint: i.into(), label: c.label, time: world.time, force: 0.0, policy, kind: c.kind });
         }
     }
+    super::post_solve::remove_dependents(world, gone, events);
     for (_, l) in world.loads.iter_mut() {
         if l.rod() != h || l.on_rupture() != OnRupture::Follow {
             continue;

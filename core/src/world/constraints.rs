@@ -25,13 +25,18 @@ pub struct Constraint {
     /// Group label, e.g. "hbond[17]".
     #[serde(default)]
     pub label: Option<String>,
+    /// Labels of constraints this one goes with: when one of them breaks
+    /// (or is cut by a rupture), this one is removed too, reported as
+    /// broken with force 0 (stacking that needs both of its base pairs).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub breaks_with: Vec<String>,
 }
 
 impl Constraint {
     /// A constraint with zero multipliers, not breakable, unlabelled.
     pub fn new(rod: RodHandle, other: Option<RodHandle>, kind: ConstraintKind, compliance: f64) -> Constraint {
         let n = kind.n_rows();
-        Constraint { rod, other, kind, compliance, multipliers: vec![0.0; n], breaking: None, label: None }
+        Constraint { rod, other, kind, compliance, multipliers: vec![0.0; n], breaking: None, label: None, breaks_with: Vec::new() }
     }
 
     /// Everything about the constraint that can be checked against its rods.

@@ -5,8 +5,9 @@ use serde::{Deserialize, Serialize};
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Event {
-    /// A constraint exceeded its break force and was removed (or a
-    /// constraint straddling a rupture could no longer hold: force 0).
+    /// A constraint exceeded its break force and was removed (or, force 0:
+    /// a constraint straddling a rupture could no longer hold, or one that
+    /// `breaks_with` a constraint that broke went with it).
     ConstraintBroken {
         constraint: ConstraintHandle,
         /// Its label in the world's groups, e.g. "hbond[17]".

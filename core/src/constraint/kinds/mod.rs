@@ -110,6 +110,7 @@ constraint_kinds! {
     contact::Contact,
     coplanar_clamp::CoplanarClamp,
     barycentric::Barycentric,
+    base_pair_step::BasePairStep,
 }
 
 impl ConstraintKind {
