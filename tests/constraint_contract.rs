@@ -118,6 +118,7 @@ fn examples(name: &str) -> Vec<Example> {
                 ub,
                 ua_next,
                 ub_next,
+                axis_offset: 0.3,
                 rest_shift: [0.1, -0.05, 0.34],
                 rest_rotation: [0.02, -0.03, 0.6],
                 translation_stiffness: [900.0, 1100.0, 3000.0],
@@ -397,6 +398,7 @@ fn bad_parameters(k: &ConstraintKind) -> Vec<ConstraintKind> {
         }
         ConstraintKind::BasePairStep(b) => {
             push(BasePairStep { rest_shift: [nan, 0.0, 0.0], ..b.clone() }.into());
+            push(BasePairStep { axis_offset: nan, ..b.clone() }.into());
             push(BasePairStep { rest_rotation: [0.0, nan, 0.0], ..b.clone() }.into());
             push(BasePairStep { translation_stiffness: [1.0, 0.0, 1.0], ..b.clone() }.into());
             push(BasePairStep { rotation_stiffness: [1.0, 1.0, -1.0], ..b.clone() }.into());

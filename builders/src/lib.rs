@@ -8,11 +8,16 @@
 //! - [`beads_on_spring`]: beads sliding down a hanging helical spring (§9.4).
 //! - [`cable_on_clips`]: a cable on a structure, held by clips (§9.5).
 //! - [`harness`]: cables of several radii joined at junctions (§9.5).
+//! - [`dna::duplex`]: a B-DNA duplex from a sequence: two strands, hydrogen
+//!   bonds, breakable stacking (§9.1); [`dna_elasticity`]: its elastic
+//!   constants measured at zero temperature.
 //! - [`rope::Rope`]: a rope given by linear density, EA and EI.
 //! - [`curves`]: catenary and loaded-cable shapes (initial shapes and the
 //!   closed forms of the tests).
 pub mod cable;
 pub mod curves;
+pub mod dna;
+pub mod dna_elasticity;
 pub mod harness;
 pub mod necklace;
 pub mod rope;
@@ -20,6 +25,7 @@ pub mod rope_bridge;
 pub mod spring;
 
 pub use cable::{cable_on_clips, CableLayout, CableOnClips};
+pub use dna::{duplex, Duplex, DuplexLayout, Elasticity, Stacking, Strand};
 pub use harness::{harness, BranchEnd, Harness, HarnessLayout, JunctionLink};
 pub use necklace::{necklace, Hang, Necklace, NecklaceLayout};
 pub use rope::Rope;

@@ -4,6 +4,10 @@
 //! touches or on earlier rows of the batch — redundant rows leave the
 //! multipliers undefined, contradictory ones have no solution.
 //!
+//! Compliant constraints are left out, as batch and as existing rows: their
+//! −C/h² block keeps the KKT matrix regular whatever their rows (a stacking
+//! spring may well repeat a rigid rung's direction).
+//!
 //! Checked once per batch on the sparse structure: the rows are reduced by
 //! Givens rotations into an upper-triangular R stored row by row, each row
 //! as a dense window from its pivot column (George–Heath). With the columns
@@ -106,7 +110,8 @@ pub(crate) fn check_with<'a>(
     existing: impl Iterator<Item = (usize, &'a Constraint)>,
     batch: &[Constraint],
 ) -> Result<()> {
-    if batch.is_empty() {
+    let hard: Vec<&Constraint> = batch.iter().filter(|c| c.compliance == 0.0).collect();
+    if hard.is_empty() {
         return Ok(());
     }
     // Rods of the batch, and every existing constraint touching one of them.
@@ -118,13 +123,13 @@ pub(crate) fn check_with<'a>(
             rods.len() - 1
         });
     };
-    for c in batch {
+    for c in &hard {
         add_rod(c.rod, &mut rods);
         add_rod(c.other.unwrap_or(c.rod), &mut rods);
     }
     let mine: std::collections::HashSet<RodHandle> = rods.iter().copied().collect();
     let related: Vec<(usize, &Constraint)> =
-        existing.filter(|(_, c)| mine.contains(&c.rod) || c.other.is_some_and(|o| mine.contains(&o))).collect();
+        existing.filter(|(_, c)| c.compliance == 0.0).filter(|(_, c)| mine.contains(&c.rod) || c.other.is_some_and(|o| mine.contains(&o))).collect();
     for (_, c) in &related {
         add_rod(c.rod, &mut rods);
         add_rod(c.other.unwrap_or(c.rod), &mut rods);
@@ -132,7 +137,7 @@ pub(crate) fn check_with<'a>(
     let rod_refs: Vec<&crate::rod::Rod> = rods.iter().map(|h| rod_of(*h)).collect::<Result<_>>()?;
     // Column order: the layout's control-point order over these rods.
     let mut links: Vec<Link> = Vec::new();
-    for c in related.iter().map(|(_, c)| *c).chain(batch) {
+    for c in related.iter().map(|(_, c)| *c).chain(hard.iter().copied()) {
         if let Some(o) = c.other {
             let (a, b) = (index[&c.rod], index[&o]);
             let t = c.kind.touched(&[rod_refs[a], rod_refs[b]])?;
@@ -178,7 +183,7 @@ pub(crate) fn check_with<'a>(
     for r in &existing {
         red.add(r);
     }
-    for (k, c) in batch.iter().enumerate() {
+    for (k, c) in batch.iter().enumerate().filter(|(_, c)| c.compliance == 0.0) {
         for row in rows_of(c, &mut buf)? {
             if !red.add(&row) {
                 let on: Vec<usize> = related.iter().map(|(i, _)| *i).take(12).collect();

@@ -3,7 +3,9 @@
 //! and b. Each pair (a point of each strand) carries a frame:
 //! x along the rung b − a, z the mean strand direction t_a − t_b
 //! (strand b runs antiparallel) made ⟂ x, y = z × x, origin the rung's
-//! midpoint. The rows are the step's strains against its rest — the
+//! midpoint moved by `axis_offset` along y — onto the helix axis, so that
+//! the step strains are those of the duplex's axis (measured from the
+//! off-axis midpoints, twisting the duplex would also shear its steps). The rows are the step's strains against its rest — the
 //! translation of pair i+1's origin in pair i's frame (shift, slide, rise)
 //! and the small-rotation vector of the relative rotation (tilt, roll,
 //! twist: ½ vee(E − Eᵀ) of E = R₀ᵀ F_iᵀ F_{i+1}) — weighted by the square
@@ -31,6 +33,10 @@ pub struct BasePairStep {
     pub ub: f64,
     pub ua_next: f64,
     pub ub_next: f64,
+    /// The pair's origin: the rung midpoint + axis_offset · y (length; a
+    /// double helix of radius R and strand phase φ: R cos(φ/2)).
+    #[serde(default)]
+    pub axis_offset: f64,
     /// Pair i+1's origin in pair i's frame at rest (length).
     pub rest_shift: [f64; 3],
     /// Rotation vector (rad) of pair i+1's frame relative to pair i's at rest.
@@ -49,21 +55,21 @@ type D = DualSVec64<24>;
 
 /// A pair's frame (columns x, y, z) and origin from the strands' points and
 /// derivatives.
-fn pair_frame<T: RealField + Copy>(a: Vector3<T>, da: Vector3<T>, b: Vector3<T>, db: Vector3<T>) -> (Matrix3<T>, Vector3<T>) {
+fn pair_frame<T: RealField + Copy>(a: Vector3<T>, da: Vector3<T>, b: Vector3<T>, db: Vector3<T>, offset: f64) -> (Matrix3<T>, Vector3<T>) {
     let x = (b - a).normalize();
     let v = da.normalize() - db.normalize();
     let z = (v - x * x.dot(&v)).normalize();
     let y = z.cross(&x);
     let half = T::from_subset(&0.5);
-    (Matrix3::from_columns(&[x, y, z]), (a + b) * half)
+    (Matrix3::from_columns(&[x, y, z]), (a + b) * half + y * T::from_subset(&offset))
 }
 
 /// The six strains (shift, slide, rise, tilt, roll, twist) of the step
 /// given the eight input vectors [a, a′, b, b′, a_next, a′_next, b_next,
 /// b′_next] and the rest (translation, rotation).
-fn strains<T: RealField + Copy>(p: &[Vector3<T>; 8], d0: &Vector3<f64>, r0: &Matrix3<f64>) -> [T; 6] {
-    let (f0, o0) = pair_frame(p[0], p[1], p[2], p[3]);
-    let (f1, o1) = pair_frame(p[4], p[5], p[6], p[7]);
+fn strains<T: RealField + Copy>(p: &[Vector3<T>; 8], offset: f64, d0: &Vector3<f64>, r0: &Matrix3<f64>) -> [T; 6] {
+    let (f0, o0) = pair_frame(p[0], p[1], p[2], p[3], offset);
+    let (f1, o1) = pair_frame(p[4], p[5], p[6], p[7], offset);
     let d = f0.transpose() * (o1 - o0);
     let e = r0.transpose().map(|v| T::from_subset(&v)) * f0.transpose() * f1;
     let half = T::from_subset(&0.5);
@@ -164,7 +170,7 @@ impl BasePairStep {
                 p[k][a] = D::from_re(v[a]).derivative(3 * k + a);
             }
         }
-        let e = strains(&p, &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation));
+        let e = strains(&p, self.axis_offset, &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation));
         let w = self.weights();
         let mut out = Eval { g: [0.0; 6], grad: [[0.0; 24]; 6], inputs };
         for r in 0..6 {
@@ -184,12 +190,13 @@ impl BasePairStep {
     }
 
     /// A step at rest in the rods' current shape (the builder's use).
-    pub fn at_rest(rods: &[&Rod], ua: [f64; 2], ub: [f64; 2], translation_stiffness: [f64; 3], rotation_stiffness: [f64; 3], twist_stretch: f64) -> Result<BasePairStep> {
+    pub fn at_rest(rods: &[&Rod], ua: [f64; 2], ub: [f64; 2], axis_offset: f64, translation_stiffness: [f64; 3], rotation_stiffness: [f64; 3], twist_stretch: f64) -> Result<BasePairStep> {
         let mut s = BasePairStep {
             ua: ua[0],
             ub: ub[0],
             ua_next: ua[1],
             ub_next: ub[1],
+            axis_offset,
             rest_shift: [0.0; 3],
             rest_rotation: [0.0; 3],
             translation_stiffness,
@@ -197,8 +204,8 @@ impl BasePairStep {
             twist_stretch,
         };
         let p = s.inputs(rods)?;
-        let (f0, o0) = pair_frame(p[0], p[1], p[2], p[3]);
-        let (f1, o1) = pair_frame(p[4], p[5], p[6], p[7]);
+        let (f0, o0) = pair_frame(p[0], p[1], p[2], p[3], axis_offset);
+        let (f1, o1) = pair_frame(p[4], p[5], p[6], p[7], axis_offset);
         s.rest_shift = (f0.transpose() * (o1 - o0)).into();
         s.rest_rotation = rotation_vector(&(f0.transpose() * f1)).into();
         Ok(s)
@@ -208,7 +215,7 @@ impl BasePairStep {
     /// rad) of the step now, from its rest.
     pub fn strains(&self, rods: &[&Rod]) -> Result<[f64; 6]> {
         let p = self.inputs(rods)?;
-        Ok(strains(&p, &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation)))
+        Ok(strains(&p, self.axis_offset, &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation)))
     }
 }
 
@@ -226,6 +233,7 @@ impl ConstraintLaw for BasePairStep {
             FieldInfo::new("ub", Abscissa, "u", "pair i on strand b"),
             FieldInfo::new("ua_next", Abscissa, "u", "pair i+1 on strand a"),
             FieldInfo::new("ub_next", Abscissa, "u", "pair i+1 on strand b"),
+            FieldInfo::new("axis_offset", Scalar, "length", "the pair's origin: rung midpoint + axis_offset along y (onto the helix axis)").default("0.0"),
             FieldInfo::new("rest_shift", Vec3, "length", "pair i+1's origin in pair i's frame at rest"),
             FieldInfo::new("rest_rotation", Vec3, "rad", "rotation vector from pair i's frame to pair i+1's at rest"),
             FieldInfo::new("translation_stiffness", Vec3, "force/length", "shift, slide, rise stiffness (> 0)"),
@@ -250,6 +258,7 @@ impl ConstraintLaw for BasePairStep {
     }
     fn validate(&self, rods: &[&Rod]) -> Result<()> {
         finite3(&self.rest_shift, "base-pair step rest shift")?;
+        crate::error::finite("base-pair step axis_offset", self.axis_offset)?;
         finite3(&self.rest_rotation, "base-pair step rest rotation")?;
         for (what, k) in [("translation", self.translation_stiffness), ("rotation", self.rotation_stiffness)] {
             for v in k {
