@@ -157,6 +157,52 @@ fn build_beads_on_spring<'py>(
     Ok((PyAssembly { inner: asm }, d))
 }
 
+/// A B-DNA duplex (SPEC §9.1); see `strandkit.dna.duplex`. Molecular units.
+#[pyfunction]
+#[pyo3(signature = (*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, model, temperature))]
+#[allow(clippy::too_many_arguments)]
+fn build_duplex<'py>(
+    py: Python<'py>,
+    sequence: String,
+    complement: Option<String>,
+    bp_per_turn: f64,
+    rise: f64,
+    radius: f64,
+    minor_groove: f64,
+    hbond_compliance: f64,
+    break_force_at: f64,
+    break_force_gc: f64,
+    break_forces: Option<Vec<f64>>,
+    model: &str,
+    temperature: f64,
+) -> PyResult<(PyAssembly, Bound<'py, PyDict>)> {
+    use strandkit_builders::dna::{duplex, Duplex};
+    let mut p = Duplex::new(&sequence);
+    p.model = match model {
+        "reference" => strandkit_core::FrameModel::Reference,
+        "frenet" => strandkit_core::FrameModel::Frenet,
+        _ => return Err(bad(format!("invalid input: model = {model:?}, expected \"reference\" or \"frenet\""))),
+    };
+    p.temperature = temperature;
+    p.stacking = strandkit_builders::dna::Stacking::of_rod(&Default::default(), rise, temperature);
+    p = Duplex { complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, ..p };
+    let (asm, l) = guard(|| duplex(&p))?;
+    let d = PyDict::new(py);
+    d.set_item("strands", l.strands.to_vec())?;
+    d.set_item("sequences", l.sequences.to_vec())?;
+    d.set_item("abscissae", l.abscissae.to_vec())?;
+    d.set_item("partner", l.partner)?;
+    d.set_item("hbonds", l.hbonds)?;
+    d.set_item("stacks", l.stacks)?;
+    d.set_item("mismatches", l.mismatches)?;
+    d.set_item("break_forces", l.break_forces)?;
+    d.set_item("rung_length", l.rung_length)?;
+    d.set_item("phase", l.phase)?;
+    d.set_item("pitch", l.pitch)?;
+    d.set_item("grooves", l.grooves.to_vec())?;
+    Ok((PyAssembly { inner: asm }, d))
+}
+
 /// A cable on clips (SPEC §9.5); see `strandkit.builders.cable_on_clips`.
 #[pyfunction]
 #[pyo3(signature = (*, path, clip_positions, clip_radius, clip_axis, clip_resistance, cable_radius, young_modulus, density, bend_radius, clamp_start, clamp_end, control_points))]
@@ -234,5 +280,6 @@ pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(build_necklace, m)?)?;
     m.add_function(wrap_pyfunction!(build_beads_on_spring, m)?)?;
     m.add_function(wrap_pyfunction!(build_cable_on_clips, m)?)?;
-    m.add_function(wrap_pyfunction!(build_harness, m)?)
+    m.add_function(wrap_pyfunction!(build_harness, m)?)?;
+    m.add_function(wrap_pyfunction!(build_duplex, m)?)
 }

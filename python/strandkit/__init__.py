@@ -77,6 +77,7 @@ from .loads import *  # noqa: F401,F403  (one helper per load kind)
 from .recorder import Recorder
 from .trajectory import TrajectoryWriter, write_trajectory
 from . import builders  # noqa: E402  (strandkit.builders: structure builders)
+from . import dna  # noqa: E402  (strandkit.dna: the DNA duplex)
 
 __version__ = _native.__version__
 

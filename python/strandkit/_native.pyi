@@ -3,7 +3,7 @@
 from typing import Any, Sequence, final
 
 __version__: str
-__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'Obstacle', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_beads_on_spring', 'build_cable_on_clips', 'build_harness', 'build_necklace', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'obstacle_capsule', 'obstacle_mesh_arrays', 'obstacle_mesh_data', 'obstacle_mesh_file', 'obstacle_plane', 'obstacle_sphere', 'read_dcd', 'resistive_force_drag', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
+__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'Obstacle', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_beads_on_spring', 'build_cable_on_clips', 'build_duplex', 'build_harness', 'build_necklace', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'obstacle_capsule', 'obstacle_mesh_arrays', 'obstacle_mesh_data', 'obstacle_mesh_file', 'obstacle_plane', 'obstacle_sphere', 'read_dcd', 'resistive_force_drag', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
 
 def bead_positions(world):
     """Bead positions of a world (length unit), shape (N, 3): the sample points of every rod in world order (one bead per sample point)."""
@@ -11,6 +11,8 @@ def build_beads_on_spring(*, coil_radius, pitch, turns, wire_radius, young_modul
     """Particles on a spring (SPEC §9.4); see `strandkit.builders.beads_on_spring`."""
 def build_cable_on_clips(*, path, clip_positions, clip_radius, clip_axis, clip_resistance, cable_radius, young_modulus, density, bend_radius, clamp_start, clamp_end, control_points):
     """A cable on clips (SPEC §9.5); see `strandkit.builders.cable_on_clips`."""
+def build_duplex(*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, model, temperature):
+    """A B-DNA duplex (SPEC §9.1); see `strandkit.dna.duplex`."""
 def build_harness(*, branches, radii, junctions, connectors, bend_radius, young_modulus, density, control_points_per_metre):
     """A wiring harness (SPEC §9.5); see `strandkit.builders.harness`."""
 def build_necklace(*, n_beads, bead_mass, bead_radius, string=None, length, closed, hang, peg, supports, friction, peg_friction, knotted, control_points):

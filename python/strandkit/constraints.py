@@ -16,7 +16,7 @@ Position(u=0.0, target=[1.0, 2.0, 3.0, 0.0], axes=[True, True, True, False])
 >>> sk.relative_distance(1.0, 2.0, 0.5)
 RelativeDistance(ua=1.0, ub=2.0, distance=0.5)
 >>> sorted(c["helper"] for c in sk.constraints.CATALOGUE)[:3]
-['axis', 'barycentric', 'contact']
+['axis', 'barycentric', 'base_pair_step']
 """
 from __future__ import annotations
 

@@ -10,7 +10,7 @@ import strandkit
 
 MODULES = ["strandkit"] + sorted(f"strandkit.{m.name}" for m in pkgutil.iter_modules(strandkit.__path__))
 # Modules whose docstrings carry examples (a module losing all of them fails).
-WITH_EXAMPLES = {"strandkit", "strandkit._catalogue", "strandkit._native", "strandkit.constraints",
+WITH_EXAMPLES = {"strandkit", "strandkit._catalogue", "strandkit._native", "strandkit.constraints", "strandkit.dna",
                  "strandkit.errors", "strandkit.loads", "strandkit.recorder", "strandkit.trajectory",
                  "strandkit.units"}
 

@@ -1,0 +1,101 @@
+"""DNA double helix (SPEC §9.1, issue 17), in molecular units: nm, pN, ns,
+ag, K — use ``World(units="molecular")``.
+
+>>> import strandkit as sk
+>>> d = sk.dna.duplex("GATTACAGATTACA")
+>>> d
+Duplex(14 bp, 'GATTACAGATTACA', 10.5 bp/turn, rise 0.34 nm, radius 1.0 nm, minor groove 1.26 nm, mismatches=[])
+>>> d.sequences[1]
+'TGTAATCTGTAATC'
+
+Two backbone strands (rods through the nucleotides, strand a 5′→3′ up the
+z axis, strand b antiparallel), one hydrogen bond per base pair (a distance
+constraint, labelled ``hbond[k]``, breaking in tension above its pair's
+force: A·T 9 pN, G·C 20 pN by default) and stacking between consecutive
+pairs (``stack[k]``: six compliant base-pair-step strains), removed as soon
+as either of its pairs breaks. Pair k is strand a's nucleotide k.
+
+Status: the geometry is exact and the stacking carries the duplex's
+stretch modulus, twist–stretch coupling and twist stiffness when the
+strands are soft; with single-stranded DNA strands (800 pN, 0.75 nm) the
+zero-temperature duplex is stiffer than B-DNA (measured S ≈ 1270 pN,
+C ≈ 280 nm kT, A ≈ 200 nm, and it unwinds when stretched) — the
+calibration of issue 17 is not done yet (``examples/dna_probe.rs``).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import List, Optional, Sequence
+
+import numpy as np
+
+from . import _native
+
+__all__ = ["Duplex", "duplex"]
+
+
+@dataclass(frozen=True)
+class Duplex:
+    """A built duplex: the assembly to insert and where its parts are.
+
+    ``strands``: assembly rod indices of strand a and strand b;
+    ``sequences``: both strands 5′→3′; ``abscissae``: each nucleotide's
+    abscissa on its strand, 5′→3′; ``partner[k]``: strand b's nucleotide
+    paired with a's k; ``hbonds[k]``/``stacks[k]``: assembly constraint
+    indices (None for a mismatch); ``break_forces``: pN per pair;
+    ``rung_length``, ``pitch``, ``grooves`` (minor, major): nm;
+    ``phase``: the strand offset φ (rad)."""
+
+    assembly: object
+    strands: List[int]
+    sequences: List[str]
+    abscissae: List[np.ndarray]
+    partner: np.ndarray
+    hbonds: list
+    stacks: list
+    mismatches: List[int]
+    break_forces: np.ndarray
+    rung_length: float
+    phase: float
+    pitch: float
+    grooves: List[float]
+    params: dict = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.partner)
+
+    def __repr__(self) -> str:
+        p = self.params
+        seq = self.sequences[0] if len(self) <= 24 else self.sequences[0][:21] + "..."
+        return (f"Duplex({len(self)} bp, {seq!r}, {p['bp_per_turn']} bp/turn, rise {p['rise']} nm, "
+                f"radius {p['radius']} nm, minor groove {self.grooves[0]:.3g} nm, mismatches={self.mismatches})")
+
+
+def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: float = 10.5, rise: float = 0.34,
+           radius: float = 1.0, minor_groove: float = 12.0 / 34.0, hbond_compliance: float = 0.0,
+           break_force_at: float = 9.0, break_force_gc: float = 20.0,
+           break_forces: Optional[Sequence[float]] = None, model: str = "reference",
+           temperature: float = 298.15) -> Duplex:
+    """B-DNA duplex of ``sequence`` (strand a, 5′→3′; A, C, G, T in either
+    case; any other letter is refused with its position).
+
+    complement: strand b 5′→3′ (default: the Watson–Crick complement;
+    mismatched pairs get no hydrogen bond and no stacking, and are listed in
+    ``mismatches``); bp_per_turn; rise: nm per base pair; radius: nm (the
+    strands' helices); minor_groove: the share of the pitch the minor groove
+    spans along the axis (12/34 by default, φ ≈ 127°; the thesis: 0.4 with
+    bp_per_turn=10); hbond_compliance: nm/pN (0: rigid bonds);
+    break_force_at, break_force_gc: pN, tension that breaks an A·T / G·C
+    bond; break_forces: pN per pair, overriding them (``inf``: unbreakable);
+    model: frame model of the strands, "reference" or "frenet";
+    temperature: K (persistence lengths → stiffness).
+    """
+    params = dict(sequence=str(sequence), complement=complement, bp_per_turn=float(bp_per_turn), rise=float(rise),
+                  radius=float(radius), minor_groove=float(minor_groove), hbond_compliance=float(hbond_compliance),
+                  break_force_at=float(break_force_at), break_force_gc=float(break_force_gc),
+                  break_forces=None if break_forces is None else [float(f) for f in break_forces],
+                  model=str(model), temperature=float(temperature))
+    asm, l = _native.build_duplex(**params)
+    return Duplex(asm, list(l["strands"]), list(l["sequences"]), [np.asarray(a) for a in l["abscissae"]],
+                  np.asarray(l["partner"]), list(l["hbonds"]), list(l["stacks"]), list(l["mismatches"]),
+                  np.asarray(l["break_forces"]), l["rung_length"], l["phase"], l["pitch"], list(l["grooves"]), params)

@@ -1,0 +1,66 @@
+"""strandkit.dna (issue 17): the duplex builder from Python — exact
+geometry read back from a world, sequences checked with their position,
+mismatches flagged, H-bonds that break in tension taking their stacking
+with them."""
+import math
+
+import numpy as np
+import pytest
+
+import strandkit as sk
+
+
+def built(seq, **kw):
+    d = sk.dna.duplex(seq, **kw)
+    w = sk.World(units="molecular")
+    ins = w.insert(d.assembly)
+    return d, w, ins
+
+
+def test_geometry_read_back_from_the_world():
+    d, w, ins = built("gattacaGATTACAgattacaGATTACA")
+    a, b = (ins.rods[i] for i in d.strands)
+    pa = np.array([a.position(u) for u in d.abscissae[0]])
+    pb = np.array([b.position(d.abscissae[1][j]) for j in d.partner])
+    assert np.allclose(np.hypot(pa[:, 0], pa[:, 1]), 1.0, atol=1e-9)
+    assert np.allclose(np.diff(pa[:, 2]), 0.34, atol=1e-9)
+    assert np.allclose(pb[:, 2], pa[:, 2], atol=1e-9)
+    assert np.allclose(np.linalg.norm(pb - pa, axis=1), d.rung_length, atol=1e-9)
+    assert d.rung_length == pytest.approx(2 * math.sin(math.pi * 12 / 34), abs=1e-12)
+    assert d.grooves == pytest.approx([12 / 34 * 3.57, 22 / 34 * 3.57], abs=1e-9)
+    assert d.sequences == ["GATTACAGATTACAGATTACAGATTACA", "TGTAATCTGTAATCTGTAATCTGTAATC"]
+    assert len(w.group("hbond").forces) == 28
+    assert "28 bp" in repr(d)
+
+
+def test_bad_sequences_name_the_position():
+    with pytest.raises(sk.InvalidInputError, match="position 5"):
+        sk.dna.duplex("GATTNCA")
+    with pytest.raises(sk.InvalidInputError, match="empty"):
+        sk.dna.duplex("")
+    with pytest.raises(sk.InvalidInputError, match="break_forces"):
+        sk.dna.duplex("GATTACA", break_forces=[1.0] * 6)
+    with pytest.raises(sk.InvalidInputError, match="model"):
+        sk.dna.duplex("GATTACA", model="cosserat")
+    d = sk.dna.duplex("AACGTG", complement="CACTTT")
+    assert d.mismatches == [2] and d.hbonds[2] is None and d.stacks[1] is None
+
+
+def test_unzipping_the_end_pair_removes_its_stacking():
+    n = 16
+    d, w, ins = built("GC" * (n // 2), break_forces=[5.0] + [math.inf] * (n - 1))
+    a, b = (ins.rods[i] for i in d.strands)
+    w.set_params(dt=1e-3)
+    w.clamp(a, d.abscissae[0][-1])
+    ua, ub = d.abscissae[0][0], d.abscissae[1][-1]
+    x = np.asarray(b.position(ub)) - np.asarray(a.position(ua))
+    x /= np.linalg.norm(x)
+    w.add_load(sk.point_force(a, ua, -8.0 * x))
+    w.add_load(sk.point_force(b, ub, 8.0 * x))
+    events = []
+    for _ in range(5):
+        events += list(w.step().events)
+    broken = [(e.label, e.force) for e in events if e.kind == "ConstraintBroken"]
+    assert broken[0][0] == "hbond[0]" and broken[0][1] > 5.0
+    assert broken[1] == ("stack[0]", 0.0)
+    assert len(broken) == 2
