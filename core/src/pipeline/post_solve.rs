@@ -101,14 +101,21 @@ pub(crate) fn remove_dependents(world: &mut World, mut gone: Vec<String>, events
             .collect();
         gone.clear();
         for h in deps {
-            if let Some(c) = world.constraints.remove(h) {
-                let policy = c.breaking.map(|b| b.policy).unwrap_or_default();
-                if let Some(l) = &c.label {
-                    world.groups.mark_broken(h.into(), world.time, 0.0);
-                    gone.push(l.clone());
-                }
-                events.push(Event::ConstraintBroken { constraint: h.into(), label: c.label, time: world.time, force: 0.0, policy, kind: c.kind });
-            }
+            gone.extend(drop_unheld(world, h, events));
         }
     }
+}
+
+/// Removes constraint `h`, which can no longer hold (its partner broke, or
+/// a rupture cut its rod between its points): reported as broken at force
+/// 0; returns its label.
+pub(crate) fn drop_unheld(world: &mut World, h: crate::handles::Index, events: &mut Vec<Event>) -> Option<String> {
+    let c = world.constraints.remove(h)?;
+    let policy = c.breaking.map(|b| b.policy).unwrap_or_default();
+    if c.label.is_some() {
+        world.groups.mark_broken(h.into(), world.time, 0.0);
+    }
+    let label = c.label.clone();
+    events.push(Event::ConstraintBroken { constraint: h.into(), label: c.label, time: world.time, force: 0.0, policy, kind: c.kind });
+    label
 }

@@ -175,14 +175,7 @@ fn move_attachments(world: &mut World, h: RodHandle, map: &Map, events: &mut Vec
     }
     let mut gone = Vec::new();
     for i in straddling {
-        if let Some(c) = world.constraints.remove(i) {
-            let policy = c.breaking.map(|b| b.policy).unwrap_or_default();
-            if let Some(l) = &c.label {
-                world.groups.mark_broken(i.into(), world.time, 0.0);
-                gone.push(l.clone());
-            }
-            events.push(Event::ConstraintBroken { constraint: i.into(), label: c.label, time: world.time, force: 0.0, policy, kind: c.kind });
-        }
+        gone.extend(super::post_solve::drop_unheld(world, i, events));
     }
     super::post_solve::remove_dependents(world, gone, events);
     for (_, l) in world.loads.iter_mut() {
