@@ -22,8 +22,9 @@
 //! its pairs breaks (`breaks_with`), so that an opened region is two single
 //! strands. The strands are as flexible as single-stranded DNA; the
 //! duplex's bending, stretch and twist stiffness come from the stacking,
-//! calibrated by [`Stacking::calibrated`] (the strands' own share is
-//! measured and subtracted; see that function and the tests).
+//! set by [`Stacking::of_rod`] from the duplex's [`Elasticity`] at the
+//! builder's rise and temperature (the strands add their own share:
+//! measured by [`crate::dna_elasticity`]; the calibration is open).
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 use strandkit_core::constraint::kinds::{BasePairStep, RelativeDistance};
@@ -130,7 +131,8 @@ pub struct Duplex {
     /// overriding the two above; `f64::INFINITY` for an unbreakable pair.
     pub break_forces: Option<Vec<f64>>,
     pub strand: Strand,
-    pub stacking: Stacking,
+    /// The duplex's elastic constants the stacking is set for.
+    pub elasticity: Elasticity,
     /// Frame model of the strands.
     pub model: FrameModel,
     /// Temperature (K) at which persistence lengths are converted to stiffness.
@@ -140,13 +142,11 @@ pub struct Duplex {
 impl Duplex {
     /// A duplex of `sequence` with the default B-DNA parameters.
     pub fn new(sequence: &str) -> Duplex {
-        let rise = 0.34;
-        let temperature = 298.15;
         Duplex {
             sequence: sequence.to_string(),
             complement: None,
             bp_per_turn: 10.5,
-            rise,
+            rise: 0.34,
             radius: 1.0,
             minor_groove: 12.0 / 34.0,
             hbond_compliance: 0.0,
@@ -154,9 +154,9 @@ impl Duplex {
             break_force_gc: 20.0,
             break_forces: None,
             strand: Strand::default(),
-            stacking: Stacking::of_rod(&Elasticity::default(), rise, temperature),
+            elasticity: Elasticity::default(),
             model: FrameModel::Reference,
-            temperature,
+            temperature: 298.15,
         }
     }
 
@@ -197,10 +197,16 @@ impl Duplex {
         positive("strand persistence_length", self.strand.persistence_length)?;
         positive("strand nucleotide_mass", self.strand.nucleotide_mass)?;
         positive("temperature", self.temperature)?;
-        for v in self.stacking.translation.iter().chain(&self.stacking.rotation) {
-            positive("stacking stiffness", *v)?;
+        let e = &self.elasticity;
+        positive("bending_persistence", e.bending_persistence)?;
+        positive("stretch_modulus", e.stretch_modulus)?;
+        positive("twist_persistence", e.twist_persistence)?;
+        positive("shear_modulus", e.shear_modulus)?;
+        finite("twist_stretch", e.twist_stretch)?;
+        let c = e.twist_persistence * BOLTZMANN * self.temperature;
+        if e.twist_stretch.powi(2) >= e.stretch_modulus * c {
+            return Err(Error::invalid("twist_stretch", e.twist_stretch, "g² < S·C (a stable duplex)"));
         }
-        finite("stacking twist_stretch", self.stacking.twist_stretch)?;
         Ok(())
     }
 }
@@ -328,7 +334,7 @@ pub fn duplex(p: &Duplex) -> Result<(Assembly, DuplexLayout)> {
         hbonds[k] = Some(asm.constraints.len() - 1);
     }
     let rods = [&rod_a, &rod_b];
-    let s = &p.stacking;
+    let s = Stacking::of_rod(&p.elasticity, p.rise, p.temperature);
     let mut stacks = vec![None; n - 1];
     for k in 0..n - 1 {
         if hbonds[k].is_none() || hbonds[k + 1].is_none() {

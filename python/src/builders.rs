@@ -184,7 +184,6 @@ fn build_duplex<'py>(
         _ => return Err(bad(format!("invalid input: model = {model:?}, expected \"reference\" or \"frenet\""))),
     };
     p.temperature = temperature;
-    p.stacking = strandkit_builders::dna::Stacking::of_rod(&Default::default(), rise, temperature);
     p = Duplex { complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, ..p };
     let (asm, l) = guard(|| duplex(&p))?;
     let d = PyDict::new(py);
