@@ -5,7 +5,7 @@
 //!
 //!     cargo run --release --example dna_probe [-- N_BP]
 use strandkit::prelude::*;
-use strandkit_builders::dna::{Duplex, Elasticity, BOLTZMANN};
+use strandkit_builders::dna::{Duplex, BOLTZMANN};
 use strandkit_builders::dna_elasticity::zero_temperature_elasticity;
 
 fn env(k: &str) -> Option<f64> {
@@ -19,10 +19,15 @@ fn main() -> Result<()> {
     p.strand.stretch_modulus = env("SS").unwrap_or(p.strand.stretch_modulus);
     p.strand.persistence_length = env("SP").unwrap_or(p.strand.persistence_length);
     p.minor_groove = env("MG").unwrap_or(p.minor_groove);
+    p.radius = env("R").unwrap_or(p.radius);
+    p.bp_per_turn = env("BPT").unwrap_or(p.bp_per_turn);
+    p.elasticity.shear_modulus = env("SH").unwrap_or(p.elasticity.shear_modulus);
+    let cal = strandkit_builders::dna_elasticity::calibrated(&p)?;
+    println!("calibrated in {} probes: stacking {:?}", cal.iterations, cal.stacking);
     let m = zero_temperature_elasticity(&p)?;
     let kt = BOLTZMANN * p.temperature;
-    let e = Elasticity::default();
-    println!("{n} bp, strands {} pN, {} nm; stacking set for S {} pN, g {} pN·nm, C {:.0} pN·nm², B {:.0} pN·nm²",
+    let e = p.elasticity;
+    println!("{n} bp, strands {} pN, {} nm; duplex calibrated for S {} pN, g {} pN·nm, C {:.0} pN·nm², B {:.0} pN·nm²",
         p.strand.stretch_modulus, p.strand.persistence_length, e.stretch_modulus, e.twist_stretch, e.twist_persistence * kt, e.bending_persistence * kt);
     println!("  measured: S = {:.1} pN, g = {:.1} pN·nm, C = {:.1} pN·nm² ({:.1} nm), B = {:.1} pN·nm² (A = {:.1} nm)",
         m.stretch_modulus, m.twist_stretch, m.twist_stiffness, m.twist_stiffness / kt, m.bending_stiffness, m.bending_stiffness / kt);

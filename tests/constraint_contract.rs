@@ -113,11 +113,15 @@ fn examples(name: &str) -> Vec<Example> {
             ex(Closed, Barycentric { points: vec![(7.5, 0.6), (1.0, 0.4)], driven: 0.2, axes: [false, true, true, false] }),
         ],
         "BasePairStep" => {
-            let step = |ua, ub, ua_next, ub_next| BasePairStep {
+            let step = |[ua_prev, ua, ua_next, ua_after]: [f64; 4], [ub_prev, ub, ub_next, ub_after]: [f64; 4]| BasePairStep {
+                ua_prev,
+                ub_prev,
                 ua,
                 ub,
                 ua_next,
                 ub_next,
+                ua_after,
+                ub_after,
                 axis_offset: 0.3,
                 rest_shift: [0.1, -0.05, 0.34],
                 rest_rotation: [0.02, -0.03, 0.6],
@@ -125,7 +129,10 @@ fn examples(name: &str) -> Vec<Example> {
                 rotation_stiffness: [600.0, 650.0, 1200.0],
                 twist_stretch: -250.0,
             };
-            vec![ex(Two, step(1.2, 6.1, 1.9, 5.4)), ex(SameRod, step(0.5, 4.2, 1.1, 3.6))]
+            vec![
+                ex(Two, step([1.0, 1.2, 1.9, 2.3], [6.4, 6.1, 5.4, 5.1])),
+                ex(SameRod, step([0.2, 0.5, 1.1, 1.4], [4.5, 4.2, 3.6, 3.3])),
+            ]
         }
         _ => vec![],
     }

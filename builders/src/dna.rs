@@ -18,13 +18,16 @@
 //! paired nucleotides (length 2R sin(φ/2)), compliant or rigid, breaking in
 //! tension only above its pair's force (A·T weaker than G·C). Per step
 //! between consecutive pairs, stacking: a [`BasePairStep`] (six compliant
-//! strains of the step, with compliance 1), removed as soon as either of
-//! its pairs breaks (`breaks_with`), so that an opened region is two single
-//! strands. The strands are as flexible as single-stranded DNA; the
-//! duplex's bending, stretch and twist stiffness come from the stacking,
-//! set by [`Stacking::of_rod`] from the duplex's [`Elasticity`] at the
-//! builder's rise and temperature (the strands add their own share:
-//! measured by [`crate::dna_elasticity`]; the calibration is open).
+//! strains of the step, with compliance 1), removed as soon as any of
+//! the pairs it reads (the step's two and their neighbours) breaks (`breaks_with`), so that an opened region is
+//! two single strands. The strands have single-stranded DNA's bending
+//! persistence and no twist energy (the backbone swivels; Frenet model
+//! without roll: the reference-frame model without a roll coordinate
+//! would pin a naturally curved strand's frame and stiffen the duplex's
+//! twist and bending); the duplex's bending, stretch and twist stiffness
+//! come from the stacking, calibrated ([`crate::dna_elasticity::calibrated`])
+//! so that the whole duplex, strands included, has [`Duplex::elasticity`]
+//! at zero temperature.
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 use strandkit_core::constraint::kinds::{BasePairStep, RelativeDistance};
@@ -50,9 +53,16 @@ pub struct Strand {
 }
 
 impl Default for Strand {
-    /// Single-stranded DNA: 800 pN, 0.75 nm, 330 Da per nucleotide.
+    /// Single-stranded DNA's persistence (0.75 nm) and mass (330 Da per
+    /// nucleotide); stretch modulus 400 pN, half ssDNA's ≈ 800: the
+    /// strands wind round the axis, so twisting or stretching the duplex
+    /// stretches them, which stiffens its twist and unwinds it under
+    /// tension (at 800 pN: +460 pN·nm² on C and +280 pN·nm on g, measured
+    /// by [`crate::dna_elasticity`]), more than a stable stacking
+    /// (g² < S·C) can take back; at 500 pN the thesis' 10 bp/turn already
+    /// fails, at 400 pN both settings calibrate with g² ≈ S·C / 2.5.
     fn default() -> Self {
-        Strand { stretch_modulus: 800.0, persistence_length: 0.75, nucleotide_mass: 330.0 * 1.660_539_07e-6 }
+        Strand { stretch_modulus: 400.0, persistence_length: 0.75, nucleotide_mass: 330.0 * 1.660_539_07e-6 }
     }
 }
 
@@ -88,6 +98,22 @@ impl Default for Elasticity {
     /// g = −90 pN·nm; shear as stiff as stretch.
     fn default() -> Self {
         Elasticity { bending_persistence: 50.0, stretch_modulus: 1100.0, twist_persistence: 100.0, twist_stretch: -90.0, shear_modulus: 1100.0 }
+    }
+}
+
+impl Elasticity {
+    /// Positive constants with g² < S·C (a stable duplex) at `temperature` (K).
+    pub fn validate(&self, what: &str, temperature: f64) -> Result<()> {
+        positive(&format!("{what} bending_persistence"), self.bending_persistence)?;
+        positive(&format!("{what} stretch_modulus"), self.stretch_modulus)?;
+        positive(&format!("{what} twist_persistence"), self.twist_persistence)?;
+        positive(&format!("{what} shear_modulus"), self.shear_modulus)?;
+        finite(&format!("{what} twist_stretch"), self.twist_stretch)?;
+        let c = self.twist_persistence * BOLTZMANN * temperature;
+        if self.twist_stretch.powi(2) >= self.stretch_modulus * c {
+            return Err(Error::invalid(&format!("{what} twist_stretch"), self.twist_stretch, "g² < S·C (a stable duplex)"));
+        }
+        Ok(())
     }
 }
 
@@ -131,10 +157,13 @@ pub struct Duplex {
     /// overriding the two above; `f64::INFINITY` for an unbreakable pair.
     pub break_forces: Option<Vec<f64>>,
     pub strand: Strand,
-    /// The duplex's elastic constants the stacking is set for.
+    /// The duplex's elastic constants (zero temperature) the stacking is
+    /// calibrated for.
     pub elasticity: Elasticity,
-    /// Frame model of the strands.
-    pub model: FrameModel,
+    /// The stacking's own constants (per step by [`Stacking::of_rod`]);
+    /// None: calibrated so that the whole duplex, strands included, has
+    /// `elasticity` ([`crate::dna_elasticity::calibrated`]).
+    pub stacking: Option<Elasticity>,
     /// Temperature (K) at which persistence lengths are converted to stiffness.
     pub temperature: f64,
 }
@@ -155,7 +184,7 @@ impl Duplex {
             break_forces: None,
             strand: Strand::default(),
             elasticity: Elasticity::default(),
-            model: FrameModel::Reference,
+            stacking: None,
             temperature: 298.15,
         }
     }
@@ -197,15 +226,9 @@ impl Duplex {
         positive("strand persistence_length", self.strand.persistence_length)?;
         positive("strand nucleotide_mass", self.strand.nucleotide_mass)?;
         positive("temperature", self.temperature)?;
-        let e = &self.elasticity;
-        positive("bending_persistence", e.bending_persistence)?;
-        positive("stretch_modulus", e.stretch_modulus)?;
-        positive("twist_persistence", e.twist_persistence)?;
-        positive("shear_modulus", e.shear_modulus)?;
-        finite("twist_stretch", e.twist_stretch)?;
-        let c = e.twist_persistence * BOLTZMANN * self.temperature;
-        if e.twist_stretch.powi(2) >= e.stretch_modulus * c {
-            return Err(Error::invalid("twist_stretch", e.twist_stretch, "g² < S·C (a stable duplex)"));
+        self.elasticity.validate("elasticity", self.temperature)?;
+        if let Some(e) = &self.stacking {
+            e.validate("stacking", self.temperature)?;
         }
         Ok(())
     }
@@ -312,7 +335,7 @@ pub fn duplex(p: &Duplex) -> Result<(Assembly, DuplexLayout)> {
             .with_roll(false)
             .section(Section::circle(r)?)
             .material(material.clone())
-            .options(RodOptions { model: p.model, ..Default::default() })
+            .options(RodOptions { model: FrameModel::Frenet, ..Default::default() })
             .build()
     };
     let rod_a = strand((0..n).map(|k| p.position_a(k)).collect())?;
@@ -334,14 +357,29 @@ pub fn duplex(p: &Duplex) -> Result<(Assembly, DuplexLayout)> {
         hbonds[k] = Some(asm.constraints.len() - 1);
     }
     let rods = [&rod_a, &rod_b];
-    let s = Stacking::of_rod(&p.elasticity, p.rise, p.temperature);
+    let stacking = match p.stacking {
+        Some(e) => e,
+        None => crate::dna_elasticity::calibrated(p)?.stacking,
+    };
+    let s = Stacking::of_rod(&stacking, p.rise, p.temperature);
     let mut stacks = vec![None; n - 1];
     for k in 0..n - 1 {
         if hbonds[k].is_none() || hbonds[k + 1].is_none() {
             continue;
         }
-        let kind = BasePairStep::at_rest(&rods, [ua[k], ua[k + 1]], [ub[partner[k]], ub[partner[k + 1]]], p.radius * (0.5 * p.phase()).cos(), s.translation, s.rotation, s.twist_stretch)?;
-        asm.link(sa, sb, kind).compliance(1.0).label(format!("stack[{k}]")).breaks_with(format!("hbond[{k}]")).breaks_with(format!("hbond[{}]", k + 1));
+        // The pairs framing the step: k−1 and k+2 where they are bonded,
+        // else the end pair again (it then adds nothing to the axis).
+        let before = if k > 0 && hbonds[k - 1].is_some() { k - 1 } else { k };
+        let after = if k + 2 < n && hbonds[k + 2].is_some() { k + 2 } else { k + 1 };
+        let pairs = [before, k, k + 1, after];
+        let kind = BasePairStep::at_rest(&rods, pairs.map(|j| ua[j]), pairs.map(|j| ub[partner[j]]), p.radius * (0.5 * p.phase()).cos(), s.translation, s.rotation, s.twist_stretch)?;
+        let c = asm.link(sa, sb, kind).compliance(1.0).label(format!("stack[{k}]"));
+        // It reads every pair it is framed by: it goes when any of them breaks.
+        let mut framing = pairs.to_vec();
+        framing.dedup();
+        for j in framing {
+            c.breaks_with(format!("hbond[{j}]"));
+        }
         stacks[k] = Some(asm.constraints.len() - 1);
     }
     let pitch = p.pitch();

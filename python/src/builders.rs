@@ -159,7 +159,7 @@ fn build_beads_on_spring<'py>(
 
 /// A B-DNA duplex (SPEC §9.1); see `strandkit.dna.duplex`. Molecular units.
 #[pyfunction]
-#[pyo3(signature = (*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, model, temperature))]
+#[pyo3(signature = (*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, strand_stretch_modulus, strand_persistence, bending_persistence, stretch_modulus, twist_persistence, twist_stretch, temperature))]
 #[allow(clippy::too_many_arguments)]
 fn build_duplex<'py>(
     py: Python<'py>,
@@ -173,20 +173,32 @@ fn build_duplex<'py>(
     break_force_at: f64,
     break_force_gc: f64,
     break_forces: Option<Vec<f64>>,
-    model: &str,
+    strand_stretch_modulus: f64,
+    strand_persistence: f64,
+    bending_persistence: f64,
+    stretch_modulus: f64,
+    twist_persistence: f64,
+    twist_stretch: f64,
     temperature: f64,
 ) -> PyResult<(PyAssembly, Bound<'py, PyDict>)> {
-    use strandkit_builders::dna::{duplex, Duplex};
+    use strandkit_builders::dna::{duplex, Duplex, Elasticity};
     let mut p = Duplex::new(&sequence);
-    p.model = match model {
-        "reference" => strandkit_core::FrameModel::Reference,
-        "frenet" => strandkit_core::FrameModel::Frenet,
-        _ => return Err(bad(format!("invalid input: model = {model:?}, expected \"reference\" or \"frenet\""))),
-    };
     p.temperature = temperature;
+    p.strand.stretch_modulus = strand_stretch_modulus;
+    p.strand.persistence_length = strand_persistence;
+    p.elasticity = Elasticity { bending_persistence, stretch_modulus, twist_persistence, twist_stretch, ..p.elasticity };
     p = Duplex { complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, ..p };
     let (asm, l) = guard(|| duplex(&p))?;
+    // The calibration the build used (cached: no second run).
+    let cal = guard(|| strandkit_builders::dna_elasticity::calibrated(&p))?;
     let d = PyDict::new(py);
+    let m = cal.measured;
+    let measured = PyDict::new(py);
+    measured.set_item("stretch_modulus", m.stretch_modulus)?;
+    measured.set_item("twist_stretch", m.twist_stretch)?;
+    measured.set_item("twist_stiffness", m.twist_stiffness)?;
+    measured.set_item("bending_stiffness", m.bending_stiffness)?;
+    d.set_item("measured", measured)?;
     d.set_item("strands", l.strands.to_vec())?;
     d.set_item("sequences", l.sequences.to_vec())?;
     d.set_item("abscissae", l.abscissae.to_vec())?;

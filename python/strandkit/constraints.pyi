@@ -16,8 +16,8 @@ def axis(u: float, origin: Sequence[float], direction: Sequence[float]) -> Kind:
     """r(u) stays on the line through `origin` (length) along `direction` (two rows)."""
 def barycentric(points: Sequence[Tuple[float, float]], driven: float, axes: Union[str, Sequence[bool]] = 'xyz') -> Kind:
     """Σ a_j q(u_j) = q(driven) on the selected `axes` of one rod, for 1 to 4 `points` (u_j, a_j) (weights summing to 1 make it translation invariant)."""
-def base_pair_step(ua: float, ub: float, ua_next: float, ub_next: float, axis_offset: float = 0.0, *, rest_shift: Sequence[float], rest_rotation: Sequence[float], translation_stiffness: Sequence[float], rotation_stiffness: Sequence[float], twist_stretch: float = 0.0) -> Kind:
-    """Stacking of a double helix between base pair (ua on strand a, ub on strand b) and the next (ua_next, ub_next): six rows, the step's shift, slide, rise (length) and tilt, roll, twist (rad) from their rest, weighted so that with compliance 1 the energy is ½ eᵀKe (K: the stiffnesses, rise–twist coupled by `twist_stretch`)."""
+def base_pair_step(ua_prev: float, ub_prev: float, ua: float, ub: float, ua_next: float, ub_next: float, ua_after: float, ub_after: float, axis_offset: float = 0.0, *, rest_shift: Sequence[float], rest_rotation: Sequence[float], translation_stiffness: Sequence[float], rotation_stiffness: Sequence[float], twist_stretch: float = 0.0) -> Kind:
+    """Stacking of a double helix between base pair (ua on strand a, ub on strand b) and the next (ua_next, ub_next), the pairs before (ua_prev, ub_prev) and after (ua_after, ub_after) giving the helix axis (at an end: the end pair again): six rows, the step's shift, slide, rise (length) and tilt, roll, twist (rad) from their rest, weighted so that with compliance 1 the energy is ½ eᵀKe (K: the stiffnesses, rise–twist coupled by `twist_stretch`)."""
 def contact(ua: float, ub: float, distance: float) -> Kind:
     """Sliding contact between rods a and b of World.add_link: |r_a(ua) − r_b(ub)| = `distance` (length) with both abscissae moved to the closest points."""
 def coplanar_clamp(ua: float, ub: float, alpha: Sequence[float]) -> Kind:

@@ -15,12 +15,11 @@ force: A·T 9 pN, G·C 20 pN by default) and stacking between consecutive
 pairs (``stack[k]``: six compliant base-pair-step strains), removed as soon
 as either of its pairs breaks. Pair k is strand a's nucleotide k.
 
-Status: the geometry is exact and the stacking carries the duplex's
-stretch modulus, twist–stretch coupling and twist stiffness when the
-strands are soft; with single-stranded DNA strands (800 pN, 0.75 nm) the
-zero-temperature duplex is stiffer than B-DNA (measured S ≈ 1270 pN,
-C ≈ 280 nm kT, A ≈ 200 nm, and it unwinds when stretched) — the
-calibration of issue 17 is not done yet (``examples/dna_probe.rs``).
+The stacking is calibrated so that the whole duplex, strands included,
+has the elasticity asked for at zero temperature (B-DNA by default:
+A = 50 nm, S = 1100 pN, C = 100 nm kT, g = −90 pN·nm; ``measured`` holds
+what the calibration measured). Not yet checked: the same constants with
+thermal noise on.
 """
 from __future__ import annotations
 
@@ -44,7 +43,9 @@ class Duplex:
     paired with a's k; ``hbonds[k]``/``stacks[k]``: assembly constraint
     indices (None for a mismatch); ``break_forces``: pN per pair;
     ``rung_length``, ``pitch``, ``grooves`` (minor, major): nm;
-    ``phase``: the strand offset φ (rad)."""
+    ``phase``: the strand offset φ (rad); ``measured``: the duplex's
+    zero-temperature stretch_modulus (pN), twist_stretch (pN·nm),
+    twist_stiffness and bending_stiffness (pN·nm²) as calibrated."""
 
     assembly: object
     strands: List[int]
@@ -59,6 +60,7 @@ class Duplex:
     phase: float
     pitch: float
     grooves: List[float]
+    measured: dict = field(default_factory=dict)
     params: dict = field(default_factory=dict)
 
     def __len__(self) -> int:
@@ -74,8 +76,9 @@ class Duplex:
 def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: float = 10.5, rise: float = 0.34,
            radius: float = 1.0, minor_groove: float = 12.0 / 34.0, hbond_compliance: float = 0.0,
            break_force_at: float = 9.0, break_force_gc: float = 20.0,
-           break_forces: Optional[Sequence[float]] = None, model: str = "reference",
-           temperature: float = 298.15) -> Duplex:
+           break_forces: Optional[Sequence[float]] = None, strand_stretch_modulus: float = 400.0,
+           strand_persistence: float = 0.75, bending_persistence: float = 50.0, stretch_modulus: float = 1100.0,
+           twist_persistence: float = 100.0, twist_stretch: float = -90.0, temperature: float = 298.15) -> Duplex:
     """B-DNA duplex of ``sequence`` (strand a, 5′→3′; A, C, G, T in either
     case; any other letter is refused with its position).
 
@@ -87,15 +90,26 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
     bp_per_turn=10); hbond_compliance: nm/pN (0: rigid bonds);
     break_force_at, break_force_gc: pN, tension that breaks an A·T / G·C
     bond; break_forces: pN per pair, overriding them (``inf``: unbreakable);
-    model: frame model of the strands, "reference" or "frenet";
+    strand_stretch_modulus: pN, strand_persistence: nm — each strand's
+    material (single-stranded DNA's persistence; 400 pN, not ssDNA's ≈ 800:
+    stiffer strands make the duplex unwind under tension, beyond what the
+    stacking can correct); bending_persistence: nm, stretch_modulus: pN,
+    twist_persistence: nm (C/kT), twist_stretch: pN·nm (< 0: overwinds when
+    stretched) — the whole duplex's zero-temperature elasticity, which the
+    stacking is calibrated to (once per parameter set and process, a few
+    seconds; ``measured`` holds what the calibration measured, pN and nm);
     temperature: K (persistence lengths → stiffness).
     """
     params = dict(sequence=str(sequence), complement=complement, bp_per_turn=float(bp_per_turn), rise=float(rise),
                   radius=float(radius), minor_groove=float(minor_groove), hbond_compliance=float(hbond_compliance),
                   break_force_at=float(break_force_at), break_force_gc=float(break_force_gc),
                   break_forces=None if break_forces is None else [float(f) for f in break_forces],
-                  model=str(model), temperature=float(temperature))
+                  strand_stretch_modulus=float(strand_stretch_modulus), strand_persistence=float(strand_persistence),
+                  bending_persistence=float(bending_persistence), stretch_modulus=float(stretch_modulus),
+                  twist_persistence=float(twist_persistence), twist_stretch=float(twist_stretch),
+                  temperature=float(temperature))
     asm, l = _native.build_duplex(**params)
     return Duplex(asm, list(l["strands"]), list(l["sequences"]), [np.asarray(a) for a in l["abscissae"]],
                   np.asarray(l["partner"]), list(l["hbonds"]), list(l["stacks"]), list(l["mismatches"]),
-                  np.asarray(l["break_forces"]), l["rung_length"], l["phase"], l["pitch"], list(l["grooves"]), params)
+                  np.asarray(l["break_forces"]), l["rung_length"], l["phase"], l["pitch"], list(l["grooves"]),
+                  dict(l["measured"]), params)

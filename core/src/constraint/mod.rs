@@ -157,8 +157,8 @@ pub const MAX_ENTRIES: usize = 40;
 /// Most rows one constraint has (oriented slider: 5).
 pub const MAX_ROWS: usize = 6;
 
-/// Most abscissae one constraint has (barycentric: 4 points + the driven one).
-pub const MAX_ABSCISSAE: usize = 5;
+/// Most abscissae one constraint has (base-pair step: 4 pairs × 2 strands).
+pub const MAX_ABSCISSAE: usize = 8;
 
 /// One linearised constraint row; entries are (side, rod-local coordinate,
 /// value), see [`Side`].

@@ -1,19 +1,23 @@
 //! Base-pair step (the stacking of a double helix, SPEC §9.1): a compliant
-//! six-row link between two consecutive base pairs of two strands, rods a
-//! and b. Each pair (a point of each strand) carries a frame:
-//! x along the rung b − a, z the mean strand direction t_a − t_b
-//! (strand b runs antiparallel) made ⟂ x, y = z × x, origin the rung's
-//! midpoint moved by `axis_offset` along y — onto the helix axis, so that
-//! the step strains are those of the duplex's axis (measured from the
-//! off-axis midpoints, twisting the duplex would also shear its steps). The rows are the step's strains against its rest — the
-//! translation of pair i+1's origin in pair i's frame (shift, slide, rise)
-//! and the small-rotation vector of the relative rotation (tilt, roll,
-//! twist: ½ vee(E − Eᵀ) of E = R₀ᵀ F_iᵀ F_{i+1}) — weighted by the square
-//! root of the step's stiffness (with a rise–twist coupling), so that the
-//! constraint added with compliance 1 stores ½ eᵀ K e, a rigid-base-pair
-//! stacking energy (Olson et al. PNAS 1998) without new unknowns. The exact
-//! Jacobian comes from forward-mode dual numbers over the 24 inputs
-//! (positions and first derivatives at the four abscissae).
+//! six-row link between two consecutive base pairs i, i+1 of two strands,
+//! rods a and b, read from the positions of four pairs i−1 … i+2 (a point
+//! of each strand per pair). Each pair j carries a frame: x along its rung
+//! b − a; z the local helix axis, the difference of the neighbouring rung
+//! midpoints m_{j+1} − m_{j−1} made ⟂ x (see [`axis`]); y = z × x; origin
+//! the rung's midpoint moved by `axis_offset` along y, onto the helix
+//! axis. The frames come from the pairs' points only, not from the
+//! strands' tangents: those follow the helix's inclination, so twisting or
+//! stretching the duplex would tilt every frame and read as roll and
+//! slide. A missing neighbour (the duplex's ends) is given as the pair
+//! itself. The rows are the step's strains against its rest — the
+//! translation of pair i+1's origin, read in the step's mid frame (shift,
+//! slide, rise), and the small-rotation vector of the relative rotation
+//! (tilt, roll, twist: ½ vee(E − Eᵀ) of E = R₀ᵀ F_iᵀ F_{i+1}) — weighted by
+//! the square root of the step's stiffness (with a rise–twist coupling),
+//! so that the constraint added with compliance 1 stores ½ eᵀ K e, a
+//! rigid-base-pair stacking energy (Olson et al. PNAS 1998) without new
+//! unknowns. The exact Jacobian comes from forward-mode dual numbers over
+//! the 24 inputs (the eight points).
 use crate::constraint::catalogue::{FieldInfo, FieldType::*, KindInfo};
 use crate::constraint::{finite3, ConstraintLaw, Reaction, Row, Side, MAX_ENTRIES};
 use crate::error::{Error, Result};
@@ -23,16 +27,24 @@ use num_dual::DualSVec64;
 use serde::{Deserialize, Serialize};
 
 /// Stacking between base pair (ua, ub) and the next one (ua_next,
-/// ub_next): six compliant rows, energy ½ eᵀ K e / compliance with e the
-/// step's strains from its rest (length for shift, slide, rise; rad for
-/// tilt, roll, twist) and K diagonal but for the rise–twist coupling
-/// `twist_stretch`. Add it with compliance 1 for the stiffness given.
+/// ub_next), framed with the help of the pair before (ua_prev, ub_prev)
+/// and the one after (ua_after, ub_after): six compliant rows, energy
+/// ½ eᵀ K e / compliance with e the step's strains from its rest (length
+/// for shift, slide, rise; rad for tilt, roll, twist) and K diagonal but
+/// for the rise–twist coupling `twist_stretch`. Add it with compliance 1
+/// for the stiffness given.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BasePairStep {
+    /// Pair i−1 (pair i again at the duplex's start).
+    pub ua_prev: f64,
+    pub ub_prev: f64,
     pub ua: f64,
     pub ub: f64,
     pub ua_next: f64,
     pub ub_next: f64,
+    /// Pair i+2 (pair i+1 again at the duplex's end).
+    pub ua_after: f64,
+    pub ub_after: f64,
     /// The pair's origin: the rung midpoint + axis_offset · y (length; a
     /// double helix of radius R and strand phase φ: R cos(φ/2)).
     #[serde(default)]
@@ -53,25 +65,76 @@ pub struct BasePairStep {
 
 type D = DualSVec64<24>;
 
-/// A pair's frame (columns x, y, z) and origin from the strands' points and
-/// derivatives.
-fn pair_frame<T: RealField + Copy>(a: Vector3<T>, da: Vector3<T>, b: Vector3<T>, db: Vector3<T>, offset: f64) -> (Matrix3<T>, Vector3<T>) {
-    let x = (b - a).normalize();
-    let v = da.normalize() - db.normalize();
-    let z = (v - x * x.dot(&v)).normalize();
-    let y = z.cross(&x);
+/// Unit rung of each of the four pairs, from the points [a, b] × 4.
+fn rungs<T: RealField + Copy>(p: &[Vector3<T>; 8]) -> [Vector3<T>; 4] {
+    [0, 1, 2, 3].map(|j| (p[2 * j + 1] - p[2 * j]).normalize())
+}
+
+/// Rung midpoints of the four pairs.
+fn midpoints<T: RealField + Copy>(p: &[Vector3<T>; 8]) -> [Vector3<T>; 4] {
     let half = T::from_subset(&0.5);
-    (Matrix3::from_columns(&[x, y, z]), (a + b) * half + y * T::from_subset(&offset))
+    [0, 1, 2, 3].map(|j| (p[2 * j] + p[2 * j + 1]) * half)
+}
+
+/// The helix axis direction (unnormalised, before removing its rung
+/// component) at pair j = 1 (pair i) or 2 (pair i+1): the central
+/// difference of the rung midpoints m_{j+1} − m_{j−1}; at an end of the
+/// duplex (its missing neighbour given as itself) the one-sided
+/// second-order difference. The midpoints lie off the axis by R cos(φ/2)
+/// along y, turning with the twist: on a straight helix their difference
+/// is 2h z minus a multiple of the rung x, exactly removed by making it
+/// ⟂ x; on a uniformly bent one it follows the axis to first order in the
+/// curvature. (Cross products of neighbouring rungs, the first choice,
+/// wobble with the helix phase when the duplex bends: its bending came
+/// out 1.7× too stiff.)
+fn axis<T: RealField + Copy>(m: &[Vector3<T>; 4], j: usize, ends: [bool; 2]) -> Vector3<T> {
+    let (three, four) = (T::from_subset(&3.0), T::from_subset(&4.0));
+    match (j, ends) {
+        (1, [true, _]) => m[2] * four - m[1] * three - m[3],
+        (2, [_, true]) => m[2] * three - m[1] * four + m[0],
+        _ => m[j + 1] - m[j - 1],
+    }
+}
+
+/// Pair j's frame (columns x, y, z) and origin, j = 1 (pair i) or 2
+/// (pair i+1).
+fn pair_frame<T: RealField + Copy>(x: &[Vector3<T>; 4], m: &[Vector3<T>; 4], j: usize, ends: [bool; 2], offset: f64) -> (Matrix3<T>, Vector3<T>) {
+    let c = axis(m, j, ends);
+    let z = (c - x[j] * x[j].dot(&c)).normalize();
+    let y = z.cross(&x[j]);
+    (Matrix3::from_columns(&[x[j], y, z]), m[j] + y * T::from_subset(&offset))
+}
+
+/// The step's mid frame, halfway between pair i's and pair i+1's (to
+/// first order in their relative rotation about anything but z, exactly
+/// about z): the step's translation is read in it, so that a uniform bend
+/// is no shear (read in pair i's frame, the rise would lean by half the
+/// step's bend into shift and slide).
+fn mid_frame<T: RealField + Copy>(f0: &Matrix3<T>, f1: &Matrix3<T>) -> Matrix3<T> {
+    let z = (f0.column(2) + f1.column(2)).normalize();
+    let x = f0.column(0) + f1.column(0);
+    let x = (x - z * z.dot(&x)).normalize();
+    Matrix3::from_columns(&[x, z.cross(&x), z])
+}
+
+/// The step's frames and origins from the eight points [a, b] of pairs
+/// i−1 … i+2.
+fn frames<T: RealField + Copy>(p: &[Vector3<T>; 8], ends: [bool; 2], offset: f64) -> [(Matrix3<T>, Vector3<T>); 2] {
+    let (x, m) = (rungs(p), midpoints(p));
+    [pair_frame(&x, &m, 1, ends, offset), pair_frame(&x, &m, 2, ends, offset)]
+}
+
+/// The step's translation (in its mid frame) and relative rotation.
+fn step<T: RealField + Copy>(p: &[Vector3<T>; 8], ends: [bool; 2], offset: f64) -> (Vector3<T>, Matrix3<T>) {
+    let [(f0, o0), (f1, o1)] = frames(p, ends, offset);
+    (mid_frame(&f0, &f1).transpose() * (o1 - o0), f0.transpose() * f1)
 }
 
 /// The six strains (shift, slide, rise, tilt, roll, twist) of the step
-/// given the eight input vectors [a, a′, b, b′, a_next, a′_next, b_next,
-/// b′_next] and the rest (translation, rotation).
-fn strains<T: RealField + Copy>(p: &[Vector3<T>; 8], offset: f64, d0: &Vector3<f64>, r0: &Matrix3<f64>) -> [T; 6] {
-    let (f0, o0) = pair_frame(p[0], p[1], p[2], p[3], offset);
-    let (f1, o1) = pair_frame(p[4], p[5], p[6], p[7], offset);
-    let d = f0.transpose() * (o1 - o0);
-    let e = r0.transpose().map(|v| T::from_subset(&v)) * f0.transpose() * f1;
+/// given the eight points and the rest (translation, rotation).
+fn strains<T: RealField + Copy>(p: &[Vector3<T>; 8], ends: [bool; 2], offset: f64, d0: &Vector3<f64>, r0: &Matrix3<f64>) -> [T; 6] {
+    let (d, r) = step(p, ends, offset);
+    let e = r0.transpose().map(|v| T::from_subset(&v)) * r;
     let half = T::from_subset(&0.5);
     [
         d.x - T::from_subset(&d0.x),
@@ -119,30 +182,42 @@ struct Eval {
 }
 
 impl BasePairStep {
-    /// The four abscissae with their side, in input order.
-    fn points(&self) -> [(usize, f64); 4] {
-        [(0, self.ua), (1, self.ub), (0, self.ua_next), (1, self.ub_next)]
+    /// The eight abscissae with their side, in input order (pairs i−1 … i+2).
+    fn points(&self) -> [(usize, f64); 8] {
+        [
+            (0, self.ua_prev),
+            (1, self.ub_prev),
+            (0, self.ua),
+            (1, self.ub),
+            (0, self.ua_next),
+            (1, self.ub_next),
+            (0, self.ua_after),
+            (1, self.ub_after),
+        ]
+    }
+
+    /// Whether pair i is the first (no pair before) and pair i+1 the last.
+    fn ends(&self) -> [bool; 2] {
+        [self.ua_prev == self.ua && self.ub_prev == self.ub, self.ua_after == self.ua_next && self.ub_after == self.ub_next]
     }
 
     fn inputs(&self, rods: &[&Rod]) -> Result<[Vector3<f64>; 8]> {
         let mut p = [Vector3::zeros(); 8];
         for (k, (side, u)) in self.points().into_iter().enumerate() {
-            for d in 0..2 {
-                let v = rods[side].eval(u, d)?;
-                p[2 * k + d] = Vector3::new(v[0], v[1], v[2]);
+            let v = rods[side].eval(u, 0)?;
+            p[k] = Vector3::new(v[0], v[1], v[2]);
+        }
+        // Every pair needs a rung, and pairs i, i+1 an axis off their rung.
+        for j in 0..4 {
+            if !((p[2 * j + 1] - p[2 * j]).norm() > 0.0) {
+                return Err(Error::singular("base-pair step: a pair's two points coincide"));
             }
         }
-        // The frames need a rung, tangents and a mean direction off the rung.
-        for k in [0, 4] {
-            let x = p[k + 2] - p[k];
-            let (ta, tb) = (p[k + 1].norm(), p[k + 3].norm());
-            if !(x.norm() > 0.0 && ta > 0.0 && tb > 0.0) {
-                return Err(Error::singular("base-pair step: a pair's two points coincide or a strand has a zero tangent"));
-            }
-            let v = p[k + 1] / ta - p[k + 3] / tb;
-            let xh = x.normalize();
-            if (v - xh * xh.dot(&v)).norm() < 1e-9 {
-                return Err(Error::singular("base-pair step: the strands run along the rung"));
+        let (x, m) = (rungs(&p), midpoints(&p));
+        for j in [1, 2] {
+            let c = axis(&m, j, self.ends());
+            if (c - x[j] * x[j].dot(&c)).norm() < 1e-9 {
+                return Err(Error::singular("base-pair step: the rung midpoints run along a rung (no helix axis)"));
             }
         }
         Ok(p)
@@ -170,7 +245,7 @@ impl BasePairStep {
                 p[k][a] = D::from_re(v[a]).derivative(3 * k + a);
             }
         }
-        let e = strains(&p, self.axis_offset, &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation));
+        let e = strains(&p, self.ends(), self.axis_offset, &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation));
         let w = self.weights();
         let mut out = Eval { g: [0.0; 6], grad: [[0.0; 24]; 6], inputs };
         for r in 0..6 {
@@ -189,13 +264,18 @@ impl BasePairStep {
         Ok(out)
     }
 
-    /// A step at rest in the rods' current shape (the builder's use).
-    pub fn at_rest(rods: &[&Rod], ua: [f64; 2], ub: [f64; 2], axis_offset: f64, translation_stiffness: [f64; 3], rotation_stiffness: [f64; 3], twist_stretch: f64) -> Result<BasePairStep> {
+    /// A step at rest in the rods' current shape (the builder's use):
+    /// abscissae of pairs i−1 … i+2 on strand a (`ua`) and strand b (`ub`).
+    pub fn at_rest(rods: &[&Rod], ua: [f64; 4], ub: [f64; 4], axis_offset: f64, translation_stiffness: [f64; 3], rotation_stiffness: [f64; 3], twist_stretch: f64) -> Result<BasePairStep> {
         let mut s = BasePairStep {
-            ua: ua[0],
-            ub: ub[0],
-            ua_next: ua[1],
-            ub_next: ub[1],
+            ua_prev: ua[0],
+            ub_prev: ub[0],
+            ua: ua[1],
+            ub: ub[1],
+            ua_next: ua[2],
+            ub_next: ub[2],
+            ua_after: ua[3],
+            ub_after: ub[3],
             axis_offset,
             rest_shift: [0.0; 3],
             rest_rotation: [0.0; 3],
@@ -204,10 +284,9 @@ impl BasePairStep {
             twist_stretch,
         };
         let p = s.inputs(rods)?;
-        let (f0, o0) = pair_frame(p[0], p[1], p[2], p[3], axis_offset);
-        let (f1, o1) = pair_frame(p[4], p[5], p[6], p[7], axis_offset);
-        s.rest_shift = (f0.transpose() * (o1 - o0)).into();
-        s.rest_rotation = rotation_vector(&(f0.transpose() * f1)).into();
+        let (d, r) = step(&p, s.ends(), axis_offset);
+        s.rest_shift = d.into();
+        s.rest_rotation = rotation_vector(&r).into();
         Ok(s)
     }
 
@@ -215,7 +294,37 @@ impl BasePairStep {
     /// rad) of the step now, from its rest.
     pub fn strains(&self, rods: &[&Rod]) -> Result<[f64; 6]> {
         let p = self.inputs(rods)?;
-        Ok(strains(&p, self.axis_offset, &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation)))
+        Ok(strains(&p, self.ends(), self.axis_offset, &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation)))
+    }
+
+    /// Per side, the control points the step's points move (nonzero
+    /// position weights: a point at a knot moves three) with, per row, the
+    /// summed coefficients of the gradient `grad`.
+    fn control_points(&self, rods: &[&Rod], grad: &[[f64; 24]; 6]) -> Result<([[(usize, [[f64; 3]; 6]); 16]; 2], [usize; 2])> {
+        let mut cps = [[(usize::MAX, [[0.0; 3]; 6]); 16]; 2];
+        let mut len = [0usize; 2];
+        for (k, (side, u)) in self.points().into_iter().enumerate() {
+            let (ctrl, b) = rods[side].basis_at(u)?;
+            for j in 0..4 {
+                if b[0][j] == 0.0 {
+                    continue;
+                }
+                let slot = match cps[side][..len[side]].iter().position(|c| c.0 == ctrl[j]) {
+                    Some(s) => s,
+                    None => {
+                        len[side] += 1;
+                        cps[side][len[side] - 1].0 = ctrl[j];
+                        len[side] - 1
+                    }
+                };
+                for r in 0..6 {
+                    for a in 0..3 {
+                        cps[side][slot].1[r][a] += grad[r][3 * k + a] * b[0][j];
+                    }
+                }
+            }
+        }
+        Ok((cps, len))
     }
 }
 
@@ -225,14 +334,20 @@ impl ConstraintLaw for BasePairStep {
         helper: "base_pair_step",
         rods: 2,
         doc: "Stacking of a double helix between base pair (ua on strand a, ub on strand b) and the next (ua_next, \
-              ub_next): six rows, the step's shift, slide, rise (length) and tilt, roll, twist (rad) from their rest, \
-              weighted so that with compliance 1 the energy is ½ eᵀKe (K: the stiffnesses, rise–twist coupled by \
-              `twist_stretch`). Strand b runs antiparallel to a. Multipliers: the weighted rows' forces.",
+              ub_next), the pairs before (ua_prev, ub_prev) and after (ua_after, ub_after) giving the helix axis \
+              (at an end: the end pair again): six rows, the step's shift, slide, rise (length) and tilt, roll, twist \
+              (rad) from their rest, weighted so that with compliance 1 the energy is ½ eᵀKe (K: the stiffnesses, \
+              rise–twist coupled by `twist_stretch`). Strand b runs antiparallel to a. Multipliers: the weighted rows' \
+              forces.",
         fields: &[
+            FieldInfo::new("ua_prev", Abscissa, "u", "pair i−1 on strand a (pair i at the start)"),
+            FieldInfo::new("ub_prev", Abscissa, "u", "pair i−1 on strand b (pair i at the start)"),
             FieldInfo::new("ua", Abscissa, "u", "pair i on strand a"),
             FieldInfo::new("ub", Abscissa, "u", "pair i on strand b"),
             FieldInfo::new("ua_next", Abscissa, "u", "pair i+1 on strand a"),
             FieldInfo::new("ub_next", Abscissa, "u", "pair i+1 on strand b"),
+            FieldInfo::new("ua_after", Abscissa, "u", "pair i+2 on strand a (pair i+1 at the end)"),
+            FieldInfo::new("ub_after", Abscissa, "u", "pair i+2 on strand b (pair i+1 at the end)"),
             FieldInfo::new("axis_offset", Scalar, "length", "the pair's origin: rung midpoint + axis_offset along y (onto the helix axis)").default("0.0"),
             FieldInfo::new("rest_shift", Vec3, "length", "pair i+1's origin in pair i's frame at rest"),
             FieldInfo::new("rest_rotation", Vec3, "rad", "rotation vector from pair i's frame to pair i+1's at rest"),
@@ -245,16 +360,19 @@ impl ConstraintLaw for BasePairStep {
         6
     }
     fn visit_abscissae(&self, f: &mut dyn FnMut(Side, f64)) {
-        f(0, self.ua);
-        f(1, self.ub);
-        f(0, self.ua_next);
-        f(1, self.ub_next);
+        for (side, u) in self.points() {
+            f(side as Side, u);
+        }
     }
     fn visit_abscissae_mut(&mut self, f: &mut dyn FnMut(Side, &mut f64)) {
+        f(0, &mut self.ua_prev);
+        f(1, &mut self.ub_prev);
         f(0, &mut self.ua);
         f(1, &mut self.ub);
         f(0, &mut self.ua_next);
         f(1, &mut self.ub_next);
+        f(0, &mut self.ua_after);
+        f(1, &mut self.ub_after);
     }
     fn validate(&self, rods: &[&Rod]) -> Result<()> {
         finite3(&self.rest_shift, "base-pair step rest shift")?;
@@ -273,51 +391,20 @@ impl ConstraintLaw for BasePairStep {
                 "twist_stretch² < rise stiffness × twist stiffness (a positive-definite step)",
             ));
         }
-        // Every row's entries must fit: the two pairs' spline supports overlap.
-        let mut n = 0;
-        for side in 0..2 {
-            let mut cps: Vec<usize> = Vec::with_capacity(8);
-            for (s, u) in self.points() {
-                if s == side {
-                    cps.extend(rods[side].basis_at(u)?.0);
-                }
-            }
-            cps.sort_unstable();
-            cps.dedup();
-            n += 3 * cps.len();
-        }
-        if n > MAX_ENTRIES {
+        // Every row's entries must fit: the four pairs' spline supports overlap.
+        let (_, len) = self.control_points(rods, &[[0.0; 24]; 6])?;
+        if 3 * (len[0] + len[1]) > MAX_ENTRIES {
             return Err(Error::invalid(
                 "base-pair step abscissae",
-                "pairs i and i+1 far apart along a strand",
-                "consecutive pairs (each strand's two abscissae within 4 spline segments)",
+                "pairs i−1 … i+2 far apart along a strand",
+                format!("consecutive pairs (at most {} control points moved on both strands)", MAX_ENTRIES / 3),
             ));
         }
         Ok(())
     }
     fn linearize(&self, rods: &[&Rod], rows: &mut [Row]) -> Result<()> {
         let ev = self.eval(rods)?;
-        // Per side, the control points touched and their summed coefficients.
-        let mut cps: [[(usize, [[f64; 3]; 6]); 8]; 2] = [[(usize::MAX, [[0.0; 3]; 6]); 8]; 2];
-        let mut len = [0usize; 2];
-        for (k, (side, u)) in self.points().into_iter().enumerate() {
-            let (ctrl, b) = rods[side].basis_at(u)?;
-            for j in 0..4 {
-                let slot = match cps[side][..len[side]].iter().position(|c| c.0 == ctrl[j]) {
-                    Some(s) => s,
-                    None => {
-                        len[side] += 1;
-                        cps[side][len[side] - 1].0 = ctrl[j];
-                        len[side] - 1
-                    }
-                };
-                for r in 0..6 {
-                    for a in 0..3 {
-                        cps[side][slot].1[r][a] += ev.grad[r][3 * (2 * k) + a] * b[0][j] + ev.grad[r][3 * (2 * k + 1) + a] * b[1][j];
-                    }
-                }
-            }
-        }
+        let (cps, len) = self.control_points(rods, &ev.grad)?;
         for (r, row) in rows.iter_mut().enumerate().take(6) {
             for side in 0..2 {
                 let dofs = rods[side].dofs();
@@ -332,17 +419,17 @@ impl ConstraintLaw for BasePairStep {
         Ok(())
     }
     /// Resultant on strand a of the weighted rows' forces, reduced to its
-    /// point at `ua`: through the inputs a, a′ at both pairs (a rigid motion
-    /// moves a point by ω × (a − p) and a derivative by ω × a′).
+    /// first point (`ua_prev`): through its four points (a rigid motion
+    /// moves a point by ω × (a − p)).
     fn reaction(&self, rods: &[&Rod], lambda: &[f64]) -> Result<Reaction> {
         let ev = self.eval(rods)?;
         let p = ev.inputs[0];
         let (mut f, mut m) = (Vector3::zeros(), Vector3::zeros());
         for (r, l) in lambda.iter().enumerate().take(6) {
-            let g = |i: usize| Vector3::new(ev.grad[r][3 * i], ev.grad[r][3 * i + 1], ev.grad[r][3 * i + 2]) * *l;
-            for (pos, der) in [(0, 1), (4, 5)] {
-                f += g(pos);
-                m += (ev.inputs[pos] - p).cross(&g(pos)) + ev.inputs[der].cross(&g(der));
+            for k in [0, 2, 4, 6] {
+                let g = Vector3::new(ev.grad[r][3 * k], ev.grad[r][3 * k + 1], ev.grad[r][3 * k + 2]) * *l;
+                f += g;
+                m += (ev.inputs[k] - p).cross(&g);
             }
         }
         Ok(Reaction { force: f.into(), torque: m.into() })
