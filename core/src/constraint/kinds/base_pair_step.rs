@@ -220,6 +220,13 @@ impl BasePairStep {
                 return Err(Error::singular("base-pair step: the rung midpoints run along a rung (no helix axis)"));
             }
         }
+        // The mid frame needs the two axes and the two rungs off antiparallel.
+        let [(f0, _), (f1, _)] = frames(&p, self.ends(), self.axis_offset);
+        let z = f0.column(2) + f1.column(2);
+        let xm = f0.column(0) + f1.column(0);
+        if z.norm() < 1e-9 || (xm - z * z.dot(&xm) / z.norm_squared()).norm() < 1e-9 {
+            return Err(Error::singular("base-pair step: the two pairs' frames are turned half a turn apart (no mid frame)"));
+        }
         Ok(p)
     }
 
