@@ -143,9 +143,56 @@ impl PyTopology {
             inner: Topology::from_world(&read(world)?.inner),
         })
     }
+    /// A topology of given chains: `chains` beads per chain; `residues`
+    /// one list of residue names (1–3 letters or digits) per chain, one
+    /// per bead (default `SKB`); `closed` per chain; `links` (L, 2) bonds
+    /// between any two beads (0-based over all chains), e.g. hydrogen bonds.
+    #[staticmethod]
+    #[pyo3(signature = (chains, *, residues = None, closed = None, links = None))]
+    fn of_beads(
+        chains: Vec<usize>,
+        residues: Option<Vec<Vec<String>>>,
+        closed: Option<Vec<bool>>,
+        links: Option<Vec<[usize; 2]>>,
+    ) -> PyResult<Self> {
+        let n = chains.len();
+        let residues = residues.unwrap_or_else(|| vec![Vec::new(); n]);
+        let closed = closed.unwrap_or_else(|| vec![false; n]);
+        if residues.len() != n || closed.len() != n {
+            return Err(crate::bad(format!(
+                "{n} chains but {} residue lists and {} closed flags",
+                residues.len(),
+                closed.len()
+            )));
+        }
+        let total: usize = chains.iter().try_fold(0usize, |a, &b| a.checked_add(b)).unwrap_or(usize::MAX);
+        if total > 99_999_999 {
+            return Err(crate::bad(format!("{total} beads: a PSF holds at most 99,999,999")));
+        }
+        let chains = chains
+            .into_iter()
+            .zip(residues)
+            .zip(closed)
+            .map(|((beads, residues), closed)| traj::Chain { beads, closed, residues })
+            .collect();
+        Ok(PyTopology {
+            inner: guard(|| Topology::new(chains, links.unwrap_or_default()))?,
+        })
+    }
     #[getter]
     fn n_beads(&self) -> usize {
         self.inner.n_beads()
+    }
+    /// Residue name of every bead, in bead order.
+    #[getter]
+    fn residues(&self) -> Vec<String> {
+        self.inner
+            .chains
+            .iter()
+            .flat_map(|c| {
+                (0..c.beads).map(|k| c.residues.get(k).map_or(traj::RESIDUE_NAME.to_string(), |r| r.clone()))
+            })
+            .collect()
     }
     /// Beads per chain (rod).
     #[getter]
@@ -176,11 +223,18 @@ impl PyTopology {
     }
     /// Writes PDB (+CONECT), atomically. `positions`: (N, 3) or (F, N, 3)
     /// in length unit (one MODEL per frame); `scale`: Å per length unit
-    /// (10 for nm; a metre-scale scene fits PDB's columns only scaled down).
-    #[pyo3(signature = (path, positions, *, scale = 10.0))]
-    fn write_pdb(&self, path: PathBuf, positions: &Bound<'_, PyAny>, scale: f64) -> PyResult<()> {
+    /// (10 for nm; a metre-scale scene fits PDB's columns only scaled down);
+    /// `bfactors`: one per bead (the temperature-factor column VMD colours by).
+    #[pyo3(signature = (path, positions, *, scale = 10.0, bfactors = None))]
+    fn write_pdb(
+        &self,
+        path: PathBuf,
+        positions: &Bound<'_, PyAny>,
+        scale: f64,
+        bfactors: Option<Vec<f64>>,
+    ) -> PyResult<()> {
         let f = frames_arg(positions)?;
-        guard(|| traj::write_pdb(&path, &self.inner, &f, scale))
+        guard(|| traj::write_pdb(&path, &self.inner, &f, scale, bfactors.as_deref()))
     }
     /// Writes the CHARMM PSF (atoms, bonds), atomically.
     fn write_psf(&self, path: PathBuf) -> PyResult<()> {
@@ -204,7 +258,7 @@ fn write_pdb(world: &Bound<'_, PyWorld>, path: PathBuf, scale: f64) -> PyResult<
     let w = read(world)?;
     let topo = Topology::from_world(&w.inner);
     let p = traj::bead_positions(&w.inner);
-    guard(|| traj::write_pdb(&path, &topo, &[p], scale))
+    guard(|| traj::write_pdb(&path, &topo, &[p], scale, None))
 }
 
 /// Writes the world's bead topology as a CHARMM PSF.

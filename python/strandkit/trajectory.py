@@ -38,20 +38,32 @@ class TrajectoryWriter:
     The current state is written as frame 0 on creation (``initial=True``).
     ``every``: steps between frames (stored as NSAVC). ``append=True``
     continues an existing DCD (e.g. after reloading a snapshot).
+    ``topology`` (a ``_native.Topology.of_beads``) with ``positions`` (a
+    function returning its (n_beads, 3) positions) writes other beads than
+    the rods' sample points, e.g. one per nucleotide
+    (``strandkit.dna.trajectory``); ``bfactors``: a function returning one
+    value per bead for the PDB's temperature-factor column.
     """
 
     def __init__(self, world, prefix: str, *, scale: float = 10.0, every: int = 1, pdb: bool = True,
-                 psf: bool = True, initial: bool = True, append: bool = False):
+                 psf: bool = True, initial: bool = True, append: bool = False, topology=None, positions=None,
+                 bfactors=None):
         self.world = world
         self.scale = float(scale)
         self.prefix = str(prefix)
         d = os.path.dirname(os.path.abspath(self.prefix))
         os.makedirs(d, exist_ok=True)
-        self.topology = _native.Topology(world)
+        if (topology is None) != (positions is None):
+            raise _invalid("topology and positions go together: a Topology.of_beads and a function giving "
+                           "its (n_beads, 3) positions")
+        self.topology = _native.Topology(world) if topology is None else topology
+        self._positions = (lambda: _native.bead_positions(world)) if positions is None else positions
+        self._bfactors = bfactors
+        self._marks = None if bfactors is None else list(bfactors())
         self.paths = {"dcd": self.prefix + ".dcd"}
         if pdb:
             self.paths["pdb"] = self.prefix + ".pdb"
-            self.topology.write_pdb(self.paths["pdb"], _native.bead_positions(world), scale=self.scale)
+            self._write_pdb()
         if psf:
             self.paths["psf"] = self.prefix + ".psf"
             self.topology.write_psf(self.paths["psf"])
@@ -67,9 +79,20 @@ class TrajectoryWriter:
             if initial:
                 self.write()
 
+    def _write_pdb(self) -> None:
+        self.topology.write_pdb(self.paths["pdb"], self._positions(), scale=self.scale, bfactors=self._marks)
+
     def write(self) -> None:
-        """Appends the world's current bead positions as one frame."""
-        self.dcd.write_world(self.world, scale=self.scale)
+        """Appends the current bead positions as one frame. With
+        ``bfactors``, the PDB is rewritten (atomically, at this frame) when
+        they change, so a viewer colours e.g. broken bonds as they break."""
+        self.dcd.write_frame(self._positions(), scale=self.scale)
+        if self._bfactors is not None:
+            marks = list(self._bfactors())
+            if marks != self._marks:
+                self._marks = marks
+                if "pdb" in self.paths:
+                    self._write_pdb()
 
     @property
     def n_frames(self) -> int:

@@ -1,11 +1,14 @@
 //! Trajectories for molecular viewers (SPEC §8): PDB (+CONECT), PSF and
 //! DCD, read by mdtraj, VMD, PyMOL, MDAnalysis and nglview.
 //!
-//! One bead per sample (Gauss) point of every rod, one chain per rod, bonds
-//! between consecutive beads of a rod (and last–first on closed rods). Beads
-//! are phosphorus (element P, mass 30.97) so readers guess no odd element,
-//! in residues named `SKB`, which is no standard nucleotide: mdtraj drops
-//! CONECT records of standard residues (DA, DC, …). Coordinates are written
+//! [`Topology::from_world`]: one bead per sample (Gauss) point of every rod,
+//! one chain per rod, bonds between consecutive beads of a rod (and
+//! last–first on closed rods), residues named `SKB`. [`Topology::new`]: any
+//! chains with residue names of their own (e.g. one bead per nucleotide,
+//! `DA`…`DT`) and links across chains (hydrogen bonds). Beads are
+//! phosphorus (element P, mass 30.97) so readers guess no odd element, in
+//! HETATM records, whose CONECT bonds mdtraj keeps whatever the residue
+//! name (python/tests/test_dna_trajectory.py loads them). Coordinates are written
 //! in Å: `scale` is the number of Å per length unit of the world (10 for nm,
 //! 1e10 for m — PDB's 8.3 columns then overflow quickly; use PSF + DCD).
 //!
@@ -22,23 +25,28 @@ use std::fs::{File, OpenOptions};
 use std::io::{Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};
 
-/// Residue name of every bead (not a standard residue, see the module doc).
+/// Residue name of a bead that has none given (not a standard residue).
 pub const RESIDUE_NAME: &str = "SKB";
 /// Element, atom name and type of every bead.
 pub const BEAD_ELEMENT: &str = "P";
 /// Mass of a bead (u): phosphorus.
 pub const BEAD_MASS: f64 = 30.97;
 
-/// One chain per rod: its bead count, and whether the rod is closed.
+/// One chain: its bead count, whether it is closed, and its beads'
+/// residue names (empty: every bead is [`RESIDUE_NAME`]).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Chain {
     pub beads: usize,
     pub closed: bool,
+    pub residues: Vec<String>,
 }
 
+/// Chains of beads plus bonds between any two beads (`links`, e.g. the
+/// hydrogen bonds of a duplex), in bead indices over all chains.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct Topology {
     pub chains: Vec<Chain>,
+    pub links: Vec<[usize; 2]>,
 }
 
 impl Topology {
@@ -49,16 +57,41 @@ impl Topology {
             .map(|(_, r)| Chain {
                 beads: r.sample_params().len(),
                 closed: r.knots().kind() == crate::spline::KnotKind::Periodic,
+                residues: Vec::new(),
             })
             .collect();
-        Topology { chains }
+        Topology { chains, links: Vec::new() }
+    }
+    /// A checked topology of given chains and links: residue names of 1–3
+    /// letters or digits (one per bead or none), links between two distinct
+    /// existing beads.
+    pub fn new(chains: Vec<Chain>, links: Vec<[usize; 2]>) -> Result<Topology> {
+        let n: usize = chains.iter().map(|c| c.beads).sum();
+        for (i, c) in chains.iter().enumerate() {
+            if !c.residues.is_empty() && c.residues.len() != c.beads {
+                return Err(Error::input(format!(
+                    "chain {i}: {} residue names for {} beads",
+                    c.residues.len(),
+                    c.beads
+                )));
+            }
+            // PDB's resName is three columns.
+            let bad = |r: &&String| r.is_empty() || r.len() > 3 || !r.bytes().all(|b| b.is_ascii_alphanumeric());
+            if let Some(r) = c.residues.iter().find(bad) {
+                return Err(Error::input(format!("chain {i}: residue name {r:?} is not 1–3 letters or digits")));
+            }
+        }
+        if let Some([a, b]) = links.iter().find(|[a, b]| a == b || *a >= n || *b >= n) {
+            return Err(Error::input(format!("link {a}–{b}: beads must be two distinct of the {n} beads")));
+        }
+        Ok(Topology { chains, links })
     }
     pub fn n_beads(&self) -> usize {
         self.chains.iter().map(|c| c.beads).sum()
     }
-    /// Bonds as 0-based bead index pairs, in chain order.
+    /// Bonds as 0-based bead index pairs: along each chain in chain order, then the links.
     pub fn bonds(&self) -> Vec<[usize; 2]> {
-        let mut out = Vec::with_capacity(self.n_beads());
+        let mut out = Vec::with_capacity(self.n_beads() + self.links.len());
         let mut start = 0;
         for c in &self.chains {
             out.extend((1..c.beads).map(|i| [start + i - 1, start + i]));
@@ -67,11 +100,16 @@ impl Topology {
             }
             start += c.beads;
         }
+        out.extend_from_slice(&self.links);
         out
     }
     /// Chain of every bead.
     pub fn chain_of_bead(&self) -> Vec<usize> {
         self.chains.iter().enumerate().flat_map(|(i, c)| std::iter::repeat_n(i, c.beads)).collect()
+    }
+    /// Residue name of bead `k` of chain `c`.
+    fn residue(&self, c: usize, k: usize) -> &str {
+        self.chains[c].residues.get(k).map_or(RESIDUE_NAME, |r| r.as_str())
     }
 }
 
@@ -111,7 +149,26 @@ fn chain_id(i: usize) -> char {
 /// when a coordinate does not fit PDB's columns (−999.999 .. 9999.999 Å):
 /// use PSF + DCD then.
 pub fn pdb_string(topo: &Topology, frames: &[Vec<[f64; 3]>], scale: f64) -> Result<String> {
+    pdb_string_marked(topo, frames, scale, None)
+}
+
+/// [`pdb_string`] with a B-factor per bead (the temperature-factor column,
+/// by which VMD colours: e.g. broken base pairs), −99.99 … 999.99.
+pub fn pdb_string_marked(
+    topo: &Topology,
+    frames: &[Vec<[f64; 3]>],
+    scale: f64,
+    bfactors: Option<&[f64]>,
+) -> Result<String> {
     let n = topo.n_beads();
+    if let Some(b) = bfactors {
+        if b.len() != n {
+            return Err(Error::input(format!("{} B-factors for {n} beads", b.len())));
+        }
+        if let Some((i, x)) = b.iter().enumerate().find(|(_, x)| !(**x > -99.995 && **x < 999.995)) {
+            return Err(Error::input(format!("bead {i}: B-factor {x} does not fit PDB's column (-99.99 .. 999.99)")));
+        }
+    }
     if n > 99_999 {
         return Err(Error::input(format!("PDB holds at most 99,999 beads, got {n}: write PSF + DCD instead")));
     }
@@ -140,20 +197,21 @@ pub fn pdb_string(topo: &Topology, frames: &[Vec<[f64; 3]>], scale: f64) -> Resu
                 )));
             }
             let resid = (i - first + 1) % 10_000;
+            let beta = bfactors.map_or(0.0, |b| b[i]);
             let _ = writeln!(
                 s,
                 // altLoc (column 17) blank.
                 "HETATM{:>5} {:<4} {:>3} {}{:>4}    {:>8.3}{:>8.3}{:>8.3}{:>6.2}{:>6.2}          {:>2}  ",
                 i + 1,
                 format!(" {BEAD_ELEMENT}"),
-                RESIDUE_NAME,
+                topo.residue(c, i - first),
                 chain_id(c),
                 resid,
                 xyz[0],
                 xyz[1],
                 xyz[2],
                 1.0,
-                0.0,
+                beta,
                 BEAD_ELEMENT
             );
         }
@@ -181,9 +239,15 @@ pub fn pdb_string(topo: &Topology, frames: &[Vec<[f64; 3]>], scale: f64) -> Resu
     Ok(s)
 }
 
-/// Writes [`pdb_string`] atomically.
-pub fn write_pdb(path: &Path, topo: &Topology, frames: &[Vec<[f64; 3]>], scale: f64) -> Result<()> {
-    super::write_atomic(path, pdb_string(topo, frames, scale)?.as_bytes())
+/// Writes [`pdb_string_marked`] atomically.
+pub fn write_pdb(
+    path: &Path,
+    topo: &Topology,
+    frames: &[Vec<[f64; 3]>],
+    scale: f64,
+    bfactors: Option<&[f64]>,
+) -> Result<()> {
+    super::write_atomic(path, pdb_string_marked(topo, frames, scale, bfactors)?.as_bytes())
 }
 
 /// Segment id of chain `i` (4 characters at most).
@@ -219,7 +283,7 @@ pub fn psf_string(topo: &Topology) -> Result<String> {
                 i,
                 seg,
                 (k + 1) % 10_000,
-                RESIDUE_NAME,
+                topo.residue(c, k),
                 BEAD_ELEMENT,
                 BEAD_ELEMENT,
                 0.0,
@@ -544,13 +608,43 @@ mod tests {
         let w = world();
         let t = Topology::from_world(&w);
         assert_eq!(t.chains.len(), 2);
-        assert_eq!(t.chains[0], Chain { beads: 3 * 5, closed: false });
-        assert_eq!(t.chains[1], Chain { beads: 8 * 5, closed: true });
+        assert_eq!(t.chains[0], Chain { beads: 3 * 5, closed: false, residues: vec![] });
+        assert_eq!(t.chains[1], Chain { beads: 8 * 5, closed: true, residues: vec![] });
         let b = t.bonds();
         assert_eq!(b.len(), 14 + 40);
         assert_eq!(b[0], [0, 1]);
         assert_eq!(*b.last().unwrap(), [54, 15]);
         assert_eq!(bead_positions(&w).len(), 55);
+    }
+
+    #[test]
+    fn named_residues_links_and_bfactors() {
+        let chain = |r: &[&str]| Chain {
+            beads: r.len(),
+            closed: false,
+            residues: r.iter().map(|x| x.to_string()).collect(),
+        };
+        let t = Topology::new(vec![chain(&["DG", "DA"]), chain(&["DT", "DC"])], vec![[0, 3], [1, 2]]).unwrap();
+        assert_eq!(t.bonds(), vec![[0, 1], [2, 3], [0, 3], [1, 2]]);
+        let p: Vec<[f64; 3]> = (0..4).map(|i| [i as f64, 0.0, 0.0]).collect();
+        let s = pdb_string_marked(&t, &[p.clone()], 10.0, Some(&[0.0, 1.0, 1.0, 0.0])).unwrap();
+        let atoms: Vec<&str> = s.lines().filter(|l| l.starts_with("HETATM")).collect();
+        let names: Vec<&str> = atoms.iter().map(|l| l[17..20].trim()).collect();
+        assert_eq!(names, ["DG", "DA", "DT", "DC"]);
+        let beta: Vec<f64> = atoms.iter().map(|l| l[60..66].trim().parse().unwrap()).collect();
+        assert_eq!(beta, [0.0, 1.0, 1.0, 0.0]);
+        assert!(s.contains("CONECT    1    2    4\n"));
+        assert!(psf_string(&t).unwrap().lines().any(|l| l.split_whitespace().nth(3) == Some("DC")));
+        // Refused: a residue name PDB cannot hold, a link to no bead, a self
+        // link, residue names not one per bead, B-factors of the wrong count.
+        assert!(Topology::new(vec![chain(&["DNA1"])], vec![]).is_err());
+        assert!(Topology::new(vec![chain(&["D A"])], vec![]).is_err());
+        assert!(Topology::new(vec![chain(&["DA"])], vec![[0, 1]]).is_err());
+        assert!(Topology::new(vec![chain(&["DA", "DT"])], vec![[1, 1]]).is_err());
+        let short = Chain { beads: 3, closed: false, residues: vec!["DA".into()] };
+        assert!(Topology::new(vec![short], vec![]).is_err());
+        assert!(pdb_string_marked(&t, &[p.clone()], 10.0, Some(&[0.0; 3])).is_err());
+        assert!(pdb_string_marked(&t, &[p], 10.0, Some(&[0.0, f64::NAN, 0.0, 0.0])).is_err());
     }
 
     #[test]
@@ -614,7 +708,7 @@ mod tests {
             let mut f = p.clone();
             f[4][2] = x;
             let path = d.join("r.pdb");
-            let r = write_pdb(&path, &t, &[f], 1.0);
+            let r = write_pdb(&path, &t, &[f], 1.0, None);
             if fits {
                 r.unwrap();
                 let s = std::fs::read_to_string(&path).unwrap();

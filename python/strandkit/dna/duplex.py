@@ -28,7 +28,7 @@ from typing import List, Optional, Sequence
 
 import numpy as np
 
-from . import _native
+from .. import _native
 
 __all__ = ["Duplex", "duplex"]
 
