@@ -11,9 +11,11 @@ ag, K — use ``World(units="molecular")``.
 - ``duplex``: the builder (two backbone strands, breakable hydrogen bonds,
   calibrated stacking);
 - ``trajectory``: PDB/PSF/DCD with one bead per nucleotide, residues named
-  by base, backbone and hydrogen bonds, broken pairs in the B-factor column.
+  by base, backbone and hydrogen bonds, broken pairs in the B-factor column;
+- ``experiments``: trap pulling, unzipping, shear, stretching.
 """
 from .duplex import Duplex, duplex
 from .viewer import trajectory
+from . import experiments  # noqa: E402
 
-__all__ = ["Duplex", "duplex", "trajectory"]
+__all__ = ["Duplex", "duplex", "experiments", "trajectory"]

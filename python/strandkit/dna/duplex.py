@@ -89,7 +89,10 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
     spans along the axis (12/34 by default, φ ≈ 127°; the thesis: 0.4 with
     bp_per_turn=10); hbond_compliance: nm/pN (0: rigid bonds);
     break_force_at, break_force_gc: pN, tension that breaks an A·T / G·C
-    bond; break_forces: pN per pair, overriding them (``inf``: unbreakable);
+    bond (a bond's tension, not the force that unzips the duplex: the fork
+    shares the pull, and ``experiments.break_forces_for_unzipping`` gives
+    the break forces that unzip at AFM's 9 / 20 pN, ≈ 14.4 / 28.6 pN);
+    break_forces: pN per pair, overriding them (``inf``: unbreakable);
     strand_stretch_modulus: pN, strand_persistence: nm — each strand's
     material (single-stranded DNA's persistence; 400 pN, not ssDNA's ≈ 800:
     stiffer strands make the duplex unwind under tension, beyond what the

@@ -1,0 +1,310 @@
+"""Single-molecule experiments on a duplex (issue 17), at zero temperature
+in a viscous fluid: optical-trap pulling at constant velocity, and the
+unzipping, shear and stretching set-ups built on it. Units: nm, pN, ns.
+
+Each experiment holds some strand ends in fixed stiff traps and pulls
+others with a trap moving at constant speed, F = k (x_trap − x_end) along
+the pulling direction, and returns a ``PullResult``: arrays of time,
+trap position, extension and force, the number of open base pairs, and
+every hydrogen bond that broke (when, which pair, at what tension).
+
+>>> import strandkit as sk
+>>> from strandkit.dna import experiments as ex
+>>> r = ex.unzip("GCGCGC", distance=8.0, progress_bar=False, **ex.QUASI_STATIC)
+>>> r
+PullResult(unzip of 6 bp: 401 records over 40 ns, peak 20 pN, 4 pairs open)
+>>> b = r.breaks[0]
+>>> b["label"], round(b["force"], 1)      # the bond's tension: its break force
+('hbond[0]', 20.0)
+
+The unzipping force is a share of the break force, affine in it: the fork
+is a Y of the two pulled strands and the next pair's backbone, so the
+trap pulls with F ≈ 0.77 f_b − 2.1 pN when the fork's bond breaks (at the
+default duplex, quasi-static: ``QUASI_STATIC``; tests in
+python/tests/test_dna_experiments.py). ``break_forces_for_unzipping``
+inverts it: A·T and G·C bonds of 14.4 and 28.6 pN unzip at the 9 and 20
+pN measured by AFM.
+
+Ends are named by strand and extremity: ``"a5'"``, ``"a3'"``, ``"b5'"``,
+``"b3'"`` (strand a runs 5′→3′ from pair 0; strand b's 3′ end pairs with
+pair 0). With ``out=prefix`` the records go to ``prefix.csv`` as they are
+taken (flushed, so an interrupted run keeps what it gathered) and the
+trajectory to ``prefix.pdb/.psf/.dcd`` (``strandkit.dna.trajectory``).
+
+The far end of the molecule is free: the duplex turns about the pulling
+line as it opens, as a tethered molecule does on its swivel (clamping it
+would make the fork twist the remaining duplex, which then carries the
+pull instead of the fork's bond).
+"""
+from __future__ import annotations
+
+import csv
+import math
+import os
+from dataclasses import dataclass, field
+from typing import List, Optional, Sequence
+
+import numpy as np
+
+from ..errors import _invalid
+from .._native import World
+from .._progress import progress
+from ..loads import trap
+from .duplex import Duplex, duplex as build_duplex
+from .viewer import trajectory as duplex_trajectory
+
+__all__ = ["PullResult", "pull", "unzip", "shear", "stretch", "unzipping_plateau", "break_forces_for_unzipping", "ENDS"]
+
+ENDS = ("a5'", "a3'", "b5'", "b3'")
+COLUMNS = ("time", "trap", "extension", "force", "open")
+
+
+@dataclass
+class PullResult:
+    """Records of a pulling run: ``time`` (ns), ``trap`` (the moving trap's
+    displacement along ``direction``, nm), ``extension`` (pulled minus held
+    ends' mean position along ``direction``, nm, 0 at the start), ``force``
+    (the moving traps' pull along ``direction``, pN), ``open`` (broken base
+    pairs); ``breaks``: one dict per hydrogen bond that broke (``time``,
+    ``pair``, ``label``, ``force`` its tension in pN, ``trap_force``);
+    ``paths``: files written."""
+
+    experiment: str
+    n_bp: int
+    direction: np.ndarray
+    time: np.ndarray
+    trap: np.ndarray
+    extension: np.ndarray
+    force: np.ndarray
+    open: np.ndarray
+    breaks: List[dict] = field(default_factory=list)
+    paths: dict = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        peak = float(self.force.max()) if len(self.force) else float("nan")
+        last = int(self.open[-1]) if len(self.open) else 0
+        return (f"PullResult({self.experiment} of {self.n_bp} bp: {len(self.time)} records over "
+                f"{self.time[-1] if len(self.time) else 0:.3g} ns, peak {peak:.3g} pN, {last} pairs open)")
+
+
+def _end(d: Duplex, name: str):
+    """(strand index 0/1, abscissa) of a named end."""
+    if name not in ENDS:
+        raise _invalid(f"unknown end {name!r}: the ends are {', '.join(ENDS)}")
+    s = 0 if name[0] == "a" else 1
+    u = d.abscissae[s]
+    return s, float(u[0] if name[1] == "5" else u[-1])
+
+
+def _positive(name, x, allow_inf=False):
+    x = float(x)
+    if not (x > 0 and (allow_inf or math.isfinite(x))):
+        raise _invalid(f"{name} must be a positive number, got {x}")
+    return x
+
+
+def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float = 0.2, distance: float = 10.0,
+         direction: Optional[Sequence[float]] = None, trap_stiffness: float = 1.0, hold_stiffness: float = 10.0,
+         viscosity: float = 1.0, dt: float = 0.01, record_every: int = 10, out: Optional[str] = None,
+         frame_every: int = 100, stop_when_open: bool = True, progress_bar: bool = True,
+         experiment: str = "pull") -> PullResult:
+    """Pulls the ``pulled`` ends of duplex ``d`` with traps moving at
+    ``speed`` (nm/ns) for ``distance`` (nm) while fixed traps hold the
+    ``held`` ends (each trap starts on its end: no initial force).
+
+    direction: the pulling direction (default: from the held ends' mean to
+    the pulled ends' mean); trap_stiffness, hold_stiffness: pN/nm;
+    viscosity: the fluid's, pN·ns/nm² (water: 1; it sets the drag that the
+    pulling speed works against — the quasi-static limit is speed → 0);
+    dt: ns (the step adapts when a break needs it); record_every: steps
+    between records; out: file prefix for the CSV and trajectory;
+    frame_every: steps between trajectory frames; stop_when_open: stop once
+    every pair is open.
+    """
+    if not isinstance(d, Duplex):
+        raise _invalid(f"expected a strandkit.dna.Duplex, got {type(d).__name__}")
+    held, pulled = list(held), list(pulled)
+    if not pulled:
+        raise _invalid("pull: no end to pull")
+    if set(held) & set(pulled):
+        raise _invalid(f"an end cannot be both held and pulled: {sorted(set(held) & set(pulled))}")
+    ends_h = [_end(d, e) for e in held]
+    ends_p = [_end(d, e) for e in pulled]
+    speed = _positive("speed (nm/ns)", speed)
+    distance = _positive("distance (nm)", distance)
+    k, kh = _positive("trap_stiffness (pN/nm)", trap_stiffness), _positive("hold_stiffness (pN/nm)", hold_stiffness)
+    viscosity, dt = _positive("viscosity (pN·ns/nm²)", viscosity), _positive("dt (ns)", dt)
+    record_every, frame_every = int(record_every), int(frame_every)
+    if record_every < 1 or frame_every < 1:
+        raise _invalid("record_every and frame_every must be ≥ 1 step")
+    n_steps = math.ceil(distance / speed / dt)
+    if n_steps > 50_000_000:
+        raise _invalid(f"{n_steps} steps: raise speed or dt")
+
+    world = World(units="molecular", dt=dt, viscosity=viscosity, adaptive_dt=True)
+    ins = world.insert(d.assembly)
+    rods = [ins.rods[i] for i in d.strands]
+    pos = lambda e: np.asarray(rods[e[0]].position(e[1]), dtype=float)  # noqa: E731
+    x_h = np.mean([pos(e) for e in ends_h], axis=0) if ends_h else None
+    x_p0 = np.mean([pos(e) for e in ends_p], axis=0)
+    if direction is None:
+        if x_h is None:
+            raise _invalid("pull: give a direction when no end is held")
+        direction = x_p0 - x_h
+    direction = np.asarray(direction, dtype=float)
+    norm = float(np.linalg.norm(direction)) if direction.shape == (3,) else float("nan")
+    if not (norm > 0 and math.isfinite(norm)):
+        raise _invalid(f"direction must be a finite non-zero 3-vector, got {direction.tolist()}")
+    e = direction / norm
+    for s, u in ends_h:
+        world.add_load(trap(rods[s], u, pos((s, u)), kh))
+    starts = [pos(p) for p in ends_p]
+    for (s, u), x0 in zip(ends_p, starts):
+        world.add_load(trap(rods[s], u, x0, k, velocity=speed * e))
+    hbonds = {h: kk for kk, h in enumerate(d.hbonds) if h is not None}
+    labels = {ins.constraints[h].label: kk for h, kk in hbonds.items()}
+    n_pairs = len(hbonds)
+
+    rec = {c: [] for c in COLUMNS}
+    breaks = []
+    paths = {}
+    writer = tw = fh = None
+    x_h0 = float(np.dot(x_h, e)) if x_h is not None else 0.0
+    ext0 = float(np.dot(x_p0, e)) - x_h0
+
+    def record():
+        t = world.time
+        pulled_x = [pos(p) for p in ends_p]
+        f = sum(k * float(np.dot(x0 + speed * t * e - x, e)) for x0, x in zip(starts, pulled_x))
+        held_x = float(np.dot(np.mean([pos(h) for h in ends_h], axis=0), e)) if ends_h else x_h0
+        row = (t, speed * t, float(np.dot(np.mean(pulled_x, axis=0), e)) - held_x - ext0, f, len(breaks))
+        for c, v in zip(COLUMNS, row):
+            rec[c].append(v)
+        if writer is not None:
+            writer.writerow([f"{v:.9g}" for v in row])
+            fh.flush()
+        return f
+
+    try:
+        if out is not None:
+            os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
+            paths["csv"] = out + ".csv"
+            fh = open(paths["csv"], "w", newline="")
+            fh.write(f"# strandkit.dna.experiments.{experiment}: {d!r}; held {held}, pulled {pulled}, "
+                     f"speed {speed} nm/ns, trap {k} pN/nm, direction {e.tolist()}\n")
+            writer = csv.writer(fh)
+            writer.writerow(["time_ns", "trap_nm", "extension_nm", "force_pN", "open_bp"])
+            tw = duplex_trajectory(world, d, ins, out, every=frame_every)
+            paths.update(tw.paths)
+        record()
+        for step in progress(range(n_steps), desc=experiment, enable=progress_bar):
+            report = world.step()
+            for ev in report.events:
+                if ev.kind == "ConstraintBroken" and ev.label in labels:
+                    f_trap = sum(k * float(np.dot(x0 + speed * world.time * e - pos(p), e))
+                                 for x0, p in zip(starts, ends_p))
+                    breaks.append(dict(time=world.time, pair=labels[ev.label], label=ev.label, force=ev.force,
+                                       trap_force=f_trap))
+            if (step + 1) % record_every == 0:
+                record()
+            if tw is not None and (step + 1) % frame_every == 0:
+                tw.write()
+            if stop_when_open and n_pairs and len(breaks) == n_pairs:
+                record()
+                break
+    finally:
+        if tw is not None:
+            tw.close()
+        if fh is not None:
+            fh.close()
+    arr = {c: np.asarray(v, dtype=float) for c, v in rec.items()}
+    return PullResult(experiment, len(d), e, arr["time"], arr["trap"], arr["extension"], arr["force"],
+                      arr["open"].astype(int), breaks, paths)
+
+
+def _duplex(sequence_or_duplex, kw) -> Duplex:
+    if isinstance(sequence_or_duplex, Duplex):
+        if kw:
+            raise _invalid(f"duplex options {sorted(kw)} given with a built Duplex")
+        return sequence_or_duplex
+    return build_duplex(sequence_or_duplex, **kw)
+
+
+def unzip(sequence_or_duplex, *, speed: float = 0.2, distance: Optional[float] = None, duplex_options=None,
+          **options) -> PullResult:
+    """Unzipping: holds strand a's 5′ end and pulls strand b's 3′ end (the
+    two strands of pair 0) apart along pair 0's rung. ``distance``
+    defaults to the length of both opened strands (1.5 × rise × 2 per bp).
+    At zero temperature each opening comes when the fork's bond reaches its
+    break force: the force is a sawtooth whose peaks are the pairs' break
+    forces, in the order of the sequence. Other options: ``pull``'s."""
+    d = _duplex(sequence_or_duplex, duplex_options or {})
+    if distance is None:
+        distance = 2.0 * 1.5 * d.params["rise"] * len(d) + 2.0
+    return pull(d, held=["a5'"], pulled=["b3'"], speed=speed, distance=distance, experiment="unzip", **options)
+
+
+def shear(sequence_or_duplex, *, speed: float = 0.2, distance: Optional[float] = None, duplex_options=None,
+          **options) -> PullResult:
+    """Shear: holds strand b's 3′ end (at pair 0) and pulls strand a's 3′
+    end (at the last pair) along the axis, so the hydrogen bonds carry the
+    load between the two strands in parallel (de Gennes' ladder).
+    ``distance`` defaults to twice the duplex length. Other options:
+    ``pull``'s."""
+    d = _duplex(sequence_or_duplex, duplex_options or {})
+    if distance is None:
+        distance = 2.0 * d.params["rise"] * len(d) + 5.0
+    return pull(d, held=["b3'"], pulled=["a3'"], speed=speed, distance=distance, experiment="shear", **options)
+
+
+def stretch(sequence_or_duplex, *, speed: float = 0.05, distance: float = 1.0, duplex_options=None,
+            **options) -> PullResult:
+    """Stretching: holds both strands at pair 0 (a5′, b3′) and pulls both
+    at the last pair (a3′, b5′) along the axis. Other options: ``pull``'s."""
+    d = _duplex(sequence_or_duplex, duplex_options or {})
+    return pull(d, held=["a5'", "b3'"], pulled=["a3'", "b5'"], speed=speed, distance=distance,
+                experiment="stretch", **options)
+
+
+# Quasi-static pulling (a slower pull changes the plateau by < 2 %,
+# python/tests/test_dna_experiments.py).
+QUASI_STATIC = dict(speed=0.2, trap_stiffness=5.0, viscosity=0.1)
+_PROBES: dict = {}
+
+
+def unzipping_plateau(result: PullResult, skip: int = 3) -> float:
+    """Mean trap force (pN) at the openings after the first ``skip`` (the
+    end pairs open at their own, higher force while the fork forms)."""
+    f = [b["trap_force"] for b in result.breaks[skip:]]
+    if not f:
+        raise _invalid(f"unzipping_plateau: fewer than {skip + 1} pairs opened")
+    return float(np.mean(f))
+
+
+def break_forces_for_unzipping(unzip_at: float = 9.0, unzip_gc: float = 20.0, *, progress_bar: bool = False,
+                               **duplex_options) -> tuple:
+    """Hydrogen-bond break forces (pN: A·T, G·C) that make a duplex unzip
+    at ``unzip_at`` / ``unzip_gc`` pN (defaults: Rief, Clausen-Schaumann &
+    Gaub 1999's AFM values, SPEC §9.1), for ``duplex(**duplex_options)``.
+
+    A bond breaks when its tension reaches its break force, but the fork
+    is a Y of the two pulled strands and the next pair's backbone, so the
+    trap force at an opening is a share of it, affine in it:
+    F = α f_b − β (measured: α ≈ 0.76, β ≈ 2 pN at the defaults). Two
+    quasi-static probes (12 bp, f_b = 10 and 30 pN; cached per option set,
+    ~10 s) measure α and β; the result is (F + β)/α for each target."""
+    for name, f in (("unzip_at", unzip_at), ("unzip_gc", unzip_gc)):
+        _positive(f"{name} (pN)", f)
+    key = repr(sorted(duplex_options.items()))
+    if key not in _PROBES:
+        probe = []
+        for fb in (10.0, 30.0):
+            d = build_duplex("AT" * 6, break_forces=[fb] * 12, **duplex_options)
+            probe.append(unzipping_plateau(unzip(d, distance=12.0, progress_bar=progress_bar, **QUASI_STATIC)))
+        alpha = (probe[1] - probe[0]) / 20.0
+        if not alpha > 0:
+            raise _invalid(f"unzipping probes gave plateaus {probe} pN for break forces 10 and 30 pN: "
+                           "no break force sets the unzipping force of this duplex")
+        _PROBES[key] = (alpha, alpha * 10.0 - probe[0])
+    alpha, beta = _PROBES[key]
+    return (float(unzip_at) + beta) / alpha, (float(unzip_gc) + beta) / alpha
