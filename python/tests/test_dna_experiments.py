@@ -81,9 +81,9 @@ def test_records_reach_disk_as_they_are_taken(tmp_path):
     r = ex.unzip("GCGCGC", distance=4.0, out=prefix, frame_every=50, **QS)
     with open(prefix + ".csv") as f:
         rows = [row for row in csv.reader(line for line in f if not line.startswith("#"))]
-    assert rows[0] == ["time_ns", "trap_nm", "extension_nm", "force_pN", "open_bp"]
+    assert rows[0] == ["time_ns", "trap_nm", "extension_nm", "force_pN", "open_bp", "span_nm"]
     data = np.array(rows[1:], dtype=float)
-    assert data.shape == (len(r.time), 5)
+    assert data.shape == (len(r.time), 6)
     assert np.allclose(data[:, 3], r.force, rtol=1e-8, atol=1e-8)
     assert set(r.paths) == {"csv", "pdb", "psf", "dcd"}
     import mdtraj as md

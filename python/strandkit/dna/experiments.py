@@ -56,7 +56,7 @@ from .viewer import trajectory as duplex_trajectory
 __all__ = ["PullResult", "pull", "unzip", "shear", "stretch", "unzipping_plateau", "break_forces_for_unzipping", "ENDS"]
 
 ENDS = ("a5'", "a3'", "b5'", "b3'")
-COLUMNS = ("time", "trap", "extension", "force", "open")
+COLUMNS = ("time", "trap", "extension", "force", "open", "span")
 
 
 @dataclass
@@ -65,7 +65,9 @@ class PullResult:
     displacement along ``direction``, nm), ``extension`` (pulled minus held
     ends' mean position along ``direction``, nm, 0 at the start), ``force``
     (the moving traps' pull along ``direction``, pN), ``open`` (broken base
-    pairs); ``breaks``: one dict per hydrogen bond that broke (``time``,
+    pairs), ``span`` (distance along ``direction`` between the midpoints of
+    pairs ``span_pairs``, nm: the duplex's own length away from the ends
+    where the traps pull); ``breaks``: one dict per hydrogen bond that broke (``time``,
     ``pair``, ``label``, ``force`` its tension in pN, ``trap_force``);
     ``paths``: files written."""
 
@@ -77,6 +79,8 @@ class PullResult:
     extension: np.ndarray
     force: np.ndarray
     open: np.ndarray
+    span: np.ndarray
+    span_pairs: tuple
     breaks: List[dict] = field(default_factory=list)
     paths: dict = field(default_factory=dict)
 
@@ -107,7 +111,7 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
          direction: Optional[Sequence[float]] = None, trap_stiffness: float = 1.0, hold_stiffness: float = 10.0,
          viscosity: float = 1.0, dt: float = 0.01, record_every: int = 10, out: Optional[str] = None,
          frame_every: int = 100, stop_when_open: bool = True, progress_bar: bool = True,
-         experiment: str = "pull") -> PullResult:
+         span_pairs: Optional[Sequence[int]] = None, experiment: str = "pull") -> PullResult:
     """Pulls the ``pulled`` ends of duplex ``d`` with traps moving at
     ``speed`` (nm/ns) for ``distance`` (nm) while fixed traps hold the
     ``held`` ends (each trap starts on its end: no initial force).
@@ -119,7 +123,8 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     dt: ns (the step adapts when a break needs it); record_every: steps
     between records; out: file prefix for the CSV and trajectory;
     frame_every: steps between trajectory frames; stop_when_open: stop once
-    every pair is open.
+    every pair is open; span_pairs: the two pairs whose midpoints ``span``
+    follows (default: the 4th from each end, or the end pairs below 10 bp).
     """
     if not isinstance(d, Duplex):
         raise _invalid(f"expected a strandkit.dna.Duplex, got {type(d).__name__}")
@@ -137,6 +142,12 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     record_every, frame_every = int(record_every), int(frame_every)
     if record_every < 1 or frame_every < 1:
         raise _invalid("record_every and frame_every must be ≥ 1 step")
+    n = len(d)
+    if span_pairs is None:
+        span_pairs = (3, n - 4) if n >= 10 else (0, n - 1)
+    span_pairs = tuple(int(i) for i in span_pairs)
+    if len(span_pairs) != 2 or not all(0 <= i < n for i in span_pairs) or span_pairs[0] == span_pairs[1]:
+        raise _invalid(f"span_pairs must be two distinct pairs of the {n}, got {span_pairs}")
     n_steps = math.ceil(distance / speed / dt)
     if n_steps > 50_000_000:
         raise _invalid(f"{n_steps} steps: raise speed or dt")
@@ -172,12 +183,19 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     x_h0 = float(np.dot(x_h, e)) if x_h is not None else 0.0
     ext0 = float(np.dot(x_p0, e)) - x_h0
 
+    ua, ub = (np.asarray(u, dtype=float) for u in d.abscissae)
+    span_u = [(ua[i], ub[int(d.partner[i])]) for i in span_pairs]
+
+    def midpoint(i):
+        return 0.5 * (np.asarray(rods[0].position(span_u[i][0])) + np.asarray(rods[1].position(span_u[i][1])))
+
     def record():
         t = world.time
         pulled_x = [pos(p) for p in ends_p]
         f = sum(k * float(np.dot(x0 + speed * t * e - x, e)) for x0, x in zip(starts, pulled_x))
         held_x = float(np.dot(np.mean([pos(h) for h in ends_h], axis=0), e)) if ends_h else x_h0
-        row = (t, speed * t, float(np.dot(np.mean(pulled_x, axis=0), e)) - held_x - ext0, f, len(breaks))
+        row = (t, speed * t, float(np.dot(np.mean(pulled_x, axis=0), e)) - held_x - ext0, f, len(breaks),
+               abs(float(np.dot(midpoint(1) - midpoint(0), e))))
         for c, v in zip(COLUMNS, row):
             rec[c].append(v)
         if writer is not None:
@@ -193,7 +211,7 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
             fh.write(f"# strandkit.dna.experiments.{experiment}: {d!r}; held {held}, pulled {pulled}, "
                      f"speed {speed} nm/ns, trap {k} pN/nm, direction {e.tolist()}\n")
             writer = csv.writer(fh)
-            writer.writerow(["time_ns", "trap_nm", "extension_nm", "force_pN", "open_bp"])
+            writer.writerow(["time_ns", "trap_nm", "extension_nm", "force_pN", "open_bp", "span_nm"])
             tw = duplex_trajectory(world, d, ins, out, every=frame_every)
             paths.update(tw.paths)
         record()
@@ -219,7 +237,7 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
             fh.close()
     arr = {c: np.asarray(v, dtype=float) for c, v in rec.items()}
     return PullResult(experiment, len(d), e, arr["time"], arr["trap"], arr["extension"], arr["force"],
-                      arr["open"].astype(int), breaks, paths)
+                      arr["open"].astype(int), arr["span"], span_pairs, breaks, paths)
 
 
 def _duplex(sequence_or_duplex, kw) -> Duplex:
