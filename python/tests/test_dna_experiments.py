@@ -111,3 +111,51 @@ def test_bad_input_is_refused():
         ex.pull("GATTACA", held=[], pulled=["a3'"])
     with pytest.raises(sk.InvalidInputError, match="position 3"):
         ex.unzip("GANT")
+
+
+def test_force_clamp_and_ramp_unzip_block_by_block():
+    # Zero temperature, calibrated bonds (A·T 9 pN, G·C 20 pN unzipping).
+    # The end pair opens at its bond's own break force (no fork yet), so
+    # a clamp below it opens nothing; above it, the A·T block unzips and
+    # the G·C block (20 pN) stops the fork. A ramp opens the A·T block in
+    # one avalanche at the end pair's force, then waits for the G·C block.
+    fa, fg = ex.break_forces_for_unzipping(9.0, 20.0)
+    d = sk.dna.duplex("ATATATAT" + "GCGCGCGC", break_force_at=fa, break_force_gc=fg)
+    below = ex.force_clamp(d, 0.9 * fa, 40.0, viscosity=0.1, progress_bar=False)
+    assert below.breaks == [] and np.all(below.force == pytest.approx(0.9 * fa))
+    between = ex.force_clamp(d, 16.0, 80.0, viscosity=0.1, progress_bar=False)
+    assert [b["pair"] for b in between.breaks] == list(range(8))
+    ramp = ex.force_ramp(d, rate=0.2, max_force=21.5, viscosity=0.1, progress_bar=False)
+    at = [b["trap_force"] for b in ramp.breaks if b["pair"] < 8]
+    gc = [b["trap_force"] for b in ramp.breaks if b["pair"] >= 8]
+    assert len(at) == 8 and at[0] == pytest.approx(fa, rel=0.02) and max(at) - min(at) < 1.0
+    assert gc and gc[0] == pytest.approx(20.0, rel=0.05)
+    assert np.all(np.isnan(ramp.trap)) and ramp.force[-1] == pytest.approx(21.5)
+    with pytest.raises(sk.InvalidInputError, match="geometry"):
+        ex.force_clamp(d, 5.0, 1.0, geometry="twist")
+    with pytest.raises(sk.InvalidInputError, match="force must be"):
+        ex.force_clamp(d, -5.0, 1.0)
+    with pytest.raises(sk.InvalidInputError, match="duration"):
+        ex.pull(d, held=["a5'"], pulled=["b3'"], force=lambda t: 1.0)
+    with pytest.raises(sk.InvalidInputError, match="finite"):
+        ex.pull(d, held=["a5'"], pulled=["b3'"], force=lambda t: math.inf, duration=1.0)
+
+
+def test_an_interrupted_run_keeps_its_records_on_disk(tmp_path):
+    # The protocol raises KeyboardInterrupt 2 ns in (as Ctrl-C would): the
+    # CSV holds every record taken before, and the trajectory reads.
+    def force(t):
+        if t > 2.005:  # asked for the step ending at 2.01 ns
+            raise KeyboardInterrupt
+        return 5.0
+
+    prefix = str(tmp_path / "cut")
+    with pytest.raises(KeyboardInterrupt):
+        ex.pull(sk.dna.duplex("GATTACA"), held=["a5'"], pulled=["b3'"], force=force, duration=10.0, dt=0.01,
+                record_every=10, frame_every=20, out=prefix, progress_bar=False)
+    with open(prefix + ".csv") as f:
+        rows = [l for l in f if not l.startswith(("#", "time"))]
+    assert len(rows) == 21  # t = 0, 0.1, …, 2.0 ns
+    assert float(rows[-1].split(",")[0]) == pytest.approx(2.0, abs=1e-9)
+    import mdtraj as md
+    assert md.load(prefix + ".dcd", top=prefix + ".psf").n_frames == 11

@@ -42,20 +42,27 @@ import csv
 import math
 import os
 from dataclasses import dataclass, field
-from typing import List, Optional, Sequence
+from typing import Callable, List, Optional, Sequence
 
 import numpy as np
 
 from ..errors import _invalid
 from .._native import World
 from .._progress import progress
-from ..loads import trap
+from ..loads import point_force, trap
 from .duplex import Duplex, duplex as build_duplex
 from .viewer import trajectory as duplex_trajectory
 
-__all__ = ["PullResult", "pull", "unzip", "shear", "stretch", "unzipping_plateau", "break_forces_for_unzipping", "ENDS"]
+__all__ = ["PullResult", "pull", "unzip", "shear", "stretch", "force_clamp", "force_ramp", "unzipping_plateau",
+           "break_forces_for_unzipping", "ENDS", "GEOMETRIES"]
 
 ENDS = ("a5'", "a3'", "b5'", "b3'")
+# Held and pulled ends of each set-up.
+GEOMETRIES = {
+    "unzip": (["a5'"], ["b3'"]),
+    "shear": (["b3'"], ["a3'"]),
+    "stretch": (["a5'", "b3'"], ["a3'", "b5'"]),
+}
 COLUMNS = ("time", "trap", "extension", "force", "open", "span")
 
 
@@ -111,10 +118,14 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
          direction: Optional[Sequence[float]] = None, trap_stiffness: float = 1.0, hold_stiffness: float = 10.0,
          viscosity: float = 1.0, dt: float = 0.01, record_every: int = 10, out: Optional[str] = None,
          frame_every: int = 100, stop_when_open: bool = True, progress_bar: bool = True,
-         span_pairs: Optional[Sequence[int]] = None, experiment: str = "pull") -> PullResult:
+         span_pairs: Optional[Sequence[int]] = None, force: Optional[Callable[[float], float]] = None,
+         duration: Optional[float] = None, experiment: str = "pull") -> PullResult:
     """Pulls the ``pulled`` ends of duplex ``d`` with traps moving at
     ``speed`` (nm/ns) for ``distance`` (nm) while fixed traps hold the
-    ``held`` ends (each trap starts on its end: no initial force).
+    ``held`` ends (each trap starts on its end: no initial force). With
+    ``force`` (a function of time in ns giving pN) the pulled ends are
+    pulled by that force instead (shared equally, along ``direction``) for
+    ``duration`` ns: a force clamp or ramp (``trap`` is then NaN).
 
     direction: the pulling direction (default: from the held ends' mean to
     the pulled ends' mean); trap_stiffness, hold_stiffness: pN/nm;
@@ -148,7 +159,15 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     span_pairs = tuple(int(i) for i in span_pairs)
     if len(span_pairs) != 2 or not all(0 <= i < n for i in span_pairs) or span_pairs[0] == span_pairs[1]:
         raise _invalid(f"span_pairs must be two distinct pairs of the {n}, got {span_pairs}")
-    n_steps = math.ceil(distance / speed / dt)
+    if force is not None:
+        if not callable(force):
+            raise _invalid(f"force must be a function of time (ns) giving pN, got {type(force).__name__}")
+        if duration is None:
+            raise _invalid("a force protocol needs its duration (ns)")
+        duration = _positive("duration (ns)", duration)
+        n_steps = math.ceil(duration / dt)
+    else:
+        n_steps = math.ceil(distance / speed / dt)
     if n_steps > 50_000_000:
         raise _invalid(f"{n_steps} steps: raise speed or dt")
 
@@ -170,8 +189,25 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     for s, u in ends_h:
         world.add_load(trap(rods[s], u, pos((s, u)), kh))
     starts = [pos(p) for p in ends_p]
-    for (s, u), x0 in zip(ends_p, starts):
-        world.add_load(trap(rods[s], u, x0, k, velocity=speed * e))
+
+    def applied(t):
+        """The force protocol at time t (pN), checked."""
+        f = float(force(t))
+        if not math.isfinite(f):
+            raise _invalid(f"force({t:g} ns) = {f}: expected a finite number of pN")
+        return f
+
+    if force is None:
+        for (s, u), x0 in zip(ends_p, starts):
+            world.add_load(trap(rods[s], u, x0, k, velocity=speed * e))
+    else:
+        share = 1.0 / len(ends_p)
+        pushes = [world.add_load(point_force(rods[s], u, applied(0.0) * share * e)) for s, u in ends_p]
+
+    def trap_force(t, pulled_x):
+        if force is not None:
+            return applied(t)
+        return sum(k * float(np.dot(x0 + speed * t * e - x, e)) for x0, x in zip(starts, pulled_x))
     hbonds = {h: kk for kk, h in enumerate(d.hbonds) if h is not None}
     labels = {ins.constraints[h].label: kk for h, kk in hbonds.items()}
     n_pairs = len(hbonds)
@@ -192,9 +228,9 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     def record():
         t = world.time
         pulled_x = [pos(p) for p in ends_p]
-        f = sum(k * float(np.dot(x0 + speed * t * e - x, e)) for x0, x in zip(starts, pulled_x))
+        f = trap_force(t, pulled_x)
         held_x = float(np.dot(np.mean([pos(h) for h in ends_h], axis=0), e)) if ends_h else x_h0
-        row = (t, speed * t, float(np.dot(np.mean(pulled_x, axis=0), e)) - held_x - ext0, f, len(breaks),
+        row = (t, speed * t if force is None else math.nan, float(np.dot(np.mean(pulled_x, axis=0), e)) - held_x - ext0, f, len(breaks),
                abs(float(np.dot(midpoint(1) - midpoint(0), e))))
         for c, v in zip(COLUMNS, row):
             rec[c].append(v)
@@ -216,11 +252,15 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
             paths.update(tw.paths)
         record()
         for step in progress(range(n_steps), desc=experiment, enable=progress_bar):
+            if force is not None:
+                # Implicit Euler: the load at the step's end.
+                f_next = applied(world.time + dt) * share
+                for h, (s, u) in zip(pushes, ends_p):
+                    world.set_load(h, point_force(rods[s], u, f_next * e))
             report = world.step()
             for ev in report.events:
                 if ev.kind == "ConstraintBroken" and ev.label in labels:
-                    f_trap = sum(k * float(np.dot(x0 + speed * world.time * e - pos(p), e))
-                                 for x0, p in zip(starts, ends_p))
+                    f_trap = trap_force(world.time, [pos(p) for p in ends_p])
                     breaks.append(dict(time=world.time, pair=labels[ev.label], label=ev.label, force=ev.force,
                                        trap_force=f_trap))
             if (step + 1) % record_every == 0:
@@ -282,6 +322,39 @@ def stretch(sequence_or_duplex, *, speed: float = 0.05, distance: float = 1.0, d
     d = _duplex(sequence_or_duplex, duplex_options or {})
     return pull(d, held=["a5'", "b3'"], pulled=["a3'", "b5'"], speed=speed, distance=distance,
                 experiment="stretch", **options)
+
+
+def _geometry(name):
+    if name not in GEOMETRIES:
+        raise _invalid(f"unknown geometry {name!r}: one of {', '.join(GEOMETRIES)}")
+    return GEOMETRIES[name]
+
+
+def force_clamp(sequence_or_duplex, force: float, duration: float, *, geometry: str = "unzip",
+                duplex_options=None, **options) -> PullResult:
+    """Force clamp: the ``geometry``'s pulled ends (``GEOMETRIES``: unzip,
+    shear, stretch) pulled by a constant ``force`` (pN) for ``duration``
+    (ns), its held ends in fixed traps. Other options: ``pull``'s."""
+    f = float(force)
+    if not (f >= 0 and math.isfinite(f)):
+        raise _invalid(f"force must be a finite number of pN ≥ 0, got {force}")
+    held, pulled = _geometry(geometry)
+    d = _duplex(sequence_or_duplex, duplex_options or {})
+    return pull(d, held=held, pulled=pulled, force=lambda t: f, duration=duration,
+                experiment=f"{geometry} at {f:g} pN", **options)
+
+
+def force_ramp(sequence_or_duplex, rate: float, max_force: float, *, geometry: str = "unzip",
+               duplex_options=None, **options) -> PullResult:
+    """Force ramp: the ``geometry``'s pulled ends pulled by a force growing
+    at ``rate`` (pN/ns) from 0 up to ``max_force`` (pN), where the run
+    ends. Other options: ``pull``'s."""
+    rate = _positive("rate (pN/ns)", rate)
+    max_force = _positive("max_force (pN)", max_force)
+    held, pulled = _geometry(geometry)
+    d = _duplex(sequence_or_duplex, duplex_options or {})
+    return pull(d, held=held, pulled=pulled, force=lambda t: min(rate * t, max_force), duration=max_force / rate,
+                experiment=f"{geometry} ramp", **options)
 
 
 # Quasi-static pulling (a slower pull changes the plateau by < 2 %,
