@@ -11,6 +11,7 @@
 use crate::dna::{duplex, Duplex, DuplexLayout, Elasticity, BOLTZMANN};
 use std::sync::{Mutex, OnceLock};
 use nalgebra::Vector3;
+use strandkit_core::constraint::kinds::base_pair_step::axis;
 use strandkit_core::constraint::kinds::{Position, Tangent};
 use strandkit_core::force::PointForce;
 use strandkit_core::world::{IntegrationParameters, World};
@@ -33,8 +34,9 @@ pub struct Measured {
 }
 
 /// Axis point and rung of pair k (nm), framed as the stacking frames it
-/// ([`strandkit_core::constraint::kinds::BasePairStep`]): the axis along
-/// the difference of the neighbouring rung midpoints, ⟂ the rung.
+/// ([`strandkit_core::constraint::kinds::BasePairStep`]): the axis by its
+/// rule ([`axis`]: the difference of the neighbouring rung midpoints),
+/// ⟂ the rung.
 pub fn pair_axis(w: &World, ins: &Inserted, l: &DuplexLayout, k: usize) -> Result<(Vector3<f64>, Vector3<f64>)> {
     let (ra, rb) = (w.rod(ins.rods[l.strands[0]])?, w.rod(ins.rods[l.strands[1]])?);
     let pair = |j: usize| -> Result<(Vector3<f64>, Vector3<f64>)> { Ok((ra.position(l.abscissae[0][j])?, rb.position(l.abscissae[1][l.partner[j]])?)) };
@@ -45,12 +47,15 @@ pub fn pair_axis(w: &World, ins: &Inserted, l: &DuplexLayout, k: usize) -> Resul
     let n = l.partner.len();
     let (a, b) = pair(k)?;
     let x = (b - a).normalize();
-    let c = if k == 0 {
-        mid(1)? * 4.0 - mid(0)? * 3.0 - mid(2)?
+    // The stacking's own rule, pair k in the slot its frame has there.
+    let c = if n < 3 {
+        return Err(Error::input(format!("pair_axis: a duplex of {n} bp has no axis rule (3 pairs at least)")));
+    } else if k == 0 {
+        axis(&[mid(0)?, mid(0)?, mid(1)?, mid(2)?], 1, [true, false])
     } else if k == n - 1 {
-        mid(k)? * 3.0 - mid(k - 1)? * 4.0 + mid(k - 2)?
+        axis(&[mid(k - 2)?, mid(k - 1)?, mid(k)?, mid(k)?], 2, [false, true])
     } else {
-        mid(k + 1)? - mid(k - 1)?
+        axis(&[mid(k - 1)?, mid(k)?, mid(k + 1)?, mid(k + 1)?], 1, [false, false])
     };
     let z = (c - x * x.dot(&c)).normalize();
     let offset = 0.5 * l.rung_length / (0.5 * l.phase).tan(); // R cos(φ/2)

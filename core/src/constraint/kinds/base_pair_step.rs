@@ -84,8 +84,9 @@ fn midpoints<T: RealField + Copy>(p: &[Vector3<T>; 8]) -> [Vector3<T>; 4] {
 /// ⟂ x; on a uniformly bent one it follows the axis to first order in the
 /// curvature. (Cross products of neighbouring rungs, the first choice,
 /// wobble with the helix phase when the duplex bends: its bending came
-/// out 1.7× too stiff.)
-fn axis<T: RealField + Copy>(m: &[Vector3<T>; 4], j: usize, ends: [bool; 2]) -> Vector3<T> {
+/// out 1.7× too stiff.) Public so that measurements of a duplex (the
+/// builders' elasticity probe) frame its pairs by the same rule.
+pub fn axis<T: RealField + Copy>(m: &[Vector3<T>; 4], j: usize, ends: [bool; 2]) -> Vector3<T> {
     let a = axis_coefficients(j, ends);
     (0..4).fold(Vector3::zeros(), |c, i| if a[i] == 0.0 { c } else { c + m[i] * T::from_subset(&a[i]) })
 }
