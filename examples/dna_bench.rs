@@ -17,7 +17,11 @@ fn main() -> Result<()> {
     let dt: f64 = std::env::var("DT").ok().and_then(|s| s.parse().ok()).unwrap_or(0.01); // ns
     for n in lengths {
         let seq: String = "GATTACA".chars().cycle().take(n).collect();
-        let (asm, _) = duplex(&Duplex::new(&seq))?;
+        let mut p = Duplex::new(&seq);
+        // With noise, bonds break on their tension averaged over 1 ns
+        // (each step's would melt the duplex at once).
+        p.break_averaging_time = 1.0;
+        let (asm, _) = duplex(&p)?;
         let temperature = std::env::var("T").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0);
         let mut w = World::new(IntegrationParameters { dt, viscosity: 1.0, temperature, seed: 7, units: Units::Molecular, ..Default::default() });
         w.insert(&asm)?;

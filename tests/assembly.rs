@@ -79,7 +79,7 @@ fn inserted_ladder_balances_its_load_through_the_group() {
 #[test]
 fn tension_only_rungs_break_under_tension_and_not_under_compression() {
     let run = |per_length: f64, policy: BreakPolicy| {
-        let mut asm = ladder(false, [0.0; 3], Some(Breaking { force: 400.0, policy }));
+        let mut asm = ladder(false, [0.0; 3], Some(Breaking::new(400.0, policy)));
         // About 10 kN over 19 rungs: ≈ 530 N each.
         asm.add_load(1, Distributed { rod: RodHandle { index: 0, generation: 0 }, force_per_length: [0.0, per_length, 0.0] }, None);
         let mut w = World::new(IntegrationParameters::default());
@@ -121,7 +121,7 @@ fn tension_only_rungs_break_under_tension_and_not_under_compression() {
 /// inserting either builds the same world.
 #[test]
 fn json_round_trip_rebuilds_the_same_world() {
-    let asm = ladder(true, [1.0, 2.0, 3.0], Some(Breaking { force: 5.0, policy: BreakPolicy::Tension }));
+    let asm = ladder(true, [1.0, 2.0, 3.0], Some(Breaking::new(5.0, BreakPolicy::Tension)));
     let text = asm.to_json().unwrap();
     let back = Assembly::from_json(&text).unwrap();
     assert_eq!(back.to_json().unwrap(), text);
@@ -166,12 +166,12 @@ fn a_bad_assembly_changes_nothing() {
         }),
         ("break force", {
             let mut a = ladder(false, [0.0; 3], None);
-            a.constraints[4].breaking = Some(Breaking { force: -1.0, policy: BreakPolicy::Magnitude });
+            a.constraints[4].breaking = Some(Breaking::new(-1.0, BreakPolicy::Magnitude));
             a
         }),
         ("tension policy", {
             let mut a = ladder(false, [0.0; 3], None);
-            a.constraints[0].breaking = Some(Breaking { force: 1.0, policy: BreakPolicy::Tension });
+            a.constraints[0].breaking = Some(Breaking::new(1.0, BreakPolicy::Tension));
             a
         }),
         ("bead", {

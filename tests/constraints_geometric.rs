@@ -158,7 +158,7 @@ fn most_loaded_hanger_breaks_first() {
             let x = i as f64;
             let u = u0 + (u1 - u0) * x / 4.0;
             let c = w.add_constraint(h, ConstraintKind::Distance(Distance { u, point: [x, 5.0, 0.0], distance: 5.0 }), 0.0).unwrap();
-            w.set_breaking(c, Some(Breaking { force: threshold, policy: BreakPolicy::Tension })).unwrap();
+            w.set_breaking(c, Some(Breaking::new(threshold, BreakPolicy::Tension))).unwrap();
             c
         })
         .collect();

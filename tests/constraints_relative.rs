@@ -69,7 +69,7 @@ fn chain_of_rods_breaks_at_the_most_loaded_link() {
             let ua = w.rod(rods[i]).unwrap().domain().1;
             let ub = w.rod(rods[i + 1]).unwrap().domain().0;
             let c = w.add_link(rods[i], rods[i + 1], ConstraintKind::RelativeDistance(RelativeDistance { ua, ub, distance: gap }), 0.0).unwrap();
-            w.set_breaking(c, Some(Breaking { force: threshold, policy: BreakPolicy::Tension })).unwrap();
+            w.set_breaking(c, Some(Breaking::new(threshold, BreakPolicy::Tension))).unwrap();
             c
         })
         .collect();

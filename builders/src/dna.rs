@@ -156,6 +156,11 @@ pub struct Duplex {
     /// Per-pair break forces (pN; pair k = strand a's nucleotide k),
     /// overriding the two above; `f64::INFINITY` for an unbreakable pair.
     pub break_forces: Option<Vec<f64>>,
+    /// Time (ns) over which a bond's tension is averaged before it is
+    /// compared with its break force (0: each step's; with thermal noise
+    /// the instantaneous tension of a rigid bond breaks every pair at once:
+    /// use ~1 ns, [`strandkit_core::constraint::Breaking`]).
+    pub break_averaging_time: f64,
     pub strand: Strand,
     /// The duplex's elastic constants (zero temperature) the stacking is
     /// calibrated for.
@@ -182,6 +187,7 @@ impl Duplex {
             break_force_at: 9.0,
             break_force_gc: 20.0,
             break_forces: None,
+            break_averaging_time: 0.0,
             strand: Strand::default(),
             elasticity: Elasticity::default(),
             stacking: None,
@@ -220,6 +226,7 @@ impl Duplex {
             return Err(Error::invalid("minor_groove", self.minor_groove, "a share of the pitch in (0, 1)"));
         }
         non_negative("hbond_compliance", self.hbond_compliance)?;
+        non_negative("break_averaging_time", self.break_averaging_time)?;
         positive("break_force_at", self.break_force_at)?;
         positive("break_force_gc", self.break_force_gc)?;
         positive("strand stretch_modulus", self.strand.stretch_modulus)?;
@@ -353,6 +360,7 @@ pub fn duplex(p: &Duplex) -> Result<(Assembly, DuplexLayout)> {
         c.compliance(p.hbond_compliance).label(format!("hbond[{k}]"));
         if break_forces[k].is_finite() {
             c.breaks(break_forces[k], BreakPolicy::Tension);
+            c.breaking = c.breaking.map(|b| b.averaged(p.break_averaging_time));
         }
         hbonds[k] = Some(asm.constraints.len() - 1);
     }

@@ -59,7 +59,7 @@ pub(crate) fn breaking(break_force: Option<f64>, policy: &str, tension_only: boo
         (true, _) => strandkit_core::BreakPolicy::Tension,
     };
     match break_force {
-        Some(force) => Ok(Some(Breaking { force, policy: p })),
+        Some(force) => Ok(Some(Breaking::new(force, p))),
         None if p != strandkit_core::BreakPolicy::Magnitude => {
             Err(crate::bad(format!("policy={:?} needs break_force (the force above which the constraint breaks)", policy)))
         }

@@ -159,7 +159,7 @@ fn build_beads_on_spring<'py>(
 
 /// A B-DNA duplex (SPEC §9.1); see `strandkit.dna.duplex`. Molecular units.
 #[pyfunction]
-#[pyo3(signature = (*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, strand_stretch_modulus, strand_persistence, bending_persistence, stretch_modulus, twist_persistence, twist_stretch, temperature))]
+#[pyo3(signature = (*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, break_averaging_time, strand_stretch_modulus, strand_persistence, bending_persistence, stretch_modulus, twist_persistence, twist_stretch, temperature))]
 #[allow(clippy::too_many_arguments)]
 fn build_duplex<'py>(
     py: Python<'py>,
@@ -173,6 +173,7 @@ fn build_duplex<'py>(
     break_force_at: f64,
     break_force_gc: f64,
     break_forces: Option<Vec<f64>>,
+    break_averaging_time: f64,
     strand_stretch_modulus: f64,
     strand_persistence: f64,
     bending_persistence: f64,
@@ -187,7 +188,7 @@ fn build_duplex<'py>(
     p.strand.stretch_modulus = strand_stretch_modulus;
     p.strand.persistence_length = strand_persistence;
     p.elasticity = Elasticity { bending_persistence, stretch_modulus, twist_persistence, twist_stretch, ..p.elasticity };
-    p = Duplex { complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, ..p };
+    p = Duplex { complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, break_averaging_time, ..p };
     let (asm, l) = guard(|| duplex(&p))?;
     // The calibration the build used (cached: no second run).
     let cal = guard(|| strandkit_builders::dna_elasticity::calibrated(&p))?;

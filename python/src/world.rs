@@ -376,16 +376,24 @@ impl PyWorld {
     /// unit) — |force| for policy="magnitude", the tension or compression
     /// along its line of action for "tension" / "compression"
     /// (`tension_only=True` is policy="tension"); force=None: unbreakable.
-    #[pyo3(signature = (constraint, force = None, *, policy = "magnitude", tension_only = false))]
+    /// `averaging_time` (time unit): compare the measure averaged over that
+    /// time of dynamics (an exponential moving average from 0) instead of
+    /// each step's — with thermal noise, hard constraints' instantaneous
+    /// forces fluctuate far beyond their mean.
+    #[pyo3(signature = (constraint, force = None, *, policy = "magnitude", tension_only = false, averaging_time = 0.0))]
     fn set_breaking(
         slf: &Bound<'_, Self>,
         constraint: &Bound<'_, PyConstraintHandle>,
         force: Option<f64>,
         policy: &str,
         tension_only: bool,
+        averaging_time: f64,
     ) -> PyResult<()> {
         let h = Self::own(slf, constraint)?;
-        let b = assembly::breaking(force, policy, tension_only)?;
+        if force.is_none() && averaging_time != 0.0 {
+            return Err(crate::bad("averaging_time needs a break force"));
+        }
+        let b = assembly::breaking(force, policy, tension_only)?.map(|b| b.averaged(averaging_time));
         Self::with_mut(slf, |w| w.set_breaking(h, b))
     }
     /// Force (force unit) and torque (force × length) the constraint

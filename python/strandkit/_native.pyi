@@ -11,7 +11,7 @@ def build_beads_on_spring(*, coil_radius, pitch, turns, wire_radius, young_modul
     """Particles on a spring (SPEC §9.4); see `strandkit.builders.beads_on_spring`."""
 def build_cable_on_clips(*, path, clip_positions, clip_radius, clip_axis, clip_resistance, cable_radius, young_modulus, density, bend_radius, clamp_start, clamp_end, control_points):
     """A cable on clips (SPEC §9.5); see `strandkit.builders.cable_on_clips`."""
-def build_duplex(*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, strand_stretch_modulus, strand_persistence, bending_persistence, stretch_modulus, twist_persistence, twist_stretch, temperature):
+def build_duplex(*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, break_averaging_time, strand_stretch_modulus, strand_persistence, bending_persistence, stretch_modulus, twist_persistence, twist_stretch, temperature):
     """A B-DNA duplex (SPEC §9.1); see `strandkit.dna.duplex`."""
 def build_harness(*, branches, radii, junctions, connectors, bend_radius, young_modulus, density, control_points_per_metre):
     """A wiring harness (SPEC §9.5); see `strandkit.builders.harness`."""
@@ -643,7 +643,7 @@ class World:
         """Knots a bead at its abscissa (`True`) or lets it slide again."""
     def set_bead_force(self, bead, force):
         """External force on a bead besides gravity (force unit, 3 values)."""
-    def set_breaking(self, constraint, force=None, *, policy="magnitude", tension_only=False):
+    def set_breaking(self, constraint, force=None, *, policy="magnitude", tension_only=False, averaging_time=0.0):
         """Makes a constraint break when its measure exceeds `force` (force unit) — |force| for policy="magnitude", the tension or compression along its line of action for "tension" / "compression" (`tension_only=True` is policy="tension"); force=None: unbreakable."""
     def set_constraint(self, constraint, kind):
         """Replaces a constraint's kind (same kind and rows): moving targets."""

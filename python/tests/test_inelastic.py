@@ -1,4 +1,5 @@
 """Plasticity, rupture and quasi-dynamics from Python (SPEC §6, IV.B)."""
+import math
 import numpy as np
 import pytest
 
@@ -95,3 +96,57 @@ def test_quasi_dynamic_bad_input():
 
     with pytest.raises(RuntimeError, match="clock failed"):
         qd.step(broken)
+
+
+def _ramp_break_time(tau, r=100.0, f=10.0, dt=1e-3):
+    """A rod pinned at its start, its end pulled by F = r t (N): when does
+    the pin (breaking at f, averaged over tau) let go?"""
+    w = sk.World(dt=dt)
+    rod = w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", n_control_points=6))
+    pin = w.add_constraint(rod, sk.position(rod.u_start, (0, 0, 0)))
+    w.set_breaking(pin, f, averaging_time=tau)
+    load = w.add_load(sk.point_force(rod, rod.u_end, (0, 0, 0)))
+    for k in range(1, 10_000):
+        w.set_load(load, sk.point_force(rod, rod.u_end, (r * k * dt, 0, 0)))
+        broken = [e for e in w.step().events if e.kind == "ConstraintBroken"]
+        if broken:
+            return k * dt, broken[0].force
+    raise AssertionError("the pin never broke")
+
+
+def test_averaged_breaking_lags_a_ramp_by_its_averaging_time():
+    # Instantaneous: the pin carries F = r t and lets go at t = f/r. The
+    # moving average of a ramp from m = 0 is r (t − τ (1 − e^(−t/τ))), so
+    # it reaches f at the root of that (0.1475 s here): within 2 steps.
+    t0, f0 = _ramp_break_time(0.0)
+    assert t0 == pytest.approx(0.1, abs=1.5e-3) and f0 == pytest.approx(10.0, rel=1e-3)
+    tau = 0.05
+    t = 0.15
+    for _ in range(50):  # Newton on t − τ(1 − e^(−t/τ)) = f/r
+        t -= (t - tau * (1 - math.exp(-t / tau)) - 0.1) / (1 - math.exp(-t / tau))
+    t1, f1 = _ramp_break_time(tau)
+    assert t1 == pytest.approx(t, abs=2e-3) and f1 == pytest.approx(10.0, rel=2e-2)
+    w = sk.World()
+    rod = w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon", n_control_points=6))
+    pin = w.add_constraint(rod, sk.position(rod.u_start, (0, 0, 0)))
+    with pytest.raises(sk.InvalidInputError, match="averaging time"):
+        w.set_breaking(pin, 1.0, averaging_time=-1.0)
+    with pytest.raises(sk.InvalidInputError, match="averaging_time needs"):
+        w.set_breaking(pin, None, averaging_time=1.0)
+
+
+def test_thermal_duplex_keeps_its_bonds_with_averaged_breaking():
+    # 25 °C in water at dt = 1 ps: the rigid bonds' instantaneous tensions
+    # fluctuate by tens of pN, so 14 pN thresholds on them melt the duplex
+    # at once; averaged over 1 ns (noise ~ √(h/2τ) of it) no pair breaks.
+    def broken(tau):
+        d = sk.dna.duplex("GATTACAGATTA", break_force_at=14.4, break_force_gc=28.6, break_averaging_time=tau)
+        w = sk.World(units="molecular", dt=1e-3, viscosity=1.0, temperature=298.15, seed=11)
+        w.insert(d.assembly)
+        n = 0
+        for _ in range(1500):
+            n += sum(e.kind == "ConstraintBroken" and e.label.startswith("hbond") for e in w.step().events)
+        return n
+
+    assert broken(0.0) == 12  # all of them, at the first step
+    assert broken(1.0) == 0

@@ -57,7 +57,7 @@ impl AssemblyConstraint {
     }
     /// Breaks above `force` measured by `policy`.
     pub fn breaks(&mut self, force: f64, policy: BreakPolicy) -> &mut Self {
-        self.breaking = Some(Breaking { force, policy });
+        self.breaking = Some(Breaking::new(force, policy));
         self
     }
     pub fn label(&mut self, label: impl Into<String>) -> &mut Self {

@@ -132,12 +132,34 @@ pub enum BreakPolicy {
 }
 
 /// A constraint breaks after a solve whose measure (see [`BreakPolicy`])
-/// exceeds `force` (force unit; torque unit for moment-only kinds).
+/// exceeds `force` (force unit; torque unit for moment-only kinds) — or,
+/// with an `averaging_time` τ > 0, whose measure averaged over the last τ
+/// of dynamics does: an exponential moving average m ← m + (1 − e^(−h/τ))
+/// (f − m) from m = 0, updated after every accepted step of length h. With
+/// thermal noise the multipliers of hard constraints fluctuate by ~√(kT ζ/h)
+/// per step (tens of pN for a DNA base pair at h = 1 ps) and a threshold on
+/// them breaks everything at once; averaged over τ the noise falls as
+/// √(h/2τ) while a sustained load still reaches the threshold, τ later.
+/// Statics and quasi-static frames compare the measure itself.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Breaking {
     pub force: f64,
     #[serde(default)]
     pub policy: BreakPolicy,
+    /// τ (time unit); 0: the measure of each solve.
+    #[serde(default)]
+    pub averaging_time: f64,
+}
+
+impl Breaking {
+    /// Breaks when the measure by `policy` exceeds `force`.
+    pub fn new(force: f64, policy: BreakPolicy) -> Breaking {
+        Breaking { force, policy, averaging_time: 0.0 }
+    }
+    /// The same, with the measure averaged over `tau` (time unit).
+    pub fn averaged(self, tau: f64) -> Breaking {
+        Breaking { averaging_time: tau, ..self }
+    }
 }
 
 /// Extra blocks of a constraint that owns abscissa unknowns (sliders):

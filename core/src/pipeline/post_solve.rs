@@ -42,7 +42,7 @@ pub(crate) fn run(world: &mut World, h: Option<f64>, events: &mut Vec<Event>) ->
                 }
             }
             Stage::Frames => world.rods.iter_mut().for_each(|(_, r)| r.transport_frames()),
-            Stage::Breaking => break_constraints(world, events)?,
+            Stage::Breaking => break_constraints(world, h, events)?,
             Stage::Clips => super::clips::update(world, events)?,
             Stage::Inelastic => inelastic = inelastic_update(world, events)?,
         }
@@ -60,10 +60,12 @@ pub(crate) fn drop_departed_sliders(world: &mut World, events: &mut Vec<Event>) 
 }
 
 /// Removes the constraints whose last reaction exceeds their break force
-/// (algorithm 5), measured by their policy, and reports them.
-fn break_constraints(world: &mut World, events: &mut Vec<Event>) -> Result<()> {
+/// (algorithm 5), measured by their policy — averaged over their
+/// `averaging_time` after a dynamic step of length `h` — and reports them.
+fn break_constraints(world: &mut World, h: Option<f64>, events: &mut Vec<Event>) -> Result<()> {
     let mut broken = Vec::new();
-    for (h, c) in world.constraints.iter() {
+    let mut averaged = Vec::new();
+    for (handle, c) in world.constraints.iter() {
         let Some(b) = c.breaking else { continue };
         let rods = world.rods_of(c)?;
         let measure = match b.policy {
@@ -71,8 +73,22 @@ fn break_constraints(world: &mut World, events: &mut Vec<Event>) -> Result<()> {
             BreakPolicy::Tension => c.kind.tension(&rods, &c.multipliers)?,
             BreakPolicy::Compression => c.kind.tension(&rods, &c.multipliers)?.map(|t| -t),
         };
+        let measure = match (measure, h) {
+            (Some(f), Some(h)) if b.averaging_time > 0.0 => {
+                let m = c.break_measure.unwrap_or(0.0);
+                let m = m + (1.0 - (-h / b.averaging_time).exp()) * (f - m);
+                averaged.push((handle, m));
+                Some(m)
+            }
+            _ => measure,
+        };
         if let Some(f) = measure.filter(|f| *f > b.force) {
-            broken.push((h, f, b.policy));
+            broken.push((handle, f, b.policy));
+        }
+    }
+    for (handle, m) in averaged {
+        if let Some(c) = world.constraints.get_mut(handle) {
+            c.break_measure = Some(m);
         }
     }
     let mut gone = Vec::new();

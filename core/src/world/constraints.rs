@@ -30,13 +30,16 @@ pub struct Constraint {
     /// broken with force 0 (stacking that needs both of its base pairs).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub breaks_with: Vec<String>,
+    /// The averaged break measure so far ([`Breaking::averaging_time`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub break_measure: Option<f64>,
 }
 
 impl Constraint {
     /// A constraint with zero multipliers, not breakable, unlabelled.
     pub fn new(rod: RodHandle, other: Option<RodHandle>, kind: ConstraintKind, compliance: f64) -> Constraint {
         let n = kind.n_rows();
-        Constraint { rod, other, kind, compliance, multipliers: vec![0.0; n], breaking: None, label: None, breaks_with: Vec::new() }
+        Constraint { rod, other, kind, compliance, multipliers: vec![0.0; n], breaking: None, label: None, breaks_with: Vec::new(), break_measure: None }
     }
 
     /// Everything about the constraint that can be checked against its rods.
@@ -83,6 +86,7 @@ impl Constraint {
 /// of action.
 pub(crate) fn check_breaking(kind: &ConstraintKind, rods: &[&Rod], b: Breaking) -> Result<()> {
     crate::error::positive("break force", b.force)?;
+    crate::error::non_negative("break averaging time", b.averaging_time)?;
     if b.policy != BreakPolicy::Magnitude && kind.tension(rods, &vec![0.0; kind.n_rows()])?.is_none() {
         return Err(Error::invalid(
             format!("break policy of a {} constraint", kind.name()),

@@ -76,7 +76,8 @@ class Duplex:
 def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: float = 10.5, rise: float = 0.34,
            radius: float = 1.0, minor_groove: float = 12.0 / 34.0, hbond_compliance: float = 0.0,
            break_force_at: float = 9.0, break_force_gc: float = 20.0,
-           break_forces: Optional[Sequence[float]] = None, strand_stretch_modulus: float = 400.0,
+           break_forces: Optional[Sequence[float]] = None, break_averaging_time: float = 0.0,
+           strand_stretch_modulus: float = 400.0,
            strand_persistence: float = 0.75, bending_persistence: float = 50.0, stretch_modulus: float = 1100.0,
            twist_persistence: float = 100.0, twist_stretch: float = -90.0, temperature: float = 298.15) -> Duplex:
     """B-DNA duplex of ``sequence`` (strand a, 5′→3′; A, C, G, T in either
@@ -93,6 +94,9 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
     shares the pull, and ``experiments.break_forces_for_unzipping`` gives
     the break forces that unzip at AFM's 9 / 20 pN, ≈ 14.4 / 28.6 pN);
     break_forces: pN per pair, overriding them (``inf``: unbreakable);
+    break_averaging_time: ns over which a bond's tension is averaged
+    before it is compared with its break force (0: each step's; with
+    thermal noise use ~1 ns, or every rigid bond breaks at once);
     strand_stretch_modulus: pN, strand_persistence: nm — each strand's
     material (single-stranded DNA's persistence; 400 pN, not ssDNA's ≈ 800:
     stiffer strands make the duplex unwind under tension, beyond what the
@@ -107,6 +111,7 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
                   radius=float(radius), minor_groove=float(minor_groove), hbond_compliance=float(hbond_compliance),
                   break_force_at=float(break_force_at), break_force_gc=float(break_force_gc),
                   break_forces=None if break_forces is None else [float(f) for f in break_forces],
+                  break_averaging_time=float(break_averaging_time),
                   strand_stretch_modulus=float(strand_stretch_modulus), strand_persistence=float(strand_persistence),
                   bending_persistence=float(bending_persistence), stretch_modulus=float(stretch_modulus),
                   twist_persistence=float(twist_persistence), twist_stretch=float(twist_stretch),
