@@ -24,6 +24,23 @@ def cantilever(force, n=20, samples=5):
     return w, rod, clamp, clamp_t
 
 
+def end_pair_pulled(sequence, break_forces, force=8.0, dt=1e-3):
+    """A duplex in a molecular world, strand a clamped at its far end and
+    the two nucleotides of pair 0 pulled apart along their rung by
+    ``force`` (pN each): returns (duplex, world, inserted, strand a, strand b)."""
+    d = sk.dna.duplex(sequence, break_forces=break_forces)
+    w = sk.World(units="molecular", dt=dt)
+    ins = w.insert(d.assembly)
+    a, b = (ins.rods[i] for i in d.strands)
+    w.clamp(a, d.abscissae[0][-1])
+    ua, ub = d.abscissae[0][0], d.abscissae[1][-1]
+    x = np.asarray(b.position(ub)) - np.asarray(a.position(ua))
+    x /= np.linalg.norm(x)
+    w.add_load(sk.point_force(a, ua, -force * x))
+    w.add_load(sk.point_force(b, ub, force * x))
+    return d, w, ins, a, b
+
+
 @pytest.fixture
 def two_rod_world():
     """A dynamic two-rod scene: a clamped straight rod and a clamped helix under gravity."""

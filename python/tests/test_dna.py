@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import strandkit as sk
+from conftest import end_pair_pulled
 
 
 def built(seq, **kw):
@@ -57,15 +58,7 @@ def test_bad_sequences_name_the_position():
 
 def test_unzipping_the_end_pair_removes_its_stacking():
     n = 16
-    d, w, ins = built("GC" * (n // 2), break_forces=[5.0] + [math.inf] * (n - 1))
-    a, b = (ins.rods[i] for i in d.strands)
-    w.set_params(dt=1e-3)
-    w.clamp(a, d.abscissae[0][-1])
-    ua, ub = d.abscissae[0][0], d.abscissae[1][-1]
-    x = np.asarray(b.position(ub)) - np.asarray(a.position(ua))
-    x /= np.linalg.norm(x)
-    w.add_load(sk.point_force(a, ua, -8.0 * x))
-    w.add_load(sk.point_force(b, ub, 8.0 * x))
+    d, w, ins, a, b = end_pair_pulled("GC" * (n // 2), [5.0] + [math.inf] * (n - 1))
     events = []
     for _ in range(5):
         events += list(w.step().events)

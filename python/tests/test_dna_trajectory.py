@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import strandkit as sk
+from conftest import end_pair_pulled
 
 SEQ = "GCGATTACAGCG"
 
@@ -17,16 +18,7 @@ def pulled_apart(tmp_path, steps=6):
     """A 12 bp duplex whose end pair is pulled open (its bond breaks at
     5 pN; the others cannot), one frame per step."""
     n = len(SEQ)
-    d = sk.dna.duplex(SEQ, break_forces=[5.0] + [math.inf] * (n - 1))
-    w = sk.World(units="molecular", dt=1e-3)
-    ins = w.insert(d.assembly)
-    a, b = (ins.rods[i] for i in d.strands)
-    w.clamp(a, d.abscissae[0][-1])
-    ua, ub = d.abscissae[0][0], d.abscissae[1][-1]
-    x = np.asarray(b.position(ub)) - np.asarray(a.position(ua))
-    x /= np.linalg.norm(x)
-    w.add_load(sk.point_force(a, ua, -8.0 * x))
-    w.add_load(sk.point_force(b, ub, 8.0 * x))
+    d, w, ins, a, b = end_pair_pulled(SEQ, [5.0] + [math.inf] * (n - 1))
     prefix = str(tmp_path / "pull")
     rungs = []  # the model's rung lengths per frame (nm)
 
