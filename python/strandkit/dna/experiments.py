@@ -230,7 +230,8 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
         pulled_x = [pos(p) for p in ends_p]
         f = trap_force(t, pulled_x)
         held_x = float(np.dot(np.mean([pos(h) for h in ends_h], axis=0), e)) if ends_h else x_h0
-        row = (t, speed * t if force is None else math.nan, float(np.dot(np.mean(pulled_x, axis=0), e)) - held_x - ext0, f, len(breaks),
+        extension = float(np.dot(np.mean(pulled_x, axis=0), e)) - held_x - ext0
+        row = (t, speed * t if force is None else math.nan, extension, f, len(breaks),
                abs(float(np.dot(midpoint(1) - midpoint(0), e))))
         for c, v in zip(COLUMNS, row):
             rec[c].append(v)
@@ -244,8 +245,10 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
             os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
             paths["csv"] = out + ".csv"
             fh = open(paths["csv"], "w", newline="")
+            protocol = (f"speed {speed} nm/ns, trap {k} pN/nm" if force is None
+                        else f"force protocol over {duration} ns (trap_nm: NaN)")
             fh.write(f"# strandkit.dna.experiments.{experiment}: {d!r}; held {held}, pulled {pulled}, "
-                     f"speed {speed} nm/ns, trap {k} pN/nm, direction {e.tolist()}\n")
+                     f"{protocol}, direction {e.tolist()}\n")
             writer = csv.writer(fh)
             writer.writerow(["time_ns", "trap_nm", "extension_nm", "force_pN", "open_bp", "span_nm"])
             tw = duplex_trajectory(world, d, ins, out, every=frame_every)
