@@ -146,9 +146,13 @@ pub struct Breaking {
     pub force: f64,
     #[serde(default)]
     pub policy: BreakPolicy,
-    /// τ (time unit); 0: the measure of each solve.
-    #[serde(default)]
+    /// τ (time unit); 0: the measure of each solve (not written then).
+    #[serde(default, skip_serializing_if = "is_zero")]
     pub averaging_time: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl Breaking {
