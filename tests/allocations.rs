@@ -107,3 +107,17 @@ fn builder_scenes_do_not_allocate() {
         }
     }
 }
+
+/// A clamp that breaks on its force averaged over time keeps the step
+/// allocation-free (the averages go through a recycled buffer).
+#[test]
+fn averaged_breaking_does_not_allocate() {
+    use strandkit::{BreakPolicy, Breaking};
+    let mut c = common::cantilever(40, 5, [0.0, -1e4, 0.0]);
+    c.world.params.parallel = false;
+    c.world.set_breaking(c.clamp, Some(Breaking::new(1e9, BreakPolicy::Magnitude).averaged(0.05))).unwrap();
+    let n = allocations_per_step(&mut c.world);
+    println!("cantilever with an averaged breaking clamp: {n} heap allocations per step");
+    assert_eq!(n, 0.0);
+    assert!(c.world.constraint(c.clamp).unwrap().break_measure.is_some_and(|m| m > 0.0));
+}

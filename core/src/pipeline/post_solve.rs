@@ -64,7 +64,8 @@ pub(crate) fn drop_departed_sliders(world: &mut World, events: &mut Vec<Event>) 
 /// `averaging_time` after a dynamic step of length `h` — and reports them.
 fn break_constraints(world: &mut World, h: Option<f64>, events: &mut Vec<Event>) -> Result<()> {
     let mut broken = Vec::new();
-    let mut averaged = Vec::new();
+    let mut averaged = std::mem::take(&mut world.ws.break_measures);
+    averaged.clear();
     for (handle, c) in world.constraints.iter() {
         let Some(b) = c.breaking else { continue };
         let rods = world.rods_of(c)?;
@@ -86,11 +87,12 @@ fn break_constraints(world: &mut World, h: Option<f64>, events: &mut Vec<Event>)
             broken.push((handle, f, b.policy));
         }
     }
-    for (handle, m) in averaged {
+    for &(handle, m) in &averaged {
         if let Some(c) = world.constraints.get_mut(handle) {
             c.break_measure = Some(m);
         }
     }
+    world.ws.break_measures = averaged;
     let mut gone = Vec::new();
     for (h, force, policy) in broken {
         if let Some(c) = world.constraints.remove(h) {

@@ -54,6 +54,9 @@ pub struct Workspace {
     pub(crate) contact_slack: bool,
     /// Sliders that left their rod in the last solve.
     pub(crate) left: Vec<Index>,
+    /// Averaged break measures of this step, written back after the
+    /// breaking pass (kept to recycle its allocation).
+    pub(crate) break_measures: Vec<(Index, f64)>,
     /// What the last `apply` overwrote (coordinates, velocities,
     /// multipliers, slider abscissae), to undo a step refused after it.
     pub(crate) undo: Vec<f64>,
