@@ -121,3 +121,24 @@ fn averaged_breaking_does_not_allocate() {
     assert_eq!(n, 0.0);
     assert!(c.world.constraint(c.clamp).unwrap().break_measure.is_some_and(|m| m > 0.0));
 }
+
+/// A DNA duplex (stacking, hydrogen bonds breaking on their tension
+/// averaged over 1 ns) steps without allocating once warmed up: the
+/// sparse pattern grows over the first steps as couplings that vanish on
+/// the exact helix appear, then holds.
+#[test]
+fn duplex_steps_do_not_allocate() {
+    use strandkit::prelude::*;
+    use strandkit_builders::dna::{duplex, Duplex};
+    let mut p = Duplex::new("GATTACAGATTA");
+    p.break_averaging_time = 1.0;
+    let (asm, _) = duplex(&p).unwrap();
+    let mut w = World::new(IntegrationParameters { dt: 0.01, viscosity: 1.0, units: strandkit::Units::Molecular, parallel: false, ..Default::default() });
+    w.insert(&asm).unwrap();
+    for _ in 0..200 {
+        w.step().unwrap();
+    }
+    let n = allocations_per_step(&mut w);
+    println!("12 bp duplex: {n} heap allocations per step");
+    assert_eq!(n, 0.0);
+}
