@@ -146,7 +146,8 @@ impl PyTopology {
     /// A topology of given chains: `chains` beads per chain; `residues`
     /// one list of residue names (1–3 letters or digits) per chain, one
     /// per bead (default `SKB`); `closed` per chain; `links` (L, 2) bonds
-    /// between any two beads (0-based over all chains), e.g. hydrogen bonds.
+    /// between any two beads (0-based over all chains), such as hydrogen
+    /// bonds; a link may not repeat a bond.
     #[staticmethod]
     #[pyo3(signature = (chains, *, residues = None, closed = None, links = None))]
     fn of_beads(

@@ -543,7 +543,7 @@ class Topology:
     n_beads: Any
     @staticmethod
     def of_beads(chains, *, residues=None, closed=None, links=None):
-        """A topology of given chains: `chains` beads per chain; `residues` one list of residue names (1–3 letters or digits) per chain, one per bead (default `SKB`); `closed` per chain; `links` (L, 2) bonds between any two beads (0-based over all chains), e.g."""
+        """A topology of given chains: `chains` beads per chain; `residues` one list of residue names (1–3 letters or digits) per chain, one per bead (default `SKB`); `closed` per chain; `links` (L, 2) bonds between any two beads (0-based over all chains), such as hydrogen bonds; a link may not repeat a bond."""
     residues: Any
     """Residue name of every bead, in bead order."""
     def write_pdb(self, path, positions, *, scale=10.0, bfactors=None):

@@ -1,8 +1,10 @@
 """Trajectories for molecular viewers (SPEC §8), written by the Rust core.
 
-``<prefix>.pdb`` (first frame + CONECT bonds), ``<prefix>.psf`` (topology)
-and ``<prefix>.dcd`` (coordinates per frame): one bead per rod sample point,
-one chain per rod. Load them with mdtraj::
+``<prefix>.pdb`` (first frame + CONECT bonds; with ``bfactors``, rewritten
+at the frame where they change), ``<prefix>.psf`` (topology) and
+``<prefix>.dcd`` (coordinates per frame): one bead per rod sample point,
+one chain per rod (or the beads of a given topology, e.g. one per
+nucleotide: ``strandkit.dna.trajectory``). Load them with mdtraj::
 
     md.load("run.dcd", top="run.psf")      # or md.load("run.pdb")
 

@@ -140,6 +140,8 @@ pub enum BreakPolicy {
 /// per step (tens of pN for a DNA base pair at h = 1 ps) and a threshold on
 /// them breaks everything at once; averaged over τ the noise falls as
 /// √(h/2τ) while a sustained load still reaches the threshold, τ later.
+/// Only signed measures average (policies tension and compression: the
+/// magnitude of a noisy force would average to the noise's size).
 /// Statics and quasi-static frames compare the measure itself.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Breaking {

@@ -84,7 +84,12 @@ impl Topology {
         if let Some([a, b]) = links.iter().find(|[a, b]| a == b || *a >= n || *b >= n) {
             return Err(Error::input(format!("link {a}–{b}: beads must be two distinct of the {n} beads")));
         }
-        Ok(Topology { chains, links })
+        let t = Topology { chains, links };
+        let mut seen = std::collections::HashSet::new();
+        if let Some([a, b]) = t.bonds().into_iter().find(|&[a, b]| !seen.insert((a.min(b), a.max(b)))) {
+            return Err(Error::input(format!("link {a}–{b} is a bond already (along a chain or listed twice)")));
+        }
+        Ok(t)
     }
     pub fn n_beads(&self) -> usize {
         self.chains.iter().map(|c| c.beads).sum()
@@ -177,7 +182,7 @@ pub fn pdb_string_marked(
     }
     let chain = topo.chain_of_bead();
     let mut s = String::with_capacity(frames.len() * n * 81 + n * 32);
-    s.push_str("REMARK   1 strandkit beads (one per rod sample point); coordinates in Angstrom\n");
+    s.push_str("REMARK   1 strandkit beads; coordinates in Angstrom\n");
     for (m, frame) in frames.iter().enumerate() {
         check_frame(topo, frame, scale)?;
         if frames.len() > 1 {
@@ -270,7 +275,7 @@ pub fn psf_string(topo: &Topology) -> Result<String> {
         return Err(Error::input(format!("PSF segment ids allow at most 65535 rods, got {}", topo.chains.len())));
     }
     let mut s = String::with_capacity(n * 72 + n * 20);
-    s.push_str("PSF\n\n       1 !NTITLE\n REMARKS strandkit beads (one per rod sample point)\n\n");
+    s.push_str("PSF\n\n       1 !NTITLE\n REMARKS strandkit beads\n\n");
     let _ = writeln!(s, "{n:>8} !NATOM");
     let mut i = 0;
     for (c, ch) in topo.chains.iter().enumerate() {
@@ -641,6 +646,8 @@ mod tests {
         assert!(Topology::new(vec![chain(&["D A"])], vec![]).is_err());
         assert!(Topology::new(vec![chain(&["DA"])], vec![[0, 1]]).is_err());
         assert!(Topology::new(vec![chain(&["DA", "DT"])], vec![[1, 1]]).is_err());
+        assert!(Topology::new(vec![chain(&["DA", "DT"])], vec![[1, 0]]).is_err()); // the backbone bond again
+        assert!(Topology::new(vec![chain(&["DA"]), chain(&["DT"])], vec![[0, 1], [1, 0]]).is_err());
         let short = Chain { beads: 3, closed: false, residues: vec!["DA".into()] };
         assert!(Topology::new(vec![short], vec![]).is_err());
         assert!(pdb_string_marked(&t, &[p.clone()], 10.0, Some(&[0.0; 3])).is_err());

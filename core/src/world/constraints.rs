@@ -72,6 +72,9 @@ impl Constraint {
         for m in &self.multipliers {
             crate::error::finite("constraint multiplier", *m)?;
         }
+        if let Some(m) = self.break_measure {
+            crate::error::finite("constraint break measure", m)?;
+        }
         if let Some(b) = self.breaking {
             check_breaking(&self.kind, rods, b)?;
         }
@@ -87,6 +90,14 @@ impl Constraint {
 pub(crate) fn check_breaking(kind: &ConstraintKind, rods: &[&Rod], b: Breaking) -> Result<()> {
     crate::error::positive("break force", b.force)?;
     crate::error::non_negative("break averaging time", b.averaging_time)?;
+    if b.averaging_time > 0.0 && b.policy == BreakPolicy::Magnitude {
+        // |F| of a zero-mean noisy force averages to the noise's size, not to 0.
+        return Err(Error::invalid(
+            "break averaging with policy magnitude",
+            b.averaging_time,
+            "policy tension or compression (a signed measure: the magnitude of a noisy force does not average down)",
+        ));
+    }
     if b.policy != BreakPolicy::Magnitude && kind.tension(rods, &vec![0.0; kind.n_rows()])?.is_none() {
         return Err(Error::invalid(
             format!("break policy of a {} constraint", kind.name()),
@@ -254,6 +265,8 @@ impl World {
         }
         if let Some(c) = self.constraints.get_mut(h.into()) {
             c.breaking = breaking;
+            // A new rule averages from 0 again.
+            c.break_measure = None;
         }
         Ok(())
     }

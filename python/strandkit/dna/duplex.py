@@ -13,7 +13,8 @@ z axis, strand b antiparallel), one hydrogen bond per base pair (a distance
 constraint, labelled ``hbond[k]``, breaking in tension above its pair's
 force: A·T 9 pN, G·C 20 pN by default) and stacking between consecutive
 pairs (``stack[k]``: six compliant base-pair-step strains), removed as soon
-as either of its pairs breaks. Pair k is strand a's nucleotide k.
+as any pair it reads breaks (its two pairs and the neighbours that frame
+them). Pair k is strand a's nucleotide k.
 
 The stacking is calibrated so that the whole duplex, strands included,
 has the elasticity asked for at zero temperature (B-DNA by default:

@@ -127,8 +127,9 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     pulled by that force instead (shared equally, along ``direction``) for
     ``duration`` ns: a force clamp or ramp (``trap`` is then NaN).
 
-    direction: the pulling direction (default: from the held ends' mean to
-    the pulled ends' mean); trap_stiffness, hold_stiffness: pN/nm;
+    direction: the pulling direction, a 3-vector or ``"axis"`` (the last
+    pair's rung midpoint minus the first's; default: from the held ends'
+    mean to the pulled ends' mean); trap_stiffness, hold_stiffness: pN/nm;
     viscosity: the fluid's, pN·ns/nm² (water: 1; it sets the drag that the
     pulling speed works against — the quasi-static limit is speed → 0);
     dt: ns (the step adapts when a break needs it); record_every: steps
@@ -177,7 +178,13 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     pos = lambda e: np.asarray(rods[e[0]].position(e[1]), dtype=float)  # noqa: E731
     x_h = np.mean([pos(e) for e in ends_h], axis=0) if ends_h else None
     x_p0 = np.mean([pos(e) for e in ends_p], axis=0)
-    if direction is None:
+    if isinstance(direction, str):
+        if direction != "axis":
+            raise _invalid(f"direction {direction!r}: a 3-vector or 'axis'")
+        mid = lambda i: 0.5 * (np.asarray(rods[0].position(float(d.abscissae[0][i])))  # noqa: E731
+                               + np.asarray(rods[1].position(float(d.abscissae[1][int(d.partner[i])]))))
+        direction = mid(len(d) - 1) - mid(0)
+    elif direction is None:
         if x_h is None:
             raise _invalid("pull: give a direction when no end is held")
         direction = x_p0 - x_h
@@ -271,7 +278,8 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
             if tw is not None and (step + 1) % frame_every == 0:
                 tw.write()
             if stop_when_open and n_pairs and len(breaks) == n_pairs:
-                record()
+                if (step + 1) % record_every:
+                    record()
                 break
     finally:
         if tw is not None:
@@ -296,9 +304,10 @@ def unzip(sequence_or_duplex, *, speed: float = 0.2, distance: Optional[float] =
     """Unzipping: holds strand a's 5′ end and pulls strand b's 3′ end (the
     two strands of pair 0) apart along pair 0's rung. ``distance``
     defaults to the length of both opened strands (1.5 × rise × 2 per bp).
-    At zero temperature each opening comes when the fork's bond reaches its
-    break force: the force is a sawtooth whose peaks are the pairs' break
-    forces, in the order of the sequence. Other options: ``pull``'s."""
+    At zero temperature each opening comes when the fork's bond tension
+    reaches its break force f_b: the trap force is a sawtooth peaking at
+    ≈ 0.77 f_b − 2.1 pN, pair by pair in the order of the sequence. Other
+    options: ``pull``'s."""
     d = _duplex(sequence_or_duplex, duplex_options or {})
     if distance is None:
         distance = 2.0 * 1.5 * d.params["rise"] * len(d) + 2.0
@@ -309,20 +318,24 @@ def shear(sequence_or_duplex, *, speed: float = 0.2, distance: Optional[float] =
           **options) -> PullResult:
     """Shear: holds strand b's 3′ end (at pair 0) and pulls strand a's 3′
     end (at the last pair) along the axis, so the hydrogen bonds carry the
-    load between the two strands in parallel (de Gennes' ladder).
-    ``distance`` defaults to twice the duplex length. Other options:
-    ``pull``'s."""
+    load between the two strands in parallel (de Gennes' ladder); the
+    pulling direction defaults to the duplex axis (last pair's rung
+    midpoint minus the first's). ``distance`` defaults to twice the duplex
+    length. Other options: ``pull``'s."""
     d = _duplex(sequence_or_duplex, duplex_options or {})
     if distance is None:
         distance = 2.0 * d.params["rise"] * len(d) + 5.0
+    options.setdefault("direction", "axis")
     return pull(d, held=["b3'"], pulled=["a3'"], speed=speed, distance=distance, experiment="shear", **options)
 
 
 def stretch(sequence_or_duplex, *, speed: float = 0.05, distance: float = 1.0, duplex_options=None,
             **options) -> PullResult:
     """Stretching: holds both strands at pair 0 (a5′, b3′) and pulls both
-    at the last pair (a3′, b5′) along the axis. Other options: ``pull``'s."""
+    at the last pair (a3′, b5′) along the axis (last pair's rung midpoint
+    minus the first's). Other options: ``pull``'s."""
     d = _duplex(sequence_or_duplex, duplex_options or {})
+    options.setdefault("direction", "axis")
     return pull(d, held=["a5'", "b3'"], pulled=["a3'", "b5'"], speed=speed, distance=distance,
                 experiment="stretch", **options)
 
@@ -384,11 +397,14 @@ def break_forces_for_unzipping(unzip_at: float = 9.0, unzip_gc: float = 20.0, *,
     A bond breaks when its tension reaches its break force, but the fork
     is a Y of the two pulled strands and the next pair's backbone, so the
     trap force at an opening is a share of it, affine in it:
-    F = α f_b − β (measured: α ≈ 0.76, β ≈ 2 pN at the defaults). Two
+    F = α f_b − β (measured: α ≈ 0.77, β ≈ 2.1 pN at the defaults). Two
     quasi-static probes (12 bp, f_b = 10 and 30 pN; cached per option set,
     ~10 s) measure α and β; the result is (F + β)/α for each target."""
     for name, f in (("unzip_at", unzip_at), ("unzip_gc", unzip_gc)):
         _positive(f"{name} (pN)", f)
+    fixed = {"sequence", "break_forces", "break_force_at", "break_force_gc"} & set(duplex_options)
+    if fixed:
+        raise _invalid(f"break_forces_for_unzipping sets {sorted(fixed)} itself (its probes' sequence and bonds)")
     key = repr(sorted(duplex_options.items()))
     if key not in _PROBES:
         probe = []

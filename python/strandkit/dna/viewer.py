@@ -41,8 +41,10 @@ def trajectory(world, duplex, inserted, prefix: str, *, every: int = 1, scale: f
     one bead per nucleotide; ``every``: steps between frames (NSAVC);
     ``scale``: Å per nm (10). Call ``write()`` after the steps to record;
     use as a context manager or ``close()`` it."""
-    if len(inserted.rods) <= max(duplex.strands) or len(inserted.constraints) < len(
-            [h for h in duplex.hbonds if h is not None]):
+    n_c = len(inserted.constraints)
+    if len(inserted.rods) <= max(duplex.strands) or any(
+            h is not None and (h >= n_c or inserted.constraints[h].label != f"hbond[{k}]")
+            for k, h in enumerate(duplex.hbonds)):
         raise _invalid("inserted is not what world.insert(duplex.assembly) returned for this duplex")
     rods = [inserted.rods[i] for i in duplex.strands]
     if any(r.world is not world for r in rods):

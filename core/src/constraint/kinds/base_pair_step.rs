@@ -87,6 +87,7 @@ fn midpoints<T: RealField + Copy>(p: &[Vector3<T>; 8]) -> [Vector3<T>; 4] {
 /// out 1.7× too stiff.) Public so that measurements of a duplex (the
 /// builders' elasticity probe) frame its pairs by the same rule.
 pub fn axis<T: RealField + Copy>(m: &[Vector3<T>; 4], j: usize, ends: [bool; 2]) -> Vector3<T> {
+    debug_assert!(j == 1 || j == 2, "the axis rule frames pairs 1 and 2 of the four");
     let a = axis_coefficients(j, ends);
     (0..4).fold(Vector3::zeros(), |c, i| if a[i] == 0.0 { c } else { c + m[i] * T::from_subset(&a[i]) })
 }
