@@ -11,10 +11,15 @@ use strandkit::prelude::*;
 use strandkit_builders::dna::{duplex, Duplex};
 use strandkit_core::Units;
 
+/// An environment variable parsed, else `default`.
+fn env<T: std::str::FromStr>(name: &str, default: T) -> T {
+    std::env::var(name).ok().and_then(|s| s.parse().ok()).unwrap_or(default)
+}
+
 fn main() -> Result<()> {
     let lengths: Vec<usize> = std::env::args().skip(1).filter_map(|s| s.parse().ok()).collect();
     let lengths = if lengths.is_empty() { vec![24, 80, 240] } else { lengths };
-    let dt: f64 = std::env::var("DT").ok().and_then(|s| s.parse().ok()).unwrap_or(0.01); // ns
+    let dt: f64 = env("DT", 0.01); // ns
     for n in lengths {
         let seq: String = "GATTACA".chars().cycle().take(n).collect();
         let mut p = Duplex::new(&seq);
@@ -22,12 +27,12 @@ fn main() -> Result<()> {
         // (each step's would melt the duplex at once).
         p.break_averaging_time = 1.0;
         let (asm, _) = duplex(&p)?;
-        let temperature = std::env::var("T").ok().and_then(|s| s.parse().ok()).unwrap_or(0.0);
+        let temperature = env("T", 0.0);
         let mut w = World::new(IntegrationParameters { dt, viscosity: 1.0, temperature, seed: 7, units: Units::Molecular, ..Default::default() });
         w.insert(&asm)?;
         let cps: usize = w.rods().map(|(_, r)| r.n_ctrl()).sum();
         w.step()?;
-        let steps = std::env::var("STEPS").ok().and_then(|s| s.parse().ok()).unwrap_or((20_000 / n).max(20));
+        let steps = env("STEPS", (20_000 / n).max(20));
         let t = Instant::now();
         for _ in 0..steps {
             w.step()?;

@@ -187,12 +187,11 @@ impl PyTopology {
     /// Residue name of every bead, in bead order.
     #[getter]
     fn residues(&self) -> Vec<String> {
-        self.inner
-            .chains
+        let t = &self.inner;
+        t.chains
             .iter()
-            .flat_map(|c| {
-                (0..c.beads).map(|k| c.residues.get(k).map_or(traj::RESIDUE_NAME.to_string(), |r| r.clone()))
-            })
+            .enumerate()
+            .flat_map(|(c, ch)| (0..ch.beads).map(move |k| t.residue(c, k).to_string()))
             .collect()
     }
     /// Beads per chain (rod).

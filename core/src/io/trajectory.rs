@@ -113,7 +113,7 @@ impl Topology {
         self.chains.iter().enumerate().flat_map(|(i, c)| std::iter::repeat_n(i, c.beads)).collect()
     }
     /// Residue name of bead `k` of chain `c`.
-    fn residue(&self, c: usize, k: usize) -> &str {
+    pub fn residue(&self, c: usize, k: usize) -> &str {
         self.chains[c].residues.get(k).map_or(RESIDUE_NAME, |r| r.as_str())
     }
 }

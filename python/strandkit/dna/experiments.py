@@ -176,14 +176,17 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     ins = world.insert(d.assembly)
     rods = [ins.rods[i] for i in d.strands]
     pos = lambda e: np.asarray(rods[e[0]].position(e[1]), dtype=float)  # noqa: E731
+
+    def pair_midpoint(i):
+        """Midpoint (nm) of pair i's rung."""
+        return 0.5 * (pos((0, float(d.abscissae[0][i]))) + pos((1, float(d.abscissae[1][int(d.partner[i])]))))
+
     x_h = np.mean([pos(e) for e in ends_h], axis=0) if ends_h else None
     x_p0 = np.mean([pos(e) for e in ends_p], axis=0)
     if isinstance(direction, str):
         if direction != "axis":
             raise _invalid(f"direction {direction!r}: a 3-vector or 'axis'")
-        mid = lambda i: 0.5 * (np.asarray(rods[0].position(float(d.abscissae[0][i])))  # noqa: E731
-                               + np.asarray(rods[1].position(float(d.abscissae[1][int(d.partner[i])]))))
-        direction = mid(len(d) - 1) - mid(0)
+        direction = pair_midpoint(len(d) - 1) - pair_midpoint(0)
     elif direction is None:
         if x_h is None:
             raise _invalid("pull: give a direction when no end is held")
@@ -226,12 +229,6 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     x_h0 = float(np.dot(x_h, e)) if x_h is not None else 0.0
     ext0 = float(np.dot(x_p0, e)) - x_h0
 
-    ua, ub = (np.asarray(u, dtype=float) for u in d.abscissae)
-    span_u = [(ua[i], ub[int(d.partner[i])]) for i in span_pairs]
-
-    def midpoint(i):
-        return 0.5 * (np.asarray(rods[0].position(span_u[i][0])) + np.asarray(rods[1].position(span_u[i][1])))
-
     def record():
         t = world.time
         pulled_x = [pos(p) for p in ends_p]
@@ -239,7 +236,7 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
         held_x = float(np.dot(np.mean([pos(h) for h in ends_h], axis=0), e)) if ends_h else x_h0
         extension = float(np.dot(np.mean(pulled_x, axis=0), e)) - held_x - ext0
         row = (t, speed * t if force is None else math.nan, extension, f, len(breaks),
-               abs(float(np.dot(midpoint(1) - midpoint(0), e))))
+               abs(float(np.dot(pair_midpoint(span_pairs[1]) - pair_midpoint(span_pairs[0]), e))))
         for c, v in zip(COLUMNS, row):
             rec[c].append(v)
         if writer is not None:
