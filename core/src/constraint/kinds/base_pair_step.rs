@@ -61,7 +61,19 @@ pub struct BasePairStep {
     /// stretched, as DNA does.
     #[serde(default)]
     pub twist_stretch: f64,
+    /// Frames built axis first ([`helix_axis`] of three pairs' midpoints,
+    /// x the rung made ⟂ to it), blind to a pair's stagger (its two points
+    /// sliding along the axis): for rungs that resist stagger themselves
+    /// ([`super::PairStagger`]). False: x the rung, z the axis made ⟂ x
+    /// (the stacking then resists stagger through shift and roll).
+    #[serde(default)]
+    pub stagger_free: bool,
+    /// λ of [`helix_axis`] for pairs i and i+1 (stagger-free frames; set at
+    /// rest by [`BasePairStep::at_rest`]).
+    #[serde(default)]
+    pub axis_lambda: [f64; 2],
 }
+
 
 /// Unit rung of each of the four pairs, from the points [a, b] × 4.
 fn rungs<T: RealField + Copy>(p: &[Vector3<T>; 8]) -> [Vector3<T>; 4] {
@@ -102,13 +114,59 @@ fn axis_coefficients(j: usize, ends: [bool; 2]) -> [f64; 4] {
     }
 }
 
+/// The helix axis direction (unnormalised) through three consecutive
+/// rung midpoints m_0, m_1, m_2 of a double helix, without reading any
+/// rung: t + λ ŵ × t, with t = m_2 − m_0 and w = m_2 − 2m_1 + m_0. The
+/// midpoints lie on a helix of radius ρ = R cos(φ/2) about the axis: w
+/// points at the axis and t leans off it along the helix by 2ρ sin δ (δ
+/// the twist per pair), which λ = −ρ sin δ / h cancels exactly on a
+/// straight helix (h the rise); [`axis_lambda`] finds λ from the rest
+/// shape. Midpoints do not move when a pair's two points slide along
+/// the axis in opposite senses (stagger), so neither does this axis.
+pub fn helix_axis<T: RealField + Copy>(m: &[Vector3<T>; 3], lambda: f64) -> Vector3<T> {
+    let t = m[2] - m[0];
+    let w = (m[2] - m[1]) - (m[1] - m[0]);
+    t + w.normalize().cross(&t) * T::from_subset(&lambda)
+}
+
+/// λ that makes [`helix_axis`] ⟂ the unit rung `x` (at rest).
+pub fn axis_lambda(m: &[Vector3<f64>; 3], x: &Vector3<f64>) -> Result<f64> {
+    let t = m[2] - m[0];
+    let w = (m[2] - m[1]) - (m[1] - m[0]);
+    let s = if w.norm() > 1e-9 * t.norm() { w.normalize().cross(&t) } else { Vector3::zeros() };
+    if !(s.dot(x).abs() > 1e-9 * t.norm()) {
+        return Err(Error::singular("helix axis: three rung midpoints on a line or the rung along the axis (no helix to read an axis from)"));
+    }
+    Ok(-t.dot(x) / s.dot(x))
+}
+
+/// The three of the four pairs whose midpoints give pair j's helix axis
+/// in a stagger-free frame (centred on j, one-sided at an end).
+fn axis_triple(j: usize, ends: [bool; 2]) -> [usize; 3] {
+    let after = if j == 1 { ends[0] } else { !ends[1] };
+    if after {
+        [1, 2, 3]
+    } else {
+        [0, 1, 2]
+    }
+}
+
 /// Pair j's frame (columns x, y, z) and origin, j = 1 (pair i) or 2
-/// (pair i+1).
-fn pair_frame<T: RealField + Copy>(x: &[Vector3<T>; 4], m: &[Vector3<T>; 4], j: usize, ends: [bool; 2], offset: f64) -> (Matrix3<T>, Vector3<T>) {
-    let c = axis(m, j, ends);
-    let z = (c - x[j] * x[j].dot(&c)).normalize();
-    let y = z.cross(&x[j]);
-    (Matrix3::from_columns(&[x[j], y, z]), m[j] + y * T::from_subset(&offset))
+/// (pair i+1); `lambda`: the stagger-free rule's λ per pair (None: rung
+/// first).
+fn pair_frame<T: RealField + Copy>(x: &[Vector3<T>; 4], m: &[Vector3<T>; 4], j: usize, ends: [bool; 2], offset: f64, lambda: Option<[f64; 2]>) -> (Matrix3<T>, Vector3<T>) {
+    let (x, z) = match lambda {
+        None => {
+            let c = axis(m, j, ends);
+            (x[j], (c - x[j] * x[j].dot(&c)).normalize())
+        }
+        Some(l) => {
+            let z = helix_axis(&axis_triple(j, ends).map(|i| m[i]), l[j - 1]).normalize();
+            ((x[j] - z * z.dot(&x[j])).normalize(), z)
+        }
+    };
+    let y = z.cross(&x);
+    (Matrix3::from_columns(&[x, y, z]), m[j] + y * T::from_subset(&offset))
 }
 
 /// The step's mid frame, halfway between pair i's and pair i+1's (to
@@ -125,21 +183,21 @@ fn mid_frame<T: RealField + Copy>(f0: &Matrix3<T>, f1: &Matrix3<T>) -> Matrix3<T
 
 /// The step's frames and origins from the eight points [a, b] of pairs
 /// i−1 … i+2.
-fn frames<T: RealField + Copy>(p: &[Vector3<T>; 8], ends: [bool; 2], offset: f64) -> [(Matrix3<T>, Vector3<T>); 2] {
+fn frames<T: RealField + Copy>(p: &[Vector3<T>; 8], ends: [bool; 2], offset: f64, lambda: Option<[f64; 2]>) -> [(Matrix3<T>, Vector3<T>); 2] {
     let (x, m) = (rungs(p), midpoints(p));
-    [pair_frame(&x, &m, 1, ends, offset), pair_frame(&x, &m, 2, ends, offset)]
+    [pair_frame(&x, &m, 1, ends, offset, lambda), pair_frame(&x, &m, 2, ends, offset, lambda)]
 }
 
 /// The step's translation (in its mid frame) and relative rotation.
-fn step<T: RealField + Copy>(p: &[Vector3<T>; 8], ends: [bool; 2], offset: f64) -> (Vector3<T>, Matrix3<T>) {
-    let [(f0, o0), (f1, o1)] = frames(p, ends, offset);
+fn step<T: RealField + Copy>(p: &[Vector3<T>; 8], ends: [bool; 2], offset: f64, lambda: Option<[f64; 2]>) -> (Vector3<T>, Matrix3<T>) {
+    let [(f0, o0), (f1, o1)] = frames(p, ends, offset, lambda);
     (mid_frame(&f0, &f1).transpose() * (o1 - o0), f0.transpose() * f1)
 }
 
 /// The six strains (shift, slide, rise, tilt, roll, twist) of the step
 /// given the eight points and the rest (translation, rotation).
-fn strains<T: RealField + Copy>(p: &[Vector3<T>; 8], ends: [bool; 2], offset: f64, d0: &Vector3<f64>, r0: &Matrix3<f64>) -> [T; 6] {
-    let (d, r) = step(p, ends, offset);
+fn strains<T: RealField + Copy>(p: &[Vector3<T>; 8], ends: [bool; 2], offset: f64, lambda: Option<[f64; 2]>, d0: &Vector3<f64>, r0: &Matrix3<f64>) -> [T; 6] {
+    let (d, r) = step(p, ends, offset, lambda);
     let e = r0.transpose().map(|v| T::from_subset(&v)) * r;
     let half = T::from_subset(&0.5);
     [
@@ -153,24 +211,42 @@ fn strains<T: RealField + Copy>(p: &[Vector3<T>; 8], ends: [bool; 2], offset: f6
 }
 
 /// Jacobian of a 3-vector with respect to the 24 inputs (the 8 points).
-type J3 = SMatrix<f64, 3, 24>;
-type J1 = SMatrix<f64, 1, 24>;
+pub(crate) type J3 = SMatrix<f64, 3, 24>;
+pub(crate) type J1 = SMatrix<f64, 1, 24>;
+
+/// The Jacobian of input point k (of the eight) scaled by w.
+pub(crate) fn select(k: usize, w: f64) -> J3 {
+    let mut j = J3::zeros();
+    for a in 0..3 {
+        j[(a, 3 * k + a)] = w;
+    }
+    j
+}
+
+/// [`helix_axis`] and its Jacobian from the midpoints' Jacobians.
+pub(crate) fn helix_axis_jacobian(m: &[Vector3<f64>; 3], jm: &[J3; 3], lambda: f64) -> (Vector3<f64>, J3) {
+    let (t, jt) = (m[2] - m[0], jm[2] - jm[0]);
+    let (w, jw) = ((m[2] - m[1]) - (m[1] - m[0]), jm[2] - jm[1] * 2.0 + jm[0]);
+    let (wh, jwh) = unit(&w, &jw);
+    let (s, js) = cross(&wh, &jwh, &t, &jt);
+    (t + s * lambda, jt + js * lambda)
+}
 
 /// Unit vector v/|v| and its Jacobian from v's.
-fn unit(v: &Vector3<f64>, jv: &J3) -> (Vector3<f64>, J3) {
+pub(crate) fn unit(v: &Vector3<f64>, jv: &J3) -> (Vector3<f64>, J3) {
     let n = v.norm();
     let u = v / n;
     (u, (Matrix3::identity() - u * u.transpose()) * jv / n)
 }
 
 /// w − u (u·w) for a unit u, and its Jacobian.
-fn reject(w: &Vector3<f64>, jw: &J3, u: &Vector3<f64>, ju: &J3) -> (Vector3<f64>, J3) {
+pub(crate) fn reject(w: &Vector3<f64>, jw: &J3, u: &Vector3<f64>, ju: &J3) -> (Vector3<f64>, J3) {
     let uw = u.dot(w);
     (w - u * uw, jw - u * (u.transpose() * jw + w.transpose() * ju) - ju * uw)
 }
 
 /// a × b and its Jacobian.
-fn cross(a: &Vector3<f64>, ja: &J3, b: &Vector3<f64>, jb: &J3) -> (Vector3<f64>, J3) {
+pub(crate) fn cross(a: &Vector3<f64>, ja: &J3, b: &Vector3<f64>, jb: &J3) -> (Vector3<f64>, J3) {
     (a.cross(b), a.cross_matrix() * jb - b.cross_matrix() * ja)
 }
 
@@ -178,14 +254,7 @@ fn cross(a: &Vector3<f64>, ja: &J3, b: &Vector3<f64>, jb: &J3) -> (Vector3<f64>,
 /// by the chain rule through the frames' construction (the same steps as
 /// [`frames`], [`mid_frame`] and [`step`]; a unit test compares it with
 /// forward-mode dual numbers). Allocation-free, no 24-wide dual numbers.
-fn strains_jacobian(p: &[Vector3<f64>; 8], ends: [bool; 2], offset: f64, d0: &Vector3<f64>, r0: &Matrix3<f64>) -> ([f64; 6], [J1; 6]) {
-    let select = |k: usize, w: f64| {
-        let mut j = J3::zeros();
-        for a in 0..3 {
-            j[(a, 3 * k + a)] = w;
-        }
-        j
-    };
+fn strains_jacobian(p: &[Vector3<f64>; 8], ends: [bool; 2], offset: f64, lambda: Option<[f64; 2]>, d0: &Vector3<f64>, r0: &Matrix3<f64>) -> ([f64; 6], [J1; 6]) {
     let m: [Vector3<f64>; 4] = [0, 1, 2, 3].map(|j| (p[2 * j] + p[2 * j + 1]) * 0.5);
     let jm: [J3; 4] = [0, 1, 2, 3].map(|j| select(2 * j, 0.5) + select(2 * j + 1, 0.5));
     // Pair frames j = 1, 2: columns (x, y, z) with Jacobians, and origins.
@@ -194,17 +263,28 @@ fn strains_jacobian(p: &[Vector3<f64>; 8], ends: [bool; 2], offset: f64, d0: &Ve
     let mut o = [Vector3::zeros(); 2];
     let mut jo = [J3::zeros(); 2];
     for (s, j) in [1usize, 2].into_iter().enumerate() {
-        let (x, jx) = unit(&(p[2 * j + 1] - p[2 * j]), &(select(2 * j + 1, 1.0) - select(2 * j, 1.0)));
-        let a = axis_coefficients(j, ends);
-        let (mut c, mut jc) = (Vector3::zeros(), J3::zeros());
-        for i in 0..4 {
-            if a[i] != 0.0 {
-                c += m[i] * a[i];
-                jc += jm[i] * a[i];
+        let (xr, jxr) = unit(&(p[2 * j + 1] - p[2 * j]), &(select(2 * j + 1, 1.0) - select(2 * j, 1.0)));
+        let ((x, jx), (z, jz)) = match lambda {
+            None => {
+                let a = axis_coefficients(j, ends);
+                let (mut c, mut jc) = (Vector3::zeros(), J3::zeros());
+                for i in 0..4 {
+                    if a[i] != 0.0 {
+                        c += m[i] * a[i];
+                        jc += jm[i] * a[i];
+                    }
+                }
+                let (w, jw) = reject(&c, &jc, &xr, &jxr);
+                ((xr, jxr), unit(&w, &jw))
             }
-        }
-        let (w, jw) = reject(&c, &jc, &x, &jx);
-        let (z, jz) = unit(&w, &jw);
+            Some(l) => {
+                let tr = axis_triple(j, ends);
+                let (c, jc) = helix_axis_jacobian(&tr.map(|i| m[i]), &tr.map(|i| jm[i]), l[j - 1]);
+                let (z, jz) = unit(&c, &jc);
+                let (w, jw) = reject(&xr, &jxr, &z, &jz);
+                (unit(&w, &jw), (z, jz))
+            }
+        };
         let (y, jy) = cross(&z, &jz, &x, &jx);
         o[s] = m[j] + y * offset;
         jo[s] = jm[j] + jy * offset;
@@ -269,6 +349,37 @@ fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
     m.column(i).normalize() * t
 }
 
+/// Per side, the control points that eight points (side, u) move
+/// (nonzero position weights: a point at a knot moves three) with, per
+/// row, the summed coefficients of the rows' gradient `grad` over the
+/// points' 24 coordinates (at most 6 rows).
+pub(crate) fn control_points(rods: &[&Rod], points: &[(usize, f64); 8], grad: &[[f64; 24]]) -> Result<([[(usize, [[f64; 3]; 6]); 16]; 2], [usize; 2])> {
+    let mut cps = [[(usize::MAX, [[0.0; 3]; 6]); 16]; 2];
+    let mut len = [0usize; 2];
+    for (k, &(side, u)) in points.iter().enumerate() {
+        let (ctrl, b) = rods[side].basis_at(u)?;
+        for j in 0..4 {
+            if b[0][j] == 0.0 {
+                continue;
+            }
+            let slot = match cps[side][..len[side]].iter().position(|c| c.0 == ctrl[j]) {
+                Some(s) => s,
+                None => {
+                    len[side] += 1;
+                    cps[side][len[side] - 1].0 = ctrl[j];
+                    len[side] - 1
+                }
+            };
+            for (r, g) in grad.iter().enumerate() {
+                for a in 0..3 {
+                    cps[side][slot].1[r][a] += g[3 * k + a] * b[0][j];
+                }
+            }
+        }
+    }
+    Ok((cps, len))
+}
+
 /// Value and gradient (24 inputs) of the weighted rows.
 struct Eval {
     g: [f64; 6],
@@ -296,6 +407,11 @@ impl BasePairStep {
         [self.ua_prev == self.ua && self.ub_prev == self.ub, self.ua_after == self.ua_next && self.ub_after == self.ub_next]
     }
 
+    /// λ of the stagger-free frames (None: rung-first frames).
+    fn lambda(&self) -> Option<[f64; 2]> {
+        self.stagger_free.then_some(self.axis_lambda)
+    }
+
     fn inputs(&self, rods: &[&Rod]) -> Result<[Vector3<f64>; 8]> {
         let mut p = [Vector3::zeros(); 8];
         for (k, (side, u)) in self.points().into_iter().enumerate() {
@@ -309,14 +425,27 @@ impl BasePairStep {
             }
         }
         let (x, m) = (rungs(&p), midpoints(&p));
+        if self.stagger_free && self.ends() == [true, true] {
+            return Err(Error::invalid("base-pair step", "a stagger-free step of two pairs only", "a third pair framing it (the helix axis reads three pairs)"));
+        }
         for j in [1, 2] {
-            let c = axis(&m, j, self.ends());
-            if (c - x[j] * x[j].dot(&c)).norm() < 1e-9 {
-                return Err(Error::singular("base-pair step: the rung midpoints run along a rung (no helix axis)"));
+            let c = match self.lambda() {
+                None => axis(&m, j, self.ends()),
+                Some(l) => {
+                    let [a, b, c] = axis_triple(j, self.ends()).map(|i| m[i]);
+                    let w = (c - b) - (b - a);
+                    if !(w.norm() > 1e-12 * (c - a).norm()) {
+                        return Err(Error::singular("base-pair step: three rung midpoints on a line (no helix axis)"));
+                    }
+                    helix_axis(&[a, b, c], l[j - 1])
+                }
+            };
+            if (c - x[j] * x[j].dot(&c)).norm() < 1e-9 || (self.stagger_free && (x[j] - c * x[j].dot(&c) / c.norm_squared()).norm() < 1e-9) {
+                return Err(Error::singular("base-pair step: the helix axis runs along a rung (no frame)"));
             }
         }
         // The mid frame needs the two axes and the two rungs off antiparallel.
-        let [(f0, _), (f1, _)] = frames(&p, self.ends(), self.axis_offset);
+        let [(f0, _), (f1, _)] = frames(&p, self.ends(), self.axis_offset, self.lambda());
         let z = f0.column(2) + f1.column(2);
         let xm = f0.column(0) + f1.column(0);
         if z.norm() < 1e-9 || (xm - z * z.dot(&xm) / z.norm_squared()).norm() < 1e-9 {
@@ -341,7 +470,7 @@ impl BasePairStep {
 
     fn eval(&self, rods: &[&Rod]) -> Result<Eval> {
         let inputs = self.inputs(rods)?;
-        let (e, je) = strains_jacobian(&inputs, self.ends(), self.axis_offset, &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation));
+        let (e, je) = strains_jacobian(&inputs, self.ends(), self.axis_offset, self.lambda(), &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation));
         let w = self.weights();
         let mut out = Eval { g: [0.0; 6], grad: [[0.0; 24]; 6], inputs };
         for r in 0..6 {
@@ -376,50 +505,45 @@ impl BasePairStep {
             translation_stiffness,
             rotation_stiffness,
             twist_stretch,
+            stagger_free: false,
+            axis_lambda: [0.0; 2],
         };
-        let p = s.inputs(rods)?;
-        let (d, r) = step(&p, s.ends(), axis_offset);
-        s.rest_shift = d.into();
-        s.rest_rotation = rotation_vector(&r).into();
+        s.set_rest(rods)?;
         Ok(s)
+    }
+
+    /// The same step with stagger-free frames (see `stagger_free`), λ and
+    /// rest set from the rods' current shape.
+    pub fn free_of_stagger(mut self, rods: &[&Rod]) -> Result<BasePairStep> {
+        let mut p = [Vector3::zeros(); 8];
+        for (k, (side, u)) in self.points().into_iter().enumerate() {
+            p[k] = rods[side].position(u)?;
+        }
+        let (x, m) = (rungs(&p), midpoints(&p));
+        for j in [1, 2] {
+            self.axis_lambda[j - 1] = axis_lambda(&axis_triple(j, self.ends()).map(|i| m[i]), &x[j])?;
+        }
+        self.stagger_free = true;
+        self.set_rest(rods)?;
+        Ok(self)
+    }
+
+    /// Rest shift and rotation = the step in the rods' current shape.
+    fn set_rest(&mut self, rods: &[&Rod]) -> Result<()> {
+        let p = self.inputs(rods)?;
+        let (d, r) = step(&p, self.ends(), self.axis_offset, self.lambda());
+        self.rest_shift = d.into();
+        self.rest_rotation = rotation_vector(&r).into();
+        Ok(())
     }
 
     /// The six strains (shift, slide, rise in length; tilt, roll, twist in
     /// rad) of the step now, from its rest.
     pub fn strains(&self, rods: &[&Rod]) -> Result<[f64; 6]> {
         let p = self.inputs(rods)?;
-        Ok(strains(&p, self.ends(), self.axis_offset, &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation)))
+        Ok(strains(&p, self.ends(), self.axis_offset, self.lambda(), &Vector3::from(self.rest_shift), &rotation(&self.rest_rotation)))
     }
 
-    /// Per side, the control points the step's points move (nonzero
-    /// position weights: a point at a knot moves three) with, per row, the
-    /// summed coefficients of the gradient `grad`.
-    fn control_points(&self, rods: &[&Rod], grad: &[[f64; 24]; 6]) -> Result<([[(usize, [[f64; 3]; 6]); 16]; 2], [usize; 2])> {
-        let mut cps = [[(usize::MAX, [[0.0; 3]; 6]); 16]; 2];
-        let mut len = [0usize; 2];
-        for (k, (side, u)) in self.points().into_iter().enumerate() {
-            let (ctrl, b) = rods[side].basis_at(u)?;
-            for j in 0..4 {
-                if b[0][j] == 0.0 {
-                    continue;
-                }
-                let slot = match cps[side][..len[side]].iter().position(|c| c.0 == ctrl[j]) {
-                    Some(s) => s,
-                    None => {
-                        len[side] += 1;
-                        cps[side][len[side] - 1].0 = ctrl[j];
-                        len[side] - 1
-                    }
-                };
-                for r in 0..6 {
-                    for a in 0..3 {
-                        cps[side][slot].1[r][a] += grad[r][3 * k + a] * b[0][j];
-                    }
-                }
-            }
-        }
-        Ok((cps, len))
-    }
 }
 
 impl ConstraintLaw for BasePairStep {
@@ -448,6 +572,8 @@ impl ConstraintLaw for BasePairStep {
             FieldInfo::new("translation_stiffness", Vec3, "force/length", "shift, slide, rise stiffness (> 0)"),
             FieldInfo::new("rotation_stiffness", Vec3, "force·length/rad²", "tilt, roll, twist stiffness (> 0)"),
             FieldInfo::new("twist_stretch", Scalar, "force/rad", "rise–twist coupling (< 0: overwinds when stretched)").default("0.0"),
+            FieldInfo::new("stagger_free", Flag, "", "frames built axis first from three pairs' midpoints, blind to a pair's stagger (for rungs that resist it: PairStagger)").default("false"),
+            FieldInfo::new("axis_lambda", Vec2, "", "λ of the stagger-free helix-axis rule for pairs i and i+1 (set at rest)").default("[0, 0]"),
         ],
     };
     fn n_rows(&self) -> usize {
@@ -478,6 +604,8 @@ impl ConstraintLaw for BasePairStep {
             }
         }
         crate::error::finite("base-pair step twist_stretch", self.twist_stretch)?;
+        crate::error::finite("base-pair step axis_lambda", self.axis_lambda[0])?;
+        crate::error::finite("base-pair step axis_lambda", self.axis_lambda[1])?;
         if self.twist_stretch.powi(2) >= self.translation_stiffness[2] * self.rotation_stiffness[2] {
             return Err(Error::invalid(
                 "base-pair step twist_stretch",
@@ -486,7 +614,7 @@ impl ConstraintLaw for BasePairStep {
             ));
         }
         // Every row's entries must fit: the four pairs' spline supports overlap.
-        let (_, len) = self.control_points(rods, &[[0.0; 24]; 6])?;
+        let (_, len) = control_points(rods, &self.points(), &[[0.0; 24]; 6])?;
         if 3 * (len[0] + len[1]) > MAX_ENTRIES {
             return Err(Error::invalid(
                 "base-pair step abscissae",
@@ -498,7 +626,7 @@ impl ConstraintLaw for BasePairStep {
     }
     fn linearize(&self, rods: &[&Rod], rows: &mut [Row]) -> Result<()> {
         let ev = self.eval(rods)?;
-        let (cps, len) = self.control_points(rods, &ev.grad)?;
+        let (cps, len) = control_points(rods, &self.points(), &ev.grad)?;
         for (r, row) in rows.iter_mut().enumerate().take(6) {
             for side in 0..2 {
                 let dofs = rods[side].dofs();
@@ -549,26 +677,29 @@ mod tests {
         };
         let r0 = rotation(&[0.02, -0.01, 0.6]);
         let d0 = Vector3::new(0.01, -0.02, 0.34);
-        for ends in [[false, false], [true, false], [false, true], [true, true]] {
+        for (ends, lambda) in [[false, false], [true, false], [false, true], [true, true]].into_iter().flat_map(|e| [(e, None), (e, Some([-0.74, -0.7]))]) {
+            if lambda.is_some() && ends == [true, true] {
+                continue; // refused: the helix axis reads three pairs
+            }
             let ks = [if ends[0] { 1 } else { 0 }, 1, 2, if ends[1] { 2 } else { 3 }];
             let mut p = [Vector3::zeros(); 8];
             for (j, &k) in ks.iter().enumerate() {
                 p[2 * j] = point(k, 0);
                 p[2 * j + 1] = point(k, 1);
             }
-            let (g, jg) = strains_jacobian(&p, ends, 0.6, &d0, &r0);
+            let (g, jg) = strains_jacobian(&p, ends, 0.6, lambda, &d0, &r0);
             let mut pd = [Vector3::<D>::zeros(); 8];
             for (k, v) in p.iter().enumerate() {
                 for a in 0..3 {
                     pd[k][a] = D::from_re(v[a]).derivative(3 * k + a);
                 }
             }
-            let e = strains(&pd, ends, 0.6, &d0, &r0);
+            let e = strains(&pd, ends, 0.6, lambda, &d0, &r0);
             for r in 0..6 {
-                assert!((g[r] - e[r].re).abs() < 1e-13, "value of row {r} at ends {ends:?}");
+                assert!((g[r] - e[r].re).abs() < 1e-13, "value of row {r} at ends {ends:?}, λ {lambda:?}");
                 let d = e[r].eps.0.unwrap_or_default();
                 for i in 0..24 {
-                    assert!((jg[r][i] - d[i]).abs() < 1e-12 * (1.0 + d[i].abs()), "∂row {r}/∂input {i} at ends {ends:?}: {} vs {}", jg[r][i], d[i]);
+                    assert!((jg[r][i] - d[i]).abs() < 1e-12 * (1.0 + d[i].abs()), "∂row {r}/∂input {i} at ends {ends:?}, λ {lambda:?}: {} vs {}", jg[r][i], d[i]);
                 }
             }
         }

@@ -111,6 +111,7 @@ constraint_kinds! {
     coplanar_clamp::CoplanarClamp,
     barycentric::Barycentric,
     base_pair_step::BasePairStep,
+    pair_stagger::PairStagger,
 }
 
 impl ConstraintKind {
