@@ -1,7 +1,9 @@
 //! Zero-temperature elastic constants of the built DNA duplex (issue 17),
 //! by `strandkit_builders::dna_elasticity`: S, g, C, B against the
 //! stacking's nominal values. Environment: SS (strand stretch modulus,
-//! pN), SP (strand persistence, nm), MG (minor groove share of the pitch).
+//! pN), SP (strand persistence, nm), MG (minor groove share of the pitch),
+//! SC (stagger compliance, nm/pN: position rungs), NOCAL (the stacking at
+//! the nominal values, uncalibrated).
 //!
 //!     cargo run --release --example dna_probe [-- N_BP]
 use strandkit::prelude::*;
@@ -22,8 +24,15 @@ fn main() -> Result<()> {
     p.radius = env("R").unwrap_or(p.radius);
     p.bp_per_turn = env("BPT").unwrap_or(p.bp_per_turn);
     p.elasticity.shear_modulus = env("SH").unwrap_or(p.elasticity.shear_modulus);
-    let cal = strandkit_builders::dna_elasticity::calibrated(&p)?;
-    println!("calibrated in {} probes: stacking {:?}", cal.iterations, cal.stacking);
+    if let Some(c) = env("SC") {
+        p.hbond = strandkit_builders::dna::HBond::Position { stagger_compliance: c };
+    }
+    if env("NOCAL").is_some() {
+        p.stacking = Some(p.elasticity);
+    } else {
+        let cal = strandkit_builders::dna_elasticity::calibrated(&p)?;
+        println!("calibrated in {} probes: stacking {:?}", cal.iterations, cal.stacking);
+    }
     let m = zero_temperature_elasticity(&p)?;
     let kt = BOLTZMANN * p.temperature;
     let e = p.elasticity;

@@ -129,13 +129,13 @@ fn examples(name: &str) -> Vec<Example> {
                 rotation_stiffness: [600.0, 650.0, 1200.0],
                 twist_stretch: -250.0,
                 stagger_free: false,
-                axis_lambda: [0.0; 2],
+                axis_mu: [0.0; 2],
             };
-            // Stagger-free frames read an axis off three midpoints (λ as
-            // on a B-DNA helix). Not at an end here: there both frames read
-            // the same three pairs, tilt and roll vanish to first order and
-            // a rigid step is rank-deficient (the unit test covers ends).
-            let free = |b: BasePairStep| BasePairStep { stagger_free: true, axis_lambda: [-0.7, -0.5], ..b };
+            // Stagger-free frames (μ near a B-DNA helix's). Not at an end:
+            // on these non-helical rods a rigid end step's rows come out
+            // linearly dependent (its frames read three pairs only); the
+            // dual-number unit test covers the end rules.
+            let free = |b: BasePairStep| BasePairStep { stagger_free: true, axis_mu: [-0.7, -0.5], ..b };
             vec![
                 ex(Two, step([1.0, 1.2, 1.9, 2.3], [6.4, 6.1, 5.4, 5.1])),
                 ex(SameRod, step([0.2, 0.5, 1.1, 1.4], [4.5, 4.2, 3.6, 3.3])),
@@ -143,22 +143,11 @@ fn examples(name: &str) -> Vec<Example> {
             ]
         }
         "PairStagger" => {
-            let st = |pair: (f64, f64), [a0, a1, a2]: [f64; 3], [b0, b1, b2]: [f64; 3]| PairStagger {
-                ua: pair.0,
-                ub: pair.1,
-                ua_first: a0,
-                ub_first: b0,
-                ua_middle: a1,
-                ub_middle: b1,
-                ua_last: a2,
-                ub_last: b2,
-                axis_lambda: -0.6,
-                rest: 0.05,
-            };
+            let st = |pair: (f64, f64), first: (f64, f64), last: (f64, f64)| PairStagger { ua: pair.0, ub: pair.1, ua_first: first.0, ub_first: first.1, ua_last: last.0, ub_last: last.1, axis_mu: -0.6, rest: 0.05 };
             vec![
-                ex(Two, st((1.5, 5.8), [1.0, 1.5, 2.0], [6.2, 5.8, 5.3])),
-                ex(Two, st((1.0, 6.2), [1.0, 1.5, 2.0], [6.2, 5.8, 5.3])),
-                ex(SameRod, st((0.8, 4.0), [0.3, 0.8, 1.3], [4.5, 4.0, 3.5])),
+                ex(Two, st((1.5, 5.8), (1.0, 6.2), (2.0, 5.3))),
+                ex(Two, st((1.0, 6.2), (1.0, 6.2), (2.0, 5.3))),
+                ex(SameRod, st((0.8, 4.0), (0.3, 4.5), (1.3, 3.5))),
             ]
         }
         _ => vec![],
@@ -439,13 +428,13 @@ fn bad_parameters(k: &ConstraintKind) -> Vec<ConstraintKind> {
             // Not positive definite: coupling² ≥ rise × twist stiffness.
             push(BasePairStep { twist_stretch: 2000.0, ..b.clone() }.into());
             push(BasePairStep { twist_stretch: nan, ..b.clone() }.into());
-            push(BasePairStep { axis_lambda: [nan, 0.0], ..b.clone() }.into());
+            push(BasePairStep { axis_mu: [nan, 0.0], ..b.clone() }.into());
         }
         ConstraintKind::PairStagger(s) => {
-            push(PairStagger { axis_lambda: nan, ..s.clone() }.into());
+            push(PairStagger { axis_mu: nan, ..s.clone() }.into());
             push(PairStagger { rest: f64::INFINITY, ..s.clone() }.into());
-            // The axis triple on a line: no helix axis.
-            push(PairStagger { ua_first: s.ua_middle, ub_first: s.ub_middle, ua_last: s.ua_middle, ub_last: s.ub_middle, ..s.clone() }.into());
+            // One neighbour twice: no axis.
+            push(PairStagger { ua_last: s.ua_first, ub_last: s.ub_first, ..s.clone() }.into());
         }
     }
     out

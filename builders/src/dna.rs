@@ -16,7 +16,13 @@
 //!
 //! Per base pair, one hydrogen bond: a distance constraint between the two
 //! paired nucleotides (length 2R sin(φ/2)), compliant or rigid, breaking in
-//! tension only above its pair's force (A·T weaker than G·C). Per step
+//! tension only above its pair's force (A·T weaker than G·C). With
+//! [`HBond::Position`] also the pair's stagger ([`PairStagger`]: its two
+//! nucleotides' offset along the local axis, compliant), so that the bond
+//! is a relative position in the pair's own frame, and the stacking reads
+//! stagger-free frames: the shear of the duplex is then de Gennes' ladder
+//! of backbone and rungs (measured against his law in
+//! `python/tests/test_dna_shear.py`). Per step
 //! between consecutive pairs, stacking: a [`BasePairStep`] (six compliant
 //! strains of the step, with compliance 1), removed as soon as any of
 //! the pairs it reads (the step's two and their neighbours) breaks (`breaks_with`), so that an opened region is
@@ -30,7 +36,7 @@
 //! at zero temperature.
 use nalgebra::Vector3;
 use std::f64::consts::PI;
-use strandkit_core::constraint::kinds::{BasePairStep, RelativeDistance};
+use strandkit_core::constraint::kinds::{BasePairStep, PairStagger, RelativeDistance};
 use strandkit_core::constraint::BreakPolicy;
 use strandkit_core::energy::FrameModel;
 use strandkit_core::error::{finite, non_negative, positive, size};
@@ -133,6 +139,31 @@ impl Stacking {
     }
 }
 
+/// How a base pair's hydrogen bonds hold (issue 17).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HBond {
+    /// A distance between the pair's two points (rigid or compliant,
+    /// breaking in tension). Its rung tilts freely when the two strands
+    /// slide along the axis: the duplex's shear stiffness is the
+    /// stacking's (rung-first frames read the tilt as shift and roll).
+    Distance,
+    /// The distance plus the pair's stagger along the local helix axis
+    /// ([`PairStagger`], compliance in nm/pN, breaking when its force
+    /// exceeds the pair's break force): a relative position in the pair's
+    /// own frame. The stacking then reads stagger-free frames, so a
+    /// sheared duplex is de Gennes' ladder — backbone stiffness Q per
+    /// pair, rung stiffness R = 1/compliance, load decaying over
+    /// κ⁻¹ = √(Q/2R) pairs from each end.
+    Position { stagger_compliance: f64 },
+}
+
+impl HBond {
+    /// The rung model of [`HBond::Position`] with this stagger compliance.
+    pub fn position(stagger_compliance: f64) -> HBond {
+        HBond::Position { stagger_compliance }
+    }
+}
+
 /// Parameters of [`duplex`] (molecular units).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Duplex {
@@ -150,12 +181,17 @@ pub struct Duplex {
     pub minor_groove: f64,
     /// Compliance of a hydrogen bond (nm/pN; 0 = rigid).
     pub hbond_compliance: f64,
+    /// The rung model.
+    pub hbond: HBond,
     /// Break force (pN) of an A·T and of a G·C bond, in tension.
     pub break_force_at: f64,
     pub break_force_gc: f64,
     /// Per-pair break forces (pN; pair k = strand a's nucleotide k),
     /// overriding the two above; `f64::INFINITY` for an unbreakable pair.
     pub break_forces: Option<Vec<f64>>,
+    /// Per-pair forces (pN) that break a pair's stagger ([`HBond::Position`];
+    /// None: the pair's break force).
+    pub stagger_break_forces: Option<Vec<f64>>,
     /// Time (ns) over which a bond's tension is averaged before it is
     /// compared with its break force (0: each step's; with thermal noise
     /// the instantaneous tension of a rigid bond breaks every pair at once:
@@ -184,9 +220,11 @@ impl Duplex {
             radius: 1.0,
             minor_groove: 12.0 / 34.0,
             hbond_compliance: 0.0,
+            hbond: HBond::Distance,
             break_force_at: 9.0,
             break_force_gc: 20.0,
             break_forces: None,
+            stagger_break_forces: None,
             break_averaging_time: 0.0,
             strand: Strand::default(),
             elasticity: Elasticity::default(),
@@ -226,6 +264,9 @@ impl Duplex {
             return Err(Error::invalid("minor_groove", self.minor_groove, "a share of the pitch in (0, 1)"));
         }
         non_negative("hbond_compliance", self.hbond_compliance)?;
+        if let HBond::Position { stagger_compliance } = self.hbond {
+            positive("stagger_compliance", stagger_compliance)?;
+        }
         non_negative("break_averaging_time", self.break_averaging_time)?;
         positive("break_force_at", self.break_force_at)?;
         positive("break_force_gc", self.break_force_gc)?;
@@ -282,6 +323,8 @@ pub struct DuplexLayout {
     pub hbonds: Vec<Option<usize>>,
     /// Constraint index of the stacking between pairs k and k+1.
     pub stacks: Vec<Option<usize>>,
+    /// Constraint index of pair k's stagger ([`HBond::Position`] only).
+    pub staggers: Vec<Option<usize>>,
     /// Pairs that are not Watson–Crick (unbonded).
     pub mismatches: Vec<usize>,
     /// Break force of pair k (pN).
@@ -313,20 +356,23 @@ pub fn duplex(p: &Duplex) -> Result<(Assembly, DuplexLayout)> {
     };
     let partner: Vec<usize> = (0..n).map(|k| n - 1 - k).collect();
     let mismatches: Vec<usize> = (0..n).filter(|&k| b[partner[k]] != complement_base(a[k])).collect();
-    let break_forces: Vec<f64> = match &p.break_forces {
-        Some(f) => {
-            if f.len() != n {
-                return Err(Error::invalid("break_forces", format!("{} values", f.len()), format!("{n}, one per base pair")));
-            }
-            for v in f {
-                if !(*v > 0.0) {
-                    return Err(Error::invalid("break_forces", v, "> 0 (pN; inf: unbreakable)"));
-                }
-            }
-            f.clone()
+    let per_pair = |f: &Option<Vec<f64>>, what: &str| -> Result<Option<Vec<f64>>> {
+        let Some(f) = f else { return Ok(None) };
+        if f.len() != n {
+            return Err(Error::invalid(what, format!("{} values", f.len()), format!("{n}, one per base pair")));
         }
+        for v in f {
+            if !(*v > 0.0) {
+                return Err(Error::invalid(what, v, "> 0 (pN; inf: unbreakable)"));
+            }
+        }
+        Ok(Some(f.clone()))
+    };
+    let break_forces: Vec<f64> = match per_pair(&p.break_forces, "break_forces")? {
+        Some(f) => f,
         None => a.iter().map(|&x| if x == b'G' || x == b'C' { p.break_force_gc } else { p.break_force_at }).collect(),
     };
+    let stagger_break_forces = per_pair(&p.stagger_break_forces, "stagger_break_forces")?.unwrap_or_else(|| break_forces.clone());
 
     // Strand material: the circular section and material giving exactly
     // the stretch modulus and the bending stiffness A_ss kT.
@@ -365,6 +411,25 @@ pub fn duplex(p: &Duplex) -> Result<(Assembly, DuplexLayout)> {
         hbonds[k] = Some(asm.constraints.len() - 1);
     }
     let rods = [&rod_a, &rod_b];
+    let mut staggers = vec![None; n];
+    if let HBond::Position { stagger_compliance } = p.hbond {
+        for k in (0..n).filter(|&k| hbonds[k].is_some()) {
+            // The axis from pairs k−1 and k+1 (k itself at an end).
+            let (first, last) = (k.saturating_sub(1), (k + 1).min(n - 1));
+            let at = |j: usize| (ua[j], ub[partner[j]]);
+            let kind = PairStagger::at_rest(&rods, at(k), at(first), at(last))?;
+            let c = asm.link(sa, sb, kind).compliance(stagger_compliance).label(format!("stagger[{k}]"));
+            if stagger_break_forces[k].is_finite() {
+                c.breaks(stagger_break_forces[k], BreakPolicy::Magnitude);
+            }
+            // Its axis reads these pairs: it goes when any of their bonds
+            // does (the pair stays bonded by its distance).
+            for j in (first..=last).filter(|&j| hbonds[j].is_some()) {
+                c.breaks_with(format!("hbond[{j}]"));
+            }
+            staggers[k] = Some(asm.constraints.len() - 1);
+        }
+    }
     let stacking = match p.stacking {
         Some(e) => e,
         None => crate::dna_elasticity::calibrated(p)?.stacking,
@@ -380,7 +445,10 @@ pub fn duplex(p: &Duplex) -> Result<(Assembly, DuplexLayout)> {
         let before = if k > 0 && hbonds[k - 1].is_some() { k - 1 } else { k };
         let after = if k + 2 < n && hbonds[k + 2].is_some() { k + 2 } else { k + 1 };
         let pairs = [before, k, k + 1, after];
-        let kind = BasePairStep::at_rest(&rods, pairs.map(|j| ua[j]), pairs.map(|j| ub[partner[j]]), p.radius * (0.5 * p.phase()).cos(), s.translation, s.rotation, s.twist_stretch)?;
+        let mut kind = BasePairStep::at_rest(&rods, pairs.map(|j| ua[j]), pairs.map(|j| ub[partner[j]]), p.radius * (0.5 * p.phase()).cos(), s.translation, s.rotation, s.twist_stretch)?;
+        if matches!(p.hbond, HBond::Position { .. }) {
+            kind = kind.free_of_stagger(&rods)?;
+        }
         let c = asm.link(sa, sb, kind).compliance(1.0).label(format!("stack[{k}]"));
         // It reads every pair it is framed by: it goes when any of them breaks.
         let mut framing = pairs.to_vec();
@@ -399,6 +467,7 @@ pub fn duplex(p: &Duplex) -> Result<(Assembly, DuplexLayout)> {
         partner,
         hbonds,
         stacks,
+        staggers,
         mismatches,
         break_forces,
         rung_length: rung,

@@ -179,6 +179,10 @@ pub fn calibrated(p: &Duplex) -> Result<Calibration> {
         p.radius,
         p.minor_groove,
         p.hbond_compliance,
+        match p.hbond {
+            crate::dna::HBond::Distance => -1.0,
+            crate::dna::HBond::Position { stagger_compliance } => stagger_compliance,
+        },
         p.strand.stretch_modulus,
         p.strand.persistence_length,
         p.temperature,
@@ -206,7 +210,7 @@ pub fn calibrated(p: &Duplex) -> Result<Calibration> {
 fn calibrate(p: &Duplex) -> Result<Calibration> {
     let kt = BOLTZMANN * p.temperature;
     let target = p.elasticity;
-    let mut probe = Duplex { sequence: "GATTACA".chars().cycle().take(64.max(6 * p.bp_per_turn.ceil() as usize)).collect(), complement: None, break_forces: None, ..p.clone() };
+    let mut probe = Duplex { sequence: "GATTACA".chars().cycle().take(64.max(6 * p.bp_per_turn.ceil() as usize)).collect(), complement: None, break_forces: None, stagger_break_forces: None, ..p.clone() };
     let mut s = target;
     let mut worst = f64::INFINITY;
     for round in 1..=CALIBRATION_ROUNDS {

@@ -159,7 +159,7 @@ fn build_beads_on_spring<'py>(
 
 /// A B-DNA duplex (SPEC §9.1); see `strandkit.dna.duplex`. Molecular units.
 #[pyfunction]
-#[pyo3(signature = (*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, break_averaging_time, strand_stretch_modulus, strand_persistence, bending_persistence, stretch_modulus, twist_persistence, twist_stretch, temperature))]
+#[pyo3(signature = (*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond, hbond_compliance, stagger_compliance, break_force_at, break_force_gc, break_forces, stagger_break_forces, break_averaging_time, strand_stretch_modulus, strand_persistence, bending_persistence, stretch_modulus, twist_persistence, twist_stretch, temperature))]
 #[allow(clippy::too_many_arguments)]
 fn build_duplex<'py>(
     py: Python<'py>,
@@ -169,10 +169,13 @@ fn build_duplex<'py>(
     rise: f64,
     radius: f64,
     minor_groove: f64,
+    hbond: String,
     hbond_compliance: f64,
+    stagger_compliance: f64,
     break_force_at: f64,
     break_force_gc: f64,
     break_forces: Option<Vec<f64>>,
+    stagger_break_forces: Option<Vec<f64>>,
     break_averaging_time: f64,
     strand_stretch_modulus: f64,
     strand_persistence: f64,
@@ -182,13 +185,18 @@ fn build_duplex<'py>(
     twist_stretch: f64,
     temperature: f64,
 ) -> PyResult<(PyAssembly, Bound<'py, PyDict>)> {
-    use strandkit_builders::dna::{duplex, Duplex, Elasticity};
+    use strandkit_builders::dna::{duplex, Duplex, Elasticity, HBond};
+    let hbond = match hbond.as_str() {
+        "distance" => HBond::Distance,
+        "position" => HBond::Position { stagger_compliance },
+        other => return Err(crate::err(strandkit_core::Error::invalid("hbond", format!("{other:?}"), "'distance' or 'position'"))),
+    };
     let mut p = Duplex::new(&sequence);
     p.temperature = temperature;
     p.strand.stretch_modulus = strand_stretch_modulus;
     p.strand.persistence_length = strand_persistence;
     p.elasticity = Elasticity { bending_persistence, stretch_modulus, twist_persistence, twist_stretch, ..p.elasticity };
-    p = Duplex { complement, bp_per_turn, rise, radius, minor_groove, hbond_compliance, break_force_at, break_force_gc, break_forces, break_averaging_time, ..p };
+    p = Duplex { complement, bp_per_turn, rise, radius, minor_groove, hbond, hbond_compliance, break_force_at, break_force_gc, break_forces, stagger_break_forces, break_averaging_time, ..p };
     let (asm, l) = guard(|| duplex(&p))?;
     // The calibration the build used (cached: no second run).
     let cal = guard(|| strandkit_builders::dna_elasticity::calibrated(&p))?;
@@ -206,6 +214,7 @@ fn build_duplex<'py>(
     d.set_item("partner", l.partner)?;
     d.set_item("hbonds", l.hbonds)?;
     d.set_item("stacks", l.stacks)?;
+    d.set_item("staggers", l.staggers)?;
     d.set_item("mismatches", l.mismatches)?;
     d.set_item("break_forces", l.break_forces)?;
     d.set_item("rung_length", l.rung_length)?;

@@ -6,7 +6,7 @@ from ._catalogue import Kind as Kind
 from ._native import ConstraintHandle, Rod, World
 
 CATALOGUE: List[dict]
-__all__ = ['Kind', 'kind', 'clamp', 'position', 'tangent', 'material_roll', 'distance', 'plane', 'axis', 'curvature', 'relative_position', 'relative_orientation', 'relative_distance', 'relative_axis', 'sliding_point', 'oriented_sliding_point', 'contact', 'coplanar_clamp', 'barycentric', 'base_pair_step']
+__all__ = ['Kind', 'kind', 'clamp', 'position', 'tangent', 'material_roll', 'distance', 'plane', 'axis', 'curvature', 'relative_position', 'relative_orientation', 'relative_distance', 'relative_axis', 'sliding_point', 'oriented_sliding_point', 'contact', 'coplanar_clamp', 'barycentric', 'base_pair_step', 'pair_stagger']
 
 def kind(name: str, **fields) -> Kind:
     """Any core constraint kind by its Rust name, fields as given (numpy values become lists), e.g."""
@@ -16,7 +16,7 @@ def axis(u: float, origin: Sequence[float], direction: Sequence[float]) -> Kind:
     """r(u) stays on the line through `origin` (length) along `direction` (two rows)."""
 def barycentric(points: Sequence[Tuple[float, float]], driven: float, axes: Union[str, Sequence[bool]] = 'xyz') -> Kind:
     """Σ a_j q(u_j) = q(driven) on the selected `axes` of one rod, for 1 to 4 `points` (u_j, a_j) (weights summing to 1 make it translation invariant)."""
-def base_pair_step(ua_prev: float, ub_prev: float, ua: float, ub: float, ua_next: float, ub_next: float, ua_after: float, ub_after: float, axis_offset: float = 0.0, *, rest_shift: Sequence[float], rest_rotation: Sequence[float], translation_stiffness: Sequence[float], rotation_stiffness: Sequence[float], twist_stretch: float = 0.0) -> Kind:
+def base_pair_step(ua_prev: float, ub_prev: float, ua: float, ub: float, ua_next: float, ub_next: float, ua_after: float, ub_after: float, axis_offset: float = 0.0, *, rest_shift: Sequence[float], rest_rotation: Sequence[float], translation_stiffness: Sequence[float], rotation_stiffness: Sequence[float], twist_stretch: float = 0.0, stagger_free: bool = False, axis_mu: Sequence[float] = (0.0, 0.0)) -> Kind:
     """Stacking of a double helix between base pair (ua on strand a, ub on strand b) and the next (ua_next, ub_next), the pairs before (ua_prev, ub_prev) and after (ua_after, ub_after) giving the helix axis (at an end: the end pair again): six rows, the step's shift, slide, rise (length) and tilt, roll, twist (rad) from their rest, weighted so that with compliance 1 the energy is ½ eᵀKe (K: the stiffnesses, rise–twist coupled by `twist_stretch`)."""
 def contact(ua: float, ub: float, distance: float) -> Kind:
     """Sliding contact between rods a and b of World.add_link: |r_a(ua) − r_b(ub)| = `distance` (length) with both abscissae moved to the closest points."""
@@ -30,6 +30,8 @@ def material_roll(u: float, reference: Sequence[float], angle: float = 0.0) -> K
     """Absolute roll of the cross-section: director d1 at `angle` (rad) from `reference` about the tangent (the Frenet model needs a curved rod at u)."""
 def oriented_sliding_point(u: float, point: Sequence[float], direction: Sequence[float], friction: float = 0.0) -> Kind:
     """A sliding point that also holds the tangent along `direction` (a guide tube; III.43–III.49)."""
+def pair_stagger(ua: float, ub: float, ua_first: float, ub_first: float, ua_last: float, ub_last: float, axis_mu: float, rest: float = 0.0) -> Kind:
+    """Stagger of a base pair (ua on strand a, ub on strand b): (r_b − r_a)·ẑ = `rest`, ẑ the helix axis from the rung midpoints of the pairs first and last, turned in the plane of the rung by the rest angle `axis_mu` encodes (blind to the pair's own stagger)."""
 def plane(u: float, origin: Sequence[float], normal: Sequence[float]) -> Kind:
     """r(u) stays on the plane through `origin` (length) with `normal`."""
 def position(u: float, target: Sequence[float] = (0.0, 0.0, 0.0), *, axes: Union[str, Sequence[bool]] = 'xyz', roll: Optional[float] = None) -> Kind:

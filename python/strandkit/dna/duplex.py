@@ -11,7 +11,8 @@ Duplex(14 bp, 'GATTACAGATTACA', 10.5 bp/turn, rise 0.34 nm, radius 1.0 nm, minor
 Two backbone strands (rods through the nucleotides, strand a 5′→3′ up the
 z axis, strand b antiparallel), one hydrogen bond per base pair (a distance
 constraint, labelled ``hbond[k]``, breaking in tension above its pair's
-force: A·T 9 pN, G·C 20 pN by default) and stacking between consecutive
+force: A·T 9 pN, G·C 20 pN by default; with ``hbond="position"`` also the
+pair's stagger, ``stagger[k]``) and stacking between consecutive
 pairs (``stack[k]``: six compliant base-pair-step strains), removed as soon
 as any pair it reads breaks (its two pairs and the neighbours that frame
 them). Pair k is strand a's nucleotide k.
@@ -21,6 +22,14 @@ has the elasticity asked for at zero temperature (B-DNA by default:
 A = 50 nm, S = 1100 pN, C = 100 nm kT, g = −90 pN·nm; ``measured`` holds
 what the calibration measured). Not yet checked: the same constants with
 thermal noise on.
+
+Which rung model reproduces which reference: distance rungs (the default)
+the calibrated elasticity, the unzipping plateau (AFM's 9 / 20 pN with
+``experiments.break_forces_for_unzipping``) and the mdtraj trajectory
+checks; position rungs the same elasticity (calibrated with them) and the
+shear law: rupture vs length follows de Gennes' F_c = 2 f₁ κ⁻¹ tanh(κN/2)
+from the model's own Q, R, f₁ within 1.5 % for N ≥ 16 bp and saturates
+(``tests/test_dna_shear.py``; N ≤ 12 bp rupture up to 18 % above it).
 """
 from __future__ import annotations
 
@@ -41,8 +50,9 @@ class Duplex:
     ``strands``: assembly rod indices of strand a and strand b;
     ``sequences``: both strands 5′→3′; ``abscissae``: each nucleotide's
     abscissa on its strand, 5′→3′; ``partner[k]``: strand b's nucleotide
-    paired with a's k; ``hbonds[k]``/``stacks[k]``: assembly constraint
-    indices (None for a mismatch); ``break_forces``: pN per pair;
+    paired with a's k; ``hbonds[k]``/``stacks[k]``/``staggers[k]``:
+    assembly constraint indices (None for a mismatch; staggers: position
+    rungs only); ``break_forces``: pN per pair;
     ``rung_length``, ``pitch``, ``grooves`` (minor, major): nm;
     ``phase``: the strand offset φ (rad); ``measured``: the duplex's
     zero-temperature stretch_modulus (pN), twist_stretch (pN·nm),
@@ -55,6 +65,7 @@ class Duplex:
     partner: np.ndarray
     hbonds: list
     stacks: list
+    staggers: list
     mismatches: List[int]
     break_forces: np.ndarray
     rung_length: float
@@ -75,9 +86,11 @@ class Duplex:
 
 
 def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: float = 10.5, rise: float = 0.34,
-           radius: float = 1.0, minor_groove: float = 12.0 / 34.0, hbond_compliance: float = 0.0,
+           radius: float = 1.0, minor_groove: float = 12.0 / 34.0, hbond: str = "distance",
+           hbond_compliance: float = 0.0, stagger_compliance: float = 0.04,
            break_force_at: float = 9.0, break_force_gc: float = 20.0,
-           break_forces: Optional[Sequence[float]] = None, break_averaging_time: float = 0.0,
+           break_forces: Optional[Sequence[float]] = None,
+           stagger_break_forces: Optional[Sequence[float]] = None, break_averaging_time: float = 0.0,
            strand_stretch_modulus: float = 400.0,
            strand_persistence: float = 0.75, bending_persistence: float = 50.0, stretch_modulus: float = 1100.0,
            twist_persistence: float = 100.0, twist_stretch: float = -90.0, temperature: float = 298.15) -> Duplex:
@@ -89,7 +102,18 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
     ``mismatches``); bp_per_turn; rise: nm per base pair; radius: nm (the
     strands' helices); minor_groove: the share of the pitch the minor groove
     spans along the axis (12/34 by default, φ ≈ 127°; the thesis: 0.4 with
-    bp_per_turn=10); hbond_compliance: nm/pN (0: rigid bonds);
+    bp_per_turn=10); hbond: the rung model — ``"distance"`` (one distance
+    per pair; the stacking's frames then read a pair's stagger, and give
+    the duplex its shear stiffness) or ``"position"`` (the distance plus the
+    pair's stagger along the local axis, ``stagger[k]``, compliant, breaking
+    when its force exceeds ``stagger_break_forces``; the stacking is then
+    blind to stagger, and a sheared duplex is de Gennes' ladder: backbone
+    Q ≈ EA h²/ℓ³ per pair, rung R = 1/stagger_compliance); hbond_compliance:
+    nm/pN (0: rigid bonds); stagger_compliance: nm/pN (position rungs;
+    0.04 by default: a 50 % G·C duplex shears at ≈ 68 pN for 24–40 bp, Hatch
+    et al. 2008 measured 61.4; 0.5 gives Hatch's decay length κ⁻¹ ≈ 6 bp, but
+    a stagger force cannot then exceed ≈ 3.6 pN, the rung lying flat);
+    stagger_break_forces: pN per pair (None: the pair's break force);
     break_force_at, break_force_gc: pN, tension that breaks an A·T / G·C
     bond (a bond's tension, not the force that unzips the duplex: the fork
     shares the pull, and ``experiments.break_forces_for_unzipping`` gives
@@ -109,9 +133,12 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
     temperature: K (persistence lengths → stiffness).
     """
     params = dict(sequence=str(sequence), complement=complement, bp_per_turn=float(bp_per_turn), rise=float(rise),
-                  radius=float(radius), minor_groove=float(minor_groove), hbond_compliance=float(hbond_compliance),
+                  radius=float(radius), minor_groove=float(minor_groove), hbond=str(hbond),
+                  hbond_compliance=float(hbond_compliance), stagger_compliance=float(stagger_compliance),
                   break_force_at=float(break_force_at), break_force_gc=float(break_force_gc),
                   break_forces=None if break_forces is None else [float(f) for f in break_forces],
+                  stagger_break_forces=(None if stagger_break_forces is None
+                                        else [float(f) for f in stagger_break_forces]),
                   break_averaging_time=float(break_averaging_time),
                   strand_stretch_modulus=float(strand_stretch_modulus), strand_persistence=float(strand_persistence),
                   bending_persistence=float(bending_persistence), stretch_modulus=float(stretch_modulus),
@@ -119,6 +146,6 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
                   temperature=float(temperature))
     asm, l = _native.build_duplex(**params)
     return Duplex(asm, list(l["strands"]), list(l["sequences"]), [np.asarray(a) for a in l["abscissae"]],
-                  np.asarray(l["partner"]), list(l["hbonds"]), list(l["stacks"]), list(l["mismatches"]),
+                  np.asarray(l["partner"]), list(l["hbonds"]), list(l["stacks"]), list(l["staggers"]), list(l["mismatches"]),
                   np.asarray(l["break_forces"]), l["rung_length"], l["phase"], l["pitch"], list(l["grooves"]),
                   dict(l["measured"]), params)

@@ -74,8 +74,10 @@ class PullResult:
     (the moving traps' pull along ``direction``, pN), ``open`` (broken base
     pairs), ``span`` (distance along ``direction`` between the midpoints of
     pairs ``span_pairs``, nm: the duplex's own length away from the ends
-    where the traps pull); ``breaks``: one dict per hydrogen bond that broke (``time``,
-    ``pair``, ``label``, ``force`` its tension in pN, ``trap_force``);
+    where the traps pull); ``breaks``: one dict per bond that broke (``time``,
+    ``pair``, ``label``, ``bond`` — "hbond", or "stagger" for a position
+    rung's stagger, after which the pair still holds by its distance —,
+    ``force`` its tension (a stagger's force) in pN, ``trap_force``);
     ``paths``: files written."""
 
     experiment: str
@@ -127,8 +129,8 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     pulled by that force instead (shared equally, along ``direction``) for
     ``duration`` ns: a force clamp or ramp (``trap`` is then NaN).
 
-    direction: the pulling direction, a 3-vector or ``"axis"`` (the last
-    pair's rung midpoint minus the first's; default: from the held ends'
+    direction: the pulling direction, a 3-vector or ``"axis"`` (the duplex's
+    helix axis, from the first pair to the last; default: from the held ends'
     mean to the pulled ends' mean); trap_stiffness, hold_stiffness: pN/nm;
     viscosity: the fluid's, pN·ns/nm² (water: 1; it sets the drag that the
     pulling speed works against — the quasi-static limit is speed → 0);
@@ -177,16 +179,33 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     rods = [ins.rods[i] for i in d.strands]
     pos = lambda e: np.asarray(rods[e[0]].position(e[1]), dtype=float)  # noqa: E731
 
+    def pair_points(i):
+        return pos((0, float(d.abscissae[0][i]))), pos((1, float(d.abscissae[1][int(d.partner[i])])))
+
     def pair_midpoint(i):
         """Midpoint (nm) of pair i's rung."""
-        return 0.5 * (pos((0, float(d.abscissae[0][i]))) + pos((1, float(d.abscissae[1][int(d.partner[i])]))))
+        a, b = pair_points(i)
+        return 0.5 * (a + b)
+
+    def helix_axis():
+        """The duplex's axis, first pair to last: the rung midpoints lie
+        R cos(φ/2) off it (⟂ the rung), at the helix's phase, so the line
+        between the end midpoints leans by up to ~20° on a short duplex;
+        the pairs' axis points (midpoint moved back toward the axis) do not."""
+        off = 0.5 * d.rung_length / math.tan(0.5 * d.phase)
+        ends = [pair_points(0), pair_points(len(d) - 1)]
+        z = pair_midpoint(len(d) - 1) - pair_midpoint(0)
+        for _ in range(3):
+            o = [0.5 * (a + b) + off * np.cross(z, b - a) / np.linalg.norm(np.cross(z, b - a)) for a, b in ends]
+            z = o[1] - o[0]
+        return z
 
     x_h = np.mean([pos(e) for e in ends_h], axis=0) if ends_h else None
     x_p0 = np.mean([pos(e) for e in ends_p], axis=0)
     if isinstance(direction, str):
         if direction != "axis":
             raise _invalid(f"direction {direction!r}: a 3-vector or 'axis'")
-        direction = pair_midpoint(len(d) - 1) - pair_midpoint(0)
+        direction = helix_axis()
     elif direction is None:
         if x_h is None:
             raise _invalid("pull: give a direction when no end is held")
@@ -221,6 +240,8 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     hbonds = {h: kk for kk, h in enumerate(d.hbonds) if h is not None}
     labels = {ins.constraints[h].label: kk for h, kk in hbonds.items()}
     n_pairs = len(hbonds)
+    # Position rungs: a pair's stagger can break first (sheared, still bonded).
+    labels.update({ins.constraints[h].label: kk for kk, h in enumerate(d.staggers) if h is not None})
 
     rec = {c: [] for c in COLUMNS}
     breaks = []
@@ -235,7 +256,7 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
         f = trap_force(t, pulled_x)
         held_x = float(np.dot(np.mean([pos(h) for h in ends_h], axis=0), e)) if ends_h else x_h0
         extension = float(np.dot(np.mean(pulled_x, axis=0), e)) - held_x - ext0
-        row = (t, speed * t if force is None else math.nan, extension, f, len(breaks),
+        row = (t, speed * t if force is None else math.nan, extension, f, sum(b["bond"] == "hbond" for b in breaks),
                abs(float(np.dot(pair_midpoint(span_pairs[1]) - pair_midpoint(span_pairs[0]), e))))
         for c, v in zip(COLUMNS, row):
             rec[c].append(v)
@@ -268,13 +289,13 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
             for ev in report.events:
                 if ev.kind == "ConstraintBroken" and ev.label in labels:
                     f_trap = trap_force(world.time, [pos(p) for p in ends_p])
-                    breaks.append(dict(time=world.time, pair=labels[ev.label], label=ev.label, force=ev.force,
-                                       trap_force=f_trap))
+                    breaks.append(dict(time=world.time, pair=labels[ev.label], label=ev.label,
+                                       bond=ev.label.split("[")[0], force=ev.force, trap_force=f_trap))
             if (step + 1) % record_every == 0:
                 record()
             if tw is not None and (step + 1) % frame_every == 0:
                 tw.write()
-            if stop_when_open and n_pairs and len(breaks) == n_pairs:
+            if stop_when_open and n_pairs and sum(b["bond"] == "hbond" for b in breaks) == n_pairs:
                 if (step + 1) % record_every:
                     record()
                 break
@@ -316,8 +337,7 @@ def shear(sequence_or_duplex, *, speed: float = 0.2, distance: Optional[float] =
     """Shear: holds strand b's 3′ end (at pair 0) and pulls strand a's 3′
     end (at the last pair) along the axis, so the hydrogen bonds carry the
     load between the two strands in parallel (de Gennes' ladder); the
-    pulling direction defaults to the duplex axis (last pair's rung
-    midpoint minus the first's). ``distance`` defaults to twice the duplex
+    pulling direction defaults to the duplex's helix axis. ``distance`` defaults to twice the duplex
     length. Other options: ``pull``'s."""
     d = _duplex(sequence_or_duplex, duplex_options or {})
     if distance is None:
@@ -379,7 +399,7 @@ _PROBES: dict = {}
 def unzipping_plateau(result: PullResult, skip: int = 3) -> float:
     """Mean trap force (pN) at the openings after the first ``skip`` (the
     end pairs open at their own, higher force while the fork forms)."""
-    f = [b["trap_force"] for b in result.breaks[skip:]]
+    f = [b["trap_force"] for b in result.breaks if b["bond"] == "hbond"][skip:]
     if not f:
         raise _invalid(f"unzipping_plateau: fewer than {skip + 1} pairs opened")
     return float(np.mean(f))

@@ -61,17 +61,17 @@ pub struct BasePairStep {
     /// stretched, as DNA does.
     #[serde(default)]
     pub twist_stretch: f64,
-    /// Frames built axis first ([`helix_axis`] of three pairs' midpoints,
-    /// x the rung made ⟂ to it), blind to a pair's stagger (its two points
+    /// Frames built axis first ([`stagger_free_axis`], x the rung made ⟂
+    /// to it), blind to a pair's stagger (its two points
     /// sliding along the axis): for rungs that resist stagger themselves
     /// ([`super::PairStagger`]). False: x the rung, z the axis made ⟂ x
     /// (the stacking then resists stagger through shift and roll).
     #[serde(default)]
     pub stagger_free: bool,
-    /// λ of [`helix_axis`] for pairs i and i+1 (stagger-free frames; set at
-    /// rest by [`BasePairStep::at_rest`]).
+    /// μ of [`stagger_free_axis`] for pairs i and i+1 (stagger-free
+    /// frames; set at rest by [`BasePairStep::free_of_stagger`]).
     #[serde(default)]
-    pub axis_lambda: [f64; 2],
+    pub axis_mu: [f64; 2],
 }
 
 
@@ -114,45 +114,35 @@ fn axis_coefficients(j: usize, ends: [bool; 2]) -> [f64; 4] {
     }
 }
 
-/// The helix axis direction (unnormalised) through three consecutive
-/// rung midpoints m_0, m_1, m_2 of a double helix, without reading any
-/// rung: t + λ ŵ × t, with t = m_2 − m_0 and w = m_2 − 2m_1 + m_0. The
-/// midpoints lie on a helix of radius ρ = R cos(φ/2) about the axis: w
-/// points at the axis and t leans off it along the helix by 2ρ sin δ (δ
-/// the twist per pair), which λ = −ρ sin δ / h cancels exactly on a
-/// straight helix (h the rise); [`axis_lambda`] finds λ from the rest
-/// shape. Midpoints do not move when a pair's two points slide along
-/// the axis in opposite senses (stagger), so neither does this axis.
-pub fn helix_axis<T: RealField + Copy>(m: &[Vector3<T>; 3], lambda: f64) -> Vector3<T> {
-    let t = m[2] - m[0];
-    let w = (m[2] - m[1]) - (m[1] - m[0]);
-    t + w.normalize().cross(&t) * T::from_subset(&lambda)
+/// The helix axis direction (unnormalised) of a pair with rung `r`,
+/// blind to the pair's stagger: c₀ + μ n̂ × c₀, with c₀ the axis rule's
+/// midpoint difference ([`axis`]) and n̂ = c₀ × r / |c₀ × r|. On a
+/// straight helix c₀ = 2h ẑ + α x̂ leans along the rung by α (the
+/// midpoints lie off the axis), and the plane of c₀ and the rung contains
+/// the axis; a stagger (the pair's two points sliding along ẑ in opposite
+/// senses) turns the rung within that plane, so n̂ — and the axis, c₀
+/// turned in the plane by the rest angle that μ ([`axis_mu`]) encodes —
+/// stay put to first order, while bending and turning carry c₀ and n̂
+/// along. Midpoints do not move with a stagger either.
+pub fn stagger_free_axis<T: RealField + Copy>(c0: &Vector3<T>, r: &Vector3<T>, mu: f64) -> Vector3<T> {
+    *c0 + c0.cross(r).normalize().cross(c0) * T::from_subset(&mu)
 }
 
-/// λ that makes [`helix_axis`] ⟂ the unit rung `x` (at rest).
-pub fn axis_lambda(m: &[Vector3<f64>; 3], x: &Vector3<f64>) -> Result<f64> {
-    let t = m[2] - m[0];
-    let w = (m[2] - m[1]) - (m[1] - m[0]);
-    let s = if w.norm() > 1e-9 * t.norm() { w.normalize().cross(&t) } else { Vector3::zeros() };
-    if !(s.dot(x).abs() > 1e-9 * t.norm()) {
-        return Err(Error::singular("helix axis: three rung midpoints on a line or the rung along the axis (no helix to read an axis from)"));
+/// μ that makes [`stagger_free_axis`] ⟂ the rung `x` (at rest).
+pub fn axis_mu(c0: &Vector3<f64>, x: &Vector3<f64>) -> Result<f64> {
+    let n = c0.cross(x);
+    if !(n.norm() > 1e-9 * c0.norm() * x.norm()) {
+        return Err(Error::singular("helix axis: the midpoints run along the rung (no helix to read an axis from)"));
     }
-    Ok(-t.dot(x) / s.dot(x))
-}
-
-/// The three of the four pairs whose midpoints give pair j's helix axis
-/// in a stagger-free frame (centred on j, one-sided at an end).
-fn axis_triple(j: usize, ends: [bool; 2]) -> [usize; 3] {
-    let after = if j == 1 { ends[0] } else { !ends[1] };
-    if after {
-        [1, 2, 3]
-    } else {
-        [0, 1, 2]
+    let s = n.normalize().cross(c0);
+    if !(s.dot(x).abs() > 1e-12 * c0.norm() * x.norm()) {
+        return Err(Error::singular("helix axis: no rotation in the rung's plane makes the axis ⟂ the rung"));
     }
+    Ok(-c0.dot(x) / s.dot(x))
 }
 
 /// Pair j's frame (columns x, y, z) and origin, j = 1 (pair i) or 2
-/// (pair i+1); `lambda`: the stagger-free rule's λ per pair (None: rung
+/// (pair i+1); `lambda`: the stagger-free rule's μ per pair (None: rung
 /// first).
 fn pair_frame<T: RealField + Copy>(x: &[Vector3<T>; 4], m: &[Vector3<T>; 4], j: usize, ends: [bool; 2], offset: f64, lambda: Option<[f64; 2]>) -> (Matrix3<T>, Vector3<T>) {
     let (x, z) = match lambda {
@@ -160,8 +150,8 @@ fn pair_frame<T: RealField + Copy>(x: &[Vector3<T>; 4], m: &[Vector3<T>; 4], j: 
             let c = axis(m, j, ends);
             (x[j], (c - x[j] * x[j].dot(&c)).normalize())
         }
-        Some(l) => {
-            let z = helix_axis(&axis_triple(j, ends).map(|i| m[i]), l[j - 1]).normalize();
+        Some(mu) => {
+            let z = stagger_free_axis(&axis(m, j, ends), &x[j], mu[j - 1]).normalize();
             ((x[j] - z * z.dot(&x[j])).normalize(), z)
         }
     };
@@ -223,13 +213,12 @@ pub(crate) fn select(k: usize, w: f64) -> J3 {
     j
 }
 
-/// [`helix_axis`] and its Jacobian from the midpoints' Jacobians.
-pub(crate) fn helix_axis_jacobian(m: &[Vector3<f64>; 3], jm: &[J3; 3], lambda: f64) -> (Vector3<f64>, J3) {
-    let (t, jt) = (m[2] - m[0], jm[2] - jm[0]);
-    let (w, jw) = ((m[2] - m[1]) - (m[1] - m[0]), jm[2] - jm[1] * 2.0 + jm[0]);
-    let (wh, jwh) = unit(&w, &jw);
-    let (s, js) = cross(&wh, &jwh, &t, &jt);
-    (t + s * lambda, jt + js * lambda)
+/// [`stagger_free_axis`] and its Jacobian from c₀'s and r's.
+pub(crate) fn stagger_free_axis_jacobian(c0: &Vector3<f64>, jc0: &J3, r: &Vector3<f64>, jr: &J3, mu: f64) -> (Vector3<f64>, J3) {
+    let (n, jn) = cross(c0, jc0, r, jr);
+    let (n, jn) = unit(&n, &jn);
+    let (s, js) = cross(&n, &jn, c0, jc0);
+    (c0 + s * mu, jc0 + js * mu)
 }
 
 /// Unit vector v/|v| and its Jacobian from v's.
@@ -264,22 +253,21 @@ fn strains_jacobian(p: &[Vector3<f64>; 8], ends: [bool; 2], offset: f64, lambda:
     let mut jo = [J3::zeros(); 2];
     for (s, j) in [1usize, 2].into_iter().enumerate() {
         let (xr, jxr) = unit(&(p[2 * j + 1] - p[2 * j]), &(select(2 * j + 1, 1.0) - select(2 * j, 1.0)));
+        let a = axis_coefficients(j, ends);
+        let (mut c, mut jc) = (Vector3::zeros(), J3::zeros());
+        for i in 0..4 {
+            if a[i] != 0.0 {
+                c += m[i] * a[i];
+                jc += jm[i] * a[i];
+            }
+        }
         let ((x, jx), (z, jz)) = match lambda {
             None => {
-                let a = axis_coefficients(j, ends);
-                let (mut c, mut jc) = (Vector3::zeros(), J3::zeros());
-                for i in 0..4 {
-                    if a[i] != 0.0 {
-                        c += m[i] * a[i];
-                        jc += jm[i] * a[i];
-                    }
-                }
                 let (w, jw) = reject(&c, &jc, &xr, &jxr);
                 ((xr, jxr), unit(&w, &jw))
             }
-            Some(l) => {
-                let tr = axis_triple(j, ends);
-                let (c, jc) = helix_axis_jacobian(&tr.map(|i| m[i]), &tr.map(|i| jm[i]), l[j - 1]);
+            Some(mu) => {
+                let (c, jc) = stagger_free_axis_jacobian(&c, &jc, &xr, &jxr, mu[j - 1]);
                 let (z, jz) = unit(&c, &jc);
                 let (w, jw) = reject(&xr, &jxr, &z, &jz);
                 (unit(&w, &jw), (z, jz))
@@ -349,11 +337,11 @@ fn rotation_vector(r: &Matrix3<f64>) -> Vector3<f64> {
     m.column(i).normalize() * t
 }
 
-/// Per side, the control points that eight points (side, u) move
+/// Per side, the control points that (at most eight) points (side, u) move
 /// (nonzero position weights: a point at a knot moves three) with, per
 /// row, the summed coefficients of the rows' gradient `grad` over the
 /// points' 24 coordinates (at most 6 rows).
-pub(crate) fn control_points(rods: &[&Rod], points: &[(usize, f64); 8], grad: &[[f64; 24]]) -> Result<([[(usize, [[f64; 3]; 6]); 16]; 2], [usize; 2])> {
+pub(crate) fn control_points(rods: &[&Rod], points: &[(usize, f64)], grad: &[[f64; 24]]) -> Result<([[(usize, [[f64; 3]; 6]); 16]; 2], [usize; 2])> {
     let mut cps = [[(usize::MAX, [[0.0; 3]; 6]); 16]; 2];
     let mut len = [0usize; 2];
     for (k, &(side, u)) in points.iter().enumerate() {
@@ -409,7 +397,7 @@ impl BasePairStep {
 
     /// λ of the stagger-free frames (None: rung-first frames).
     fn lambda(&self) -> Option<[f64; 2]> {
-        self.stagger_free.then_some(self.axis_lambda)
+        self.stagger_free.then_some(self.axis_mu)
     }
 
     fn inputs(&self, rods: &[&Rod]) -> Result<[Vector3<f64>; 8]> {
@@ -425,19 +413,15 @@ impl BasePairStep {
             }
         }
         let (x, m) = (rungs(&p), midpoints(&p));
-        if self.stagger_free && self.ends() == [true, true] {
-            return Err(Error::invalid("base-pair step", "a stagger-free step of two pairs only", "a third pair framing it (the helix axis reads three pairs)"));
-        }
         for j in [1, 2] {
             let c = match self.lambda() {
                 None => axis(&m, j, self.ends()),
-                Some(l) => {
-                    let [a, b, c] = axis_triple(j, self.ends()).map(|i| m[i]);
-                    let w = (c - b) - (b - a);
-                    if !(w.norm() > 1e-12 * (c - a).norm()) {
-                        return Err(Error::singular("base-pair step: three rung midpoints on a line (no helix axis)"));
+                Some(mu) => {
+                    let c0 = axis(&m, j, self.ends());
+                    if !(c0.cross(&x[j]).norm() > 1e-9 * c0.norm()) {
+                        return Err(Error::singular("base-pair step: the rung midpoints run along a rung (no helix axis)"));
                     }
-                    helix_axis(&[a, b, c], l[j - 1])
+                    stagger_free_axis(&c0, &x[j], mu[j - 1])
                 }
             };
             if (c - x[j] * x[j].dot(&c)).norm() < 1e-9 || (self.stagger_free && (x[j] - c * x[j].dot(&c) / c.norm_squared()).norm() < 1e-9) {
@@ -506,7 +490,7 @@ impl BasePairStep {
             rotation_stiffness,
             twist_stretch,
             stagger_free: false,
-            axis_lambda: [0.0; 2],
+            axis_mu: [0.0; 2],
         };
         s.set_rest(rods)?;
         Ok(s)
@@ -521,7 +505,7 @@ impl BasePairStep {
         }
         let (x, m) = (rungs(&p), midpoints(&p));
         for j in [1, 2] {
-            self.axis_lambda[j - 1] = axis_lambda(&axis_triple(j, self.ends()).map(|i| m[i]), &x[j])?;
+            self.axis_mu[j - 1] = axis_mu(&axis(&m, j, self.ends()), &x[j])?;
         }
         self.stagger_free = true;
         self.set_rest(rods)?;
@@ -572,8 +556,8 @@ impl ConstraintLaw for BasePairStep {
             FieldInfo::new("translation_stiffness", Vec3, "force/length", "shift, slide, rise stiffness (> 0)"),
             FieldInfo::new("rotation_stiffness", Vec3, "force·length/rad²", "tilt, roll, twist stiffness (> 0)"),
             FieldInfo::new("twist_stretch", Scalar, "force/rad", "rise–twist coupling (< 0: overwinds when stretched)").default("0.0"),
-            FieldInfo::new("stagger_free", Flag, "", "frames built axis first from three pairs' midpoints, blind to a pair's stagger (for rungs that resist it: PairStagger)").default("false"),
-            FieldInfo::new("axis_lambda", Vec2, "", "λ of the stagger-free helix-axis rule for pairs i and i+1 (set at rest)").default("[0, 0]"),
+            FieldInfo::new("stagger_free", Flag, "", "frames built axis first (the midpoint difference turned in the plane of the rung), blind to a pair's stagger (for rungs that resist it: PairStagger)").default("false"),
+            FieldInfo::new("axis_mu", Vec2, "", "μ of the stagger-free helix-axis rule for pairs i and i+1 (set at rest)").default("[0, 0]"),
         ],
     };
     fn n_rows(&self) -> usize {
@@ -604,8 +588,8 @@ impl ConstraintLaw for BasePairStep {
             }
         }
         crate::error::finite("base-pair step twist_stretch", self.twist_stretch)?;
-        crate::error::finite("base-pair step axis_lambda", self.axis_lambda[0])?;
-        crate::error::finite("base-pair step axis_lambda", self.axis_lambda[1])?;
+        crate::error::finite("base-pair step axis_mu", self.axis_mu[0])?;
+        crate::error::finite("base-pair step axis_mu", self.axis_mu[1])?;
         if self.twist_stretch.powi(2) >= self.translation_stiffness[2] * self.rotation_stiffness[2] {
             return Err(Error::invalid(
                 "base-pair step twist_stretch",
@@ -678,9 +662,6 @@ mod tests {
         let r0 = rotation(&[0.02, -0.01, 0.6]);
         let d0 = Vector3::new(0.01, -0.02, 0.34);
         for (ends, lambda) in [[false, false], [true, false], [false, true], [true, true]].into_iter().flat_map(|e| [(e, None), (e, Some([-0.74, -0.7]))]) {
-            if lambda.is_some() && ends == [true, true] {
-                continue; // refused: the helix axis reads three pairs
-            }
             let ks = [if ends[0] { 1 } else { 0 }, 1, 2, if ends[1] { 2 } else { 3 }];
             let mut p = [Vector3::zeros(); 8];
             for (j, &k) in ks.iter().enumerate() {
@@ -700,6 +681,41 @@ mod tests {
                 let d = e[r].eps.0.unwrap_or_default();
                 for i in 0..24 {
                     assert!((jg[r][i] - d[i]).abs() < 1e-12 * (1.0 + d[i].abs()), "∂row {r}/∂input {i} at ends {ends:?}, λ {lambda:?}: {} vs {}", jg[r][i], d[i]);
+                }
+            }
+        }
+    }
+
+    /// Stagger-free frames do not see a pair's stagger (its two points
+    /// sliding by ±d/2 along the helix axis) to first order, where the
+    /// rung-first frames read it as shift and roll.
+    #[test]
+    fn stagger_free_frames_ignore_a_pairs_stagger() {
+        let helix = |k: usize, side: usize| {
+            let t = 2.0 * std::f64::consts::PI * k as f64 / 10.5 + side as f64 * 2.2176;
+            Vector3::new(t.cos(), t.sin(), 0.34 * k as f64)
+        };
+        let mut p = [Vector3::zeros(); 8];
+        for k in 0..4 {
+            p[2 * k] = helix(k, 0);
+            p[2 * k + 1] = helix(k, 1);
+        }
+        let ends = [false, false];
+        let (x, m) = (rungs(&p), midpoints(&p));
+        let mu = [1, 2].map(|j| axis_mu(&axis(&m, j, ends), &x[j]).unwrap()); // an exact helix: never singular
+        let d = 1e-4;
+        for lambda in [None, Some(mu)] {
+            let (d0, r) = step(&p, ends, 0.45, lambda);
+            let r0 = rotation(&rotation_vector(&r).into());
+            for j in [1, 2] {
+                let mut q = p;
+                q[2 * j].z += d / 2.0;
+                q[2 * j + 1].z -= d / 2.0;
+                let e = strains(&q, ends, 0.45, lambda, &d0, &r0);
+                let worst = e.iter().fold(0.0f64, |w, v| w.max(v.abs()));
+                match lambda {
+                    Some(_) => assert!(worst < 1e-3 * d, "stagger-free: strain {worst:e} for a stagger {d:e} of pair {j}"),
+                    None => assert!(worst > 0.1 * d, "rung-first: strain {worst:e} for a stagger {d:e} of pair {j}"),
                 }
             }
         }
