@@ -191,9 +191,10 @@ fn too_stiff_strands_are_refused() {
 /// Position rungs (`HBond::Position`): the calibrated duplex is B-DNA too
 /// (80 bp, not the calibration's probe: C, B within 2 %, S and g within
 /// 3 % — measured 1127 pN, −92.2 pN·nm, 412.1 and 205.8 pN·nm²), every
-/// bonded pair carries a stagger row, and a pair's stagger goes with the
+/// bonded pair carries a stagger row, a pair's stagger goes with the
 /// bonds of the pairs its axis reads (pair 0 breaking takes stagger[0] and
-/// stagger[1]) while the neighbours stay bonded.
+/// stagger[1]) while the neighbours stay bonded, and a stagger broken
+/// under its own load opens its pair, not the neighbours.
 #[test]
 fn position_rungs_calibrate_and_go_with_their_pairs() {
     let seq: String = "CCGGATAT".chars().cycle().take(80).collect();
@@ -233,4 +234,34 @@ fn position_rungs_calibrate_and_go_with_their_pairs() {
         assert!(gone.contains(&g.to_string()), "{g} not gone: {gone:?}");
     }
     assert_eq!(gone.len(), 5, "{gone:?}");
+
+    // Pair 10's two nucleotides slid apart along the axis (±4 pN): its
+    // stagger breaks under its load (1 pN) and takes its bond along
+    // (`fails_with`), then what goes with that bond — the neighbours'
+    // staggers and the stacking it frames — but not the neighbours' bonds.
+    p.break_forces = None;
+    p.stagger_break_forces = Some((0..22).map(|k| if k == 10 { 1.0 } else { f64::INFINITY }).collect());
+    let (asm, l) = duplex(&p).unwrap();
+    let mut w = World::new(IntegrationParameters { dt: 1e-3, ..Default::default() });
+    let ins = w.insert(&asm).unwrap();
+    let (ra, rb) = (ins.rods[l.strands[0]], ins.rods[l.strands[1]]);
+    w.clamp(ra, l.abscissae[0][n - 1], 0.0).unwrap();
+    let (ua, ub) = (l.abscissae[0][10], l.abscissae[1][l.partner[10]]);
+    w.add_load(PointForce { rod: ra, u: ua, force: [0.0, 0.0, 4.0] }.into()).unwrap();
+    w.add_load(PointForce { rod: rb, u: ub, force: [0.0, 0.0, -4.0] }.into()).unwrap();
+    let mut gone = Vec::new();
+    for _ in 0..20 {
+        for e in w.step().unwrap().events {
+            if let Event::ConstraintBroken { label: Some(s), force, .. } = e {
+                gone.push((s, force));
+            }
+        }
+    }
+    assert_eq!(gone[0].0, "stagger[10]", "{gone:?}");
+    assert!(gone[0].1 > 1.0, "broke under its load: {gone:?}");
+    let labels: Vec<&str> = gone.iter().map(|g| g.0.as_str()).collect();
+    for g in ["hbond[10]", "stagger[9]", "stagger[11]", "stack[8]", "stack[9]", "stack[10]", "stack[11]"] {
+        assert!(labels.contains(&g), "{g} not gone: {gone:?}");
+    }
+    assert!(!labels.contains(&"hbond[9]") && !labels.contains(&"hbond[11]"), "{gone:?}");
 }

@@ -423,11 +423,16 @@ pub fn duplex(p: &Duplex) -> Result<(Assembly, DuplexLayout)> {
                 c.breaks(stagger_break_forces[k], BreakPolicy::Magnitude);
             }
             // Its axis reads these pairs: it goes when any of their bonds
-            // does (the pair stays bonded by its distance).
+            // does (the pair then holds by its distance alone, like a
+            // distance rung); broken by its own load, it takes the pair's
+            // bond along (a sheared pair is open).
             for j in (first..=last).filter(|&j| hbonds[j].is_some()) {
                 c.breaks_with(format!("hbond[{j}]"));
             }
             staggers[k] = Some(asm.constraints.len() - 1);
+            if let Some(h) = hbonds[k] {
+                asm.constraints[h].fails_with(format!("stagger[{k}]"));
+            }
         }
     }
     let stacking = match p.stacking {

@@ -103,6 +103,12 @@ fn break_constraints(world: &mut World, h: Option<f64>, events: &mut Vec<Event>)
             events.push(Event::ConstraintBroken { constraint: h.into(), label: c.label, time: world.time, force, policy, kind: c.kind });
         }
     }
+    // Those that fail with a constraint broken under its load go first;
+    // then, transitively, whatever goes with any of them.
+    let failing: Vec<_> = world.constraints.iter().filter(|(_, c)| c.fails_with.iter().any(|l| gone.contains(l))).map(|(h, _)| h).collect();
+    for h in failing {
+        gone.extend(drop_unheld(world, h, events));
+    }
     remove_dependents(world, gone, events);
     Ok(())
 }

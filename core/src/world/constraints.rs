@@ -30,6 +30,12 @@ pub struct Constraint {
     /// broken with force 0 (stacking that needs both of its base pairs).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub breaks_with: Vec<String>,
+    /// Labels of constraints whose breaking under their own load removes
+    /// this one too, but not their removal with a third one (a base pair's
+    /// bond fails with its stagger; the stagger goes with its neighbours'
+    /// bonds, which must not take this pair along).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub fails_with: Vec<String>,
     /// The averaged break measure so far ([`Breaking::averaging_time`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub break_measure: Option<f64>,
@@ -39,7 +45,7 @@ impl Constraint {
     /// A constraint with zero multipliers, not breakable, unlabelled.
     pub fn new(rod: RodHandle, other: Option<RodHandle>, kind: ConstraintKind, compliance: f64) -> Constraint {
         let n = kind.n_rows();
-        Constraint { rod, other, kind, compliance, multipliers: vec![0.0; n], breaking: None, label: None, breaks_with: Vec::new(), break_measure: None }
+        Constraint { rod, other, kind, compliance, multipliers: vec![0.0; n], breaking: None, label: None, breaks_with: Vec::new(), fails_with: Vec::new(), break_measure: None }
     }
 
     /// Everything about the constraint that can be checked against its rods.
