@@ -89,6 +89,38 @@ fn sequences_are_checked_and_paired() {
     assert!(duplex(&p).is_err());
 }
 
+/// The duplex `p` built and stepped `steps` times (dt 1 ps), strand a
+/// clamped at its 3′ end, pair `k`'s two nucleotides pushed by `force_a`
+/// (of their positions a, b: the force on a, pN) and its opposite: the
+/// labelled constraints broken, with their events' forces, in order (and
+/// the world).
+fn broken_under(p: &Duplex, k: usize, force_a: impl Fn(Vector3<f64>, Vector3<f64>) -> Vector3<f64>, steps: usize) -> (World, Vec<(String, f64)>) {
+    let (asm, l) = duplex(p).unwrap();
+    let n = l.partner.len();
+    let mut w = World::new(IntegrationParameters { dt: 1e-3, relax_max_iterations: 200, ..Default::default() });
+    let ins = w.insert(&asm).unwrap();
+    let (ra, rb) = (ins.rods[l.strands[0]], ins.rods[l.strands[1]]);
+    w.clamp(ra, l.abscissae[0][n - 1], 0.0).unwrap();
+    let (ua, ub) = (l.abscissae[0][k], l.abscissae[1][l.partner[k]]);
+    let f = force_a(w.rod(ra).unwrap().position(ua).unwrap(), w.rod(rb).unwrap().position(ub).unwrap());
+    w.add_load(PointForce { rod: ra, u: ua, force: f.into() }.into()).unwrap();
+    w.add_load(PointForce { rod: rb, u: ub, force: (-f).into() }.into()).unwrap();
+    let mut broken = Vec::new();
+    for _ in 0..steps {
+        for e in w.step().unwrap().events {
+            if let Event::ConstraintBroken { label: Some(s), force, .. } = e {
+                broken.push((s, force));
+            }
+        }
+    }
+    (w, broken)
+}
+
+/// Pair 0 pulled apart along its rung by 8 pN.
+fn rung_pull(a: Vector3<f64>, b: Vector3<f64>) -> Vector3<f64> {
+    -(b - a).normalize() * 8.0
+}
+
 /// Pulling the first pair's two nucleotides apart (unzipping the end)
 /// breaks its hydrogen bond in tension; the stackings that read that pair
 /// (steps 0 and 1) go with it (`breaks_with`, reported at force 0), the
@@ -97,28 +129,7 @@ fn sequences_are_checked_and_paired() {
 fn stacking_goes_with_its_base_pairs() {
     let mut p = Duplex::new("GCGCGCGCGCGCGCGCGCGCGC");
     p.break_forces = Some((0..22).map(|k| if k == 0 { 5.0 } else { f64::INFINITY }).collect());
-    let (asm, l) = duplex(&p).unwrap();
-    let n = l.partner.len();
-    let mut w = World::new(IntegrationParameters { dt: 1e-3, relax_max_iterations: 200, ..Default::default() });
-    let ins = w.insert(&asm).unwrap();
-    let (ra, rb) = (ins.rods[l.strands[0]], ins.rods[l.strands[1]]);
-    w.clamp(ra, l.abscissae[0][n - 1], 0.0).unwrap();
-    // Pair 0: strand a's 5′ end and strand b's 3′ end, pulled apart along the rung by 8 pN.
-    let (ua, ub) = (l.abscissae[0][0], l.abscissae[1][n - 1]);
-    let x = (w.rod(rb).unwrap().position(ub).unwrap() - w.rod(ra).unwrap().position(ua).unwrap()).normalize();
-    w.add_load(PointForce { rod: ra, u: ua, force: (-x * 8.0).into() }.into()).unwrap();
-    w.add_load(PointForce { rod: rb, u: ub, force: (x * 8.0).into() }.into()).unwrap();
-    let mut events = Vec::new();
-    for _ in 0..5 {
-        events.extend(w.step().unwrap().events);
-    }
-    let broken: Vec<(String, f64)> = events
-        .iter()
-        .filter_map(|e| match e {
-            Event::ConstraintBroken { label: Some(s), force, .. } => Some((s.clone(), *force)),
-            _ => None,
-        })
-        .collect();
+    let (w, broken) = broken_under(&p, 0, rung_pull, 5);
     // Pair 0 frames steps 0 and 1 (the axis at pair 1 is read from pairs 0 and 2).
     assert_eq!(broken.len(), 3, "{broken:?}");
     assert_eq!(broken[0].0, "hbond[0]");
@@ -211,25 +222,8 @@ fn position_rungs_calibrate_and_go_with_their_pairs() {
     let mut p = Duplex::new("GCGCGCGCGCGCGCGCGCGCGC");
     p.hbond = HBond::position(0.04);
     p.break_forces = Some((0..22).map(|k| if k == 0 { 5.0 } else { f64::INFINITY }).collect());
-    let (asm, l) = duplex(&p).unwrap();
-    assert!(l.staggers.iter().all(|s| s.is_some()));
-    let n = l.partner.len();
-    let mut w = World::new(IntegrationParameters { dt: 1e-3, ..Default::default() });
-    let ins = w.insert(&asm).unwrap();
-    let (ra, rb) = (ins.rods[l.strands[0]], ins.rods[l.strands[1]]);
-    w.clamp(ra, l.abscissae[0][n - 1], 0.0).unwrap();
-    let (ua, ub) = (l.abscissae[0][0], l.abscissae[1][n - 1]);
-    let x = (w.rod(rb).unwrap().position(ub).unwrap() - w.rod(ra).unwrap().position(ua).unwrap()).normalize();
-    w.add_load(PointForce { rod: ra, u: ua, force: (-x * 8.0).into() }.into()).unwrap();
-    w.add_load(PointForce { rod: rb, u: ub, force: (x * 8.0).into() }.into()).unwrap();
-    let mut gone = Vec::new();
-    for _ in 0..5 {
-        for e in w.step().unwrap().events {
-            if let Event::ConstraintBroken { label: Some(s), .. } = e {
-                gone.push(s);
-            }
-        }
-    }
+    assert!(duplex(&p).unwrap().1.staggers.iter().all(|s| s.is_some()));
+    let gone: Vec<String> = broken_under(&p, 0, rung_pull, 5).1.into_iter().map(|g| g.0).collect();
     for g in ["hbond[0]", "stagger[0]", "stagger[1]", "stack[0]", "stack[1]"] {
         assert!(gone.contains(&g.to_string()), "{g} not gone: {gone:?}");
     }
@@ -241,22 +235,7 @@ fn position_rungs_calibrate_and_go_with_their_pairs() {
     // staggers and the stacking it frames — but not the neighbours' bonds.
     p.break_forces = None;
     p.stagger_break_forces = Some((0..22).map(|k| if k == 10 { 1.0 } else { f64::INFINITY }).collect());
-    let (asm, l) = duplex(&p).unwrap();
-    let mut w = World::new(IntegrationParameters { dt: 1e-3, ..Default::default() });
-    let ins = w.insert(&asm).unwrap();
-    let (ra, rb) = (ins.rods[l.strands[0]], ins.rods[l.strands[1]]);
-    w.clamp(ra, l.abscissae[0][n - 1], 0.0).unwrap();
-    let (ua, ub) = (l.abscissae[0][10], l.abscissae[1][l.partner[10]]);
-    w.add_load(PointForce { rod: ra, u: ua, force: [0.0, 0.0, 4.0] }.into()).unwrap();
-    w.add_load(PointForce { rod: rb, u: ub, force: [0.0, 0.0, -4.0] }.into()).unwrap();
-    let mut gone = Vec::new();
-    for _ in 0..20 {
-        for e in w.step().unwrap().events {
-            if let Event::ConstraintBroken { label: Some(s), force, .. } = e {
-                gone.push((s, force));
-            }
-        }
-    }
+    let (_, gone) = broken_under(&p, 10, |_, _| Vector3::new(0.0, 0.0, 4.0), 20);
     assert_eq!(gone[0].0, "stagger[10]", "{gone:?}");
     assert!(gone[0].1 > 1.0, "broke under its load: {gone:?}");
     let labels: Vec<&str> = gone.iter().map(|g| g.0.as_str()).collect();

@@ -368,6 +368,39 @@ pub(crate) fn control_points(rods: &[&Rod], points: &[(usize, f64)], grad: &[[f6
     Ok((cps, len))
 }
 
+/// Rows from their values `g` and gradients `grad` over the points'
+/// coordinates (gathered per control point by [`control_points`]).
+pub(crate) fn point_rows(rods: &[&Rod], points: &[(usize, f64)], grad: &[[f64; 24]], g: &[f64], rows: &mut [Row]) -> Result<()> {
+    let (cps, len) = control_points(rods, points, grad)?;
+    for (r, row) in rows.iter_mut().enumerate().take(grad.len()) {
+        for side in 0..2 {
+            let dofs = rods[side].dofs();
+            for (cp, c) in &cps[side][..len[side]] {
+                for a in 0..3 {
+                    row.push_on(side as Side, cp * dofs + a, c[r][a]);
+                }
+            }
+        }
+        row.rhs = -g[r];
+    }
+    Ok(())
+}
+
+/// Resultant on strand a (the even points: a, b alternate) of the rows'
+/// forces λ · gradient, reduced to its first point (a rigid motion moves
+/// a point by ω × (p − p₀)).
+pub(crate) fn strand_a_resultant(points: &[Vector3<f64>], grad: &[[f64; 24]], lambda: &[f64]) -> Reaction {
+    let (mut f, mut m) = (Vector3::zeros(), Vector3::zeros());
+    for (gr, l) in grad.iter().zip(lambda) {
+        for k in (0..points.len()).step_by(2) {
+            let g = Vector3::new(gr[3 * k], gr[3 * k + 1], gr[3 * k + 2]) * *l;
+            f += g;
+            m += (points[k] - points[0]).cross(&g);
+        }
+    }
+    Reaction { force: f.into(), torque: m.into() }
+}
+
 /// Value and gradient (24 inputs) of the weighted rows.
 struct Eval {
     g: [f64; 6],
@@ -610,35 +643,14 @@ impl ConstraintLaw for BasePairStep {
     }
     fn linearize(&self, rods: &[&Rod], rows: &mut [Row]) -> Result<()> {
         let ev = self.eval(rods)?;
-        let (cps, len) = control_points(rods, &self.points(), &ev.grad)?;
-        for (r, row) in rows.iter_mut().enumerate().take(6) {
-            for side in 0..2 {
-                let dofs = rods[side].dofs();
-                for (cp, c) in &cps[side][..len[side]] {
-                    for a in 0..3 {
-                        row.push_on(side as Side, cp * dofs + a, c[r][a]);
-                    }
-                }
-            }
-            row.rhs = -ev.g[r];
-        }
-        Ok(())
+        point_rows(rods, &self.points(), &ev.grad, &ev.g, rows)
     }
     /// Resultant on strand a of the weighted rows' forces, reduced to its
     /// first point (`ua_prev`): through its four points (a rigid motion
     /// moves a point by ω × (a − p)).
     fn reaction(&self, rods: &[&Rod], lambda: &[f64]) -> Result<Reaction> {
         let ev = self.eval(rods)?;
-        let p = ev.inputs[0];
-        let (mut f, mut m) = (Vector3::zeros(), Vector3::zeros());
-        for (r, l) in lambda.iter().enumerate().take(6) {
-            for k in [0, 2, 4, 6] {
-                let g = Vector3::new(ev.grad[r][3 * k], ev.grad[r][3 * k + 1], ev.grad[r][3 * k + 2]) * *l;
-                f += g;
-                m += (ev.inputs[k] - p).cross(&g);
-            }
-        }
-        Ok(Reaction { force: f.into(), torque: m.into() })
+        Ok(strand_a_resultant(&ev.inputs, &ev.grad, lambda))
     }
 }
 

@@ -11,7 +11,7 @@
 //! relative position in the pair's own frame: the rung of de Gennes'
 //! ladder, whose stiffness R (1 / compliance) against the backbone's Q sets
 //! the shear load's decay length κ⁻¹ = √(Q/2R).
-use super::base_pair_step::{axis_mu, control_points, select, stagger_free_axis_jacobian, unit, J3};
+use super::base_pair_step::{axis_mu, control_points, point_rows, select, stagger_free_axis_jacobian, strand_a_resultant, unit, J3};
 #[cfg(test)]
 use super::base_pair_step::stagger_free_axis;
 use crate::constraint::catalogue::{FieldInfo, FieldType::*, KindInfo};
@@ -139,29 +139,13 @@ impl ConstraintLaw for PairStagger {
     }
     fn linearize(&self, rods: &[&Rod], rows: &mut [Row]) -> Result<()> {
         let (g, grad, _) = self.eval(rods)?;
-        let (cps, len) = control_points(rods, &self.points(), &[grad])?;
-        for side in 0..2 {
-            let dofs = rods[side].dofs();
-            for (cp, c) in &cps[side][..len[side]] {
-                for a in 0..3 {
-                    rows[0].push_on(side as Side, cp * dofs + a, c[0][a]);
-                }
-            }
-        }
-        rows[0].rhs = -g;
-        Ok(())
+        point_rows(rods, &self.points(), &[grad], &[g], rows)
     }
     /// Resultant on strand a through its three points, reduced to the
     /// pair's point `ua`.
     fn reaction(&self, rods: &[&Rod], lambda: &[f64]) -> Result<Reaction> {
         let (_, grad, p) = self.eval(rods)?;
-        let (mut f, mut m) = (Vector3::zeros(), Vector3::zeros());
-        for k in [0, 2, 4] {
-            let g = Vector3::new(grad[3 * k], grad[3 * k + 1], grad[3 * k + 2]) * lambda[0];
-            f += g;
-            m += (p[k] - p[0]).cross(&g);
-        }
-        Ok(Reaction { force: f.into(), torque: m.into() })
+        Ok(strand_a_resultant(&p, &[grad], lambda))
     }
 }
 
