@@ -201,7 +201,7 @@ fn too_stiff_strands_are_refused() {
 
 /// Position rungs (`HBond::Position`): the calibrated duplex is B-DNA too
 /// (80 bp, not the calibration's probe: C, B within 2 %, S and g within
-/// 3 % — measured 1127 pN, −92.2 pN·nm, 412.1 and 205.8 pN·nm²), every
+/// 3 % — measured 1131 pN, −92.5 pN·nm, 412.1 and 205.8 pN·nm²), every
 /// bonded pair carries a stagger row, a pair's stagger goes with the
 /// bonds of the pairs its axis reads (pair 0 breaking takes stagger[0] and
 /// stagger[1]) while the neighbours stay bonded, and a stagger broken

@@ -266,6 +266,11 @@ impl Duplex {
         non_negative("hbond_compliance", self.hbond_compliance)?;
         if let HBond::Position { stagger_compliance } = self.hbond {
             positive("stagger_compliance", stagger_compliance)?;
+            // A stagger breaks on its force's magnitude, which thermal
+            // noise does not average down (Breaking refuses it).
+            if self.break_averaging_time > 0.0 {
+                return Err(Error::invalid("break_averaging_time", self.break_averaging_time, "0 with position rungs (a stagger's force has no sign to average)"));
+            }
         }
         non_negative("break_averaging_time", self.break_averaging_time)?;
         positive("break_force_at", self.break_force_at)?;
@@ -423,9 +428,10 @@ pub fn duplex(p: &Duplex) -> Result<(Assembly, DuplexLayout)> {
                 c.breaks(stagger_break_forces[k], BreakPolicy::Magnitude);
             }
             // Its axis reads these pairs: it goes when any of their bonds
-            // does (the pair then holds by its distance alone, like a
-            // distance rung); broken by its own load, it takes the pair's
-            // bond along (a sheared pair is open).
+            // does (the pair then holds by its distance alone, with no
+            // shear stiffness: the stacking is blind to stagger — at a
+            // fork, as unzipping opens it anyway); broken by its own load,
+            // it takes the pair's bond along (a sheared pair is open).
             for j in (first..=last).filter(|&j| hbonds[j].is_some()) {
                 c.breaks_with(format!("hbond[{j}]"));
             }

@@ -6,8 +6,8 @@ stiffness per pair along the axis (EA its stretch modulus, ℓ the helix arc
 per nucleotide, h the rise). The hydrogen bonds' distances are unbreakable
 here, so that the rungs fail in shear as the ladder's do.
 
-Measured (zero temperature, quasi-static): F_c(16, 24, 40) within 1.5 %
-of the law, saturating; the short duplexes (N ≤ 12) rupture 13–18 %
+Measured (zero temperature, quasi-static): F_c(16, 24, 40) 4.4, 2.6 and
+4.0 % below the law, saturating; the short duplexes (N ≤ 12) rupture 9–12 %
 above it, where a tenth of the load bypasses the staggers (the strands
 are helices pulled off the axis, and the ends' rungs tilt)."""
 import math
@@ -44,8 +44,10 @@ def ruptures():
                      stop_when_open=False, progress_bar=False)
         first = [b for b in r.breaks if b["bond"] == "stagger" and b["force"] > 0]
         assert first, f"{n} bp: no stagger broke"
-        # The first break is an end pair's, at its break force.
-        assert first[0]["force"] == pytest.approx(F1, rel=0.05)
+        # The first break is an end pair's (de Gennes: the ends carry the
+        # most), when its stagger force passed f₁ (by one step's overshoot).
+        assert first[0]["pair"] in (0, n - 1) or n <= 4, first[0]
+        assert F1 <= first[0]["force"] < 1.05 * F1
         out[n] = (first[0]["trap_force"], 2 * F1 / ladder_kappa(d) * math.tanh(ladder_kappa(d) * n / 2))
     return out
 

@@ -28,8 +28,9 @@ the calibrated elasticity, the unzipping plateau (AFM's 9 / 20 pN with
 ``experiments.break_forces_for_unzipping``) and the mdtraj trajectory
 checks; position rungs the same elasticity (calibrated with them) and the
 shear law: rupture vs length follows de Gennes' F_c = 2 f₁ κ⁻¹ tanh(κN/2)
-from the model's own Q, R, f₁ within 1.5 % for N ≥ 16 bp and saturates
-(``tests/test_dna_shear.py``; N ≤ 12 bp rupture up to 18 % above it).
+from the model's own Q, R, f₁ within 5 % for N ≥ 16 bp (2.6–4.4 % below)
+and saturates (``tests/test_dna_shear.py``; N ≤ 12 bp rupture 9–12 %
+above it).
 """
 from __future__ import annotations
 
@@ -110,7 +111,7 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
     blind to stagger, and a sheared duplex is de Gennes' ladder: backbone
     Q ≈ EA h²/ℓ³ per pair, rung R = 1/stagger_compliance); hbond_compliance:
     nm/pN (0: rigid bonds); stagger_compliance: nm/pN (position rungs;
-    0.04 by default: a 50 % G·C duplex shears at ≈ 68 pN for 24–40 bp, Hatch
+    0.04 by default: a 50 % G·C 32 bp duplex shears at 65 pN, Hatch
     et al. 2008 measured 61.4; 0.5 gives Hatch's decay length κ⁻¹ ≈ 6 bp, but
     a stagger force cannot then exceed ≈ 3.6 pN, the rung lying flat);
     stagger_break_forces: pN per pair (None: the pair's break force);

@@ -76,8 +76,11 @@ class PullResult:
     pairs ``span_pairs``, nm: the duplex's own length away from the ends
     where the traps pull); ``breaks``: one dict per bond that broke (``time``,
     ``pair``, ``label``, ``bond`` — "hbond", or "stagger" for a position
-    rung's stagger, after which the pair still holds by its distance —,
-    ``force`` its tension (a stagger's force) in pN, ``trap_force``);
+    rung's stagger: broken under its load it opens its pair (the "hbond"
+    follows at force 0), removed with a neighbour's bond (force 0) it
+    leaves the pair held by its distance alone —, ``force`` its tension
+    (a stagger's force) in pN, 0 for one removed with another,
+    ``trap_force``);
     ``paths``: files written."""
 
     experiment: str

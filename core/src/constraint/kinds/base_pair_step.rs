@@ -114,44 +114,67 @@ fn axis_coefficients(j: usize, ends: [bool; 2]) -> [f64; 4] {
     }
 }
 
-/// The helix axis direction (unnormalised) of a pair with rung `r`,
-/// blind to the pair's stagger: c₀ + μ n̂ × c₀, with c₀ the axis rule's
-/// midpoint difference ([`axis`]) and n̂ = c₀ × r / |c₀ × r|. On a
-/// straight helix c₀ = 2h ẑ + α x̂ leans along the rung by α (the
-/// midpoints lie off the axis), and the plane of c₀ and the rung contains
-/// the axis; a stagger (the pair's two points sliding along ẑ in opposite
-/// senses) turns the rung within that plane, so n̂ — and the axis, c₀
-/// turned in the plane by the rest angle that μ ([`axis_mu`]) encodes —
-/// stay put to first order, while bending and turning carry c₀ and n̂
-/// along. Midpoints do not move with a stagger either.
-pub fn stagger_free_axis<T: RealField + Copy>(c0: &Vector3<T>, r: &Vector3<T>, mu: f64) -> Vector3<T> {
-    *c0 + c0.cross(r).normalize().cross(c0) * T::from_subset(&mu)
+/// The helix axis direction (unnormalised) at a pair, blind to stagger:
+/// c₀ + μ n̂ × c₀, with c₀ = m_last − m_first the difference of two rung
+/// midpoints and n̂ = c₀ × p / |c₀ × p|, p = r_first + r_last the sum of
+/// those two pairs' rungs (the pair's neighbours; at a duplex's end the
+/// pair itself and its one neighbour). On a straight helix c₀ = 2h ẑ + α x̂
+/// leans (the midpoints lie off the axis) along x̂, the rung direction
+/// halfway between the two pairs, which p follows: the plane of c₀ and p
+/// contains the axis. A stagger — a pair's two points sliding along ẑ in
+/// opposite senses — moves no midpoint and tilts a rung within a plane
+/// (ẑ, its own x̂), leaving the plane of c₀ and p in place to first order;
+/// μ ([`axis_mu`]) turns c₀ in that plane by the rest angle that makes the
+/// axis ⟂ the pair's rung. Bending and turning carry it along; stretching
+/// and twisting change the lean's angle (α/2h), which μ keeps at rest: a
+/// coupling the calibration measures with the rest (about 1.3 nm of
+/// axis-read stagger per nm of rise and 0.6 nm per rad of twist).
+pub fn stagger_free_axis<T: RealField + Copy>(c0: &Vector3<T>, p: &Vector3<T>, mu: f64) -> Vector3<T> {
+    *c0 + c0.cross(p).normalize().cross(c0) * T::from_subset(&mu)
 }
 
-/// μ that makes [`stagger_free_axis`] ⟂ the rung `x` (at rest).
-pub fn axis_mu(c0: &Vector3<f64>, x: &Vector3<f64>) -> Result<f64> {
-    let n = c0.cross(x);
-    if !(n.norm() > 1e-9 * c0.norm() * x.norm()) {
-        return Err(Error::singular("helix axis: the midpoints run along the rung (no helix to read an axis from)"));
+/// μ that makes [`stagger_free_axis`] (c₀, p) ⟂ the rung `x` (at rest).
+pub fn axis_mu(c0: &Vector3<f64>, p: &Vector3<f64>, x: &Vector3<f64>) -> Result<f64> {
+    let n = c0.cross(p);
+    if !(n.norm() > 1e-9 * c0.norm() * p.norm()) {
+        return Err(Error::singular("helix axis: the midpoints run along the rungs (no helix to read an axis from)"));
     }
     let s = n.normalize().cross(c0);
     if !(s.dot(x).abs() > 1e-12 * c0.norm() * x.norm()) {
-        return Err(Error::singular("helix axis: no rotation in the rung's plane makes the axis ⟂ the rung"));
+        return Err(Error::singular("helix axis: no rotation in the rungs' plane makes the axis ⟂ the rung"));
     }
     Ok(-c0.dot(x) / s.dot(x))
+}
+
+/// The two of the four pairs whose midpoints and rungs give pair j's
+/// stagger-free axis: its neighbours, or at a duplex's end itself and
+/// its one neighbour.
+fn free_axis_pairs(j: usize, ends: [bool; 2]) -> (usize, usize) {
+    match j {
+        1 => (if ends[0] { 1 } else { 0 }, 2),
+        _ => (1, if ends[1] { 2 } else { 3 }),
+    }
+}
+
+/// c₀ and p of pair j's stagger-free axis, from the eight points.
+fn free_axis_inputs<T: RealField + Copy>(p: &[Vector3<T>; 8], j: usize, ends: [bool; 2]) -> (Vector3<T>, Vector3<T>) {
+    let (f, l) = free_axis_pairs(j, ends);
+    let half = T::from_subset(&0.5);
+    ((p[2 * l] + p[2 * l + 1] - p[2 * f] - p[2 * f + 1]) * half, p[2 * f + 1] - p[2 * f] + p[2 * l + 1] - p[2 * l])
 }
 
 /// Pair j's frame (columns x, y, z) and origin, j = 1 (pair i) or 2
 /// (pair i+1); `lambda`: the stagger-free rule's μ per pair (None: rung
 /// first).
-fn pair_frame<T: RealField + Copy>(x: &[Vector3<T>; 4], m: &[Vector3<T>; 4], j: usize, ends: [bool; 2], offset: f64, lambda: Option<[f64; 2]>) -> (Matrix3<T>, Vector3<T>) {
+fn pair_frame<T: RealField + Copy>(p: &[Vector3<T>; 8], x: &[Vector3<T>; 4], m: &[Vector3<T>; 4], j: usize, ends: [bool; 2], offset: f64, lambda: Option<[f64; 2]>) -> (Matrix3<T>, Vector3<T>) {
     let (x, z) = match lambda {
         None => {
             let c = axis(m, j, ends);
             (x[j], (c - x[j] * x[j].dot(&c)).normalize())
         }
         Some(mu) => {
-            let z = stagger_free_axis(&axis(m, j, ends), &x[j], mu[j - 1]).normalize();
+            let (c0, plane) = free_axis_inputs(p, j, ends);
+            let z = stagger_free_axis(&c0, &plane, mu[j - 1]).normalize();
             ((x[j] - z * z.dot(&x[j])).normalize(), z)
         }
     };
@@ -175,7 +198,7 @@ fn mid_frame<T: RealField + Copy>(f0: &Matrix3<T>, f1: &Matrix3<T>) -> Matrix3<T
 /// i−1 … i+2.
 fn frames<T: RealField + Copy>(p: &[Vector3<T>; 8], ends: [bool; 2], offset: f64, lambda: Option<[f64; 2]>) -> [(Matrix3<T>, Vector3<T>); 2] {
     let (x, m) = (rungs(p), midpoints(p));
-    [pair_frame(&x, &m, 1, ends, offset, lambda), pair_frame(&x, &m, 2, ends, offset, lambda)]
+    [pair_frame(p, &x, &m, 1, ends, offset, lambda), pair_frame(p, &x, &m, 2, ends, offset, lambda)]
 }
 
 /// The step's translation (in its mid frame) and relative rotation.
@@ -213,9 +236,9 @@ pub(crate) fn select(k: usize, w: f64) -> J3 {
     j
 }
 
-/// [`stagger_free_axis`] and its Jacobian from c₀'s and r's.
-pub(crate) fn stagger_free_axis_jacobian(c0: &Vector3<f64>, jc0: &J3, r: &Vector3<f64>, jr: &J3, mu: f64) -> (Vector3<f64>, J3) {
-    let (n, jn) = cross(c0, jc0, r, jr);
+/// [`stagger_free_axis`] and its Jacobian from c₀'s and p's.
+pub(crate) fn stagger_free_axis_jacobian(c0: &Vector3<f64>, jc0: &J3, p: &Vector3<f64>, jp: &J3, mu: f64) -> (Vector3<f64>, J3) {
+    let (n, jn) = cross(c0, jc0, p, jp);
     let (n, jn) = unit(&n, &jn);
     let (s, js) = cross(&n, &jn, c0, jc0);
     (c0 + s * mu, jc0 + js * mu)
@@ -267,7 +290,11 @@ fn strains_jacobian(p: &[Vector3<f64>; 8], ends: [bool; 2], offset: f64, lambda:
                 ((xr, jxr), unit(&w, &jw))
             }
             Some(mu) => {
-                let (c, jc) = stagger_free_axis_jacobian(&c, &jc, &xr, &jxr, mu[j - 1]);
+                let (fp, lp) = free_axis_pairs(j, ends);
+                let (c0, plane) = free_axis_inputs(p, j, ends);
+                let jc0 = jm[lp] - jm[fp];
+                let jp = select(2 * fp + 1, 1.0) - select(2 * fp, 1.0) + select(2 * lp + 1, 1.0) - select(2 * lp, 1.0);
+                let (c, jc) = stagger_free_axis_jacobian(&c0, &jc0, &plane, &jp, mu[j - 1]);
                 let (z, jz) = unit(&c, &jc);
                 let (w, jw) = reject(&xr, &jxr, &z, &jz);
                 (unit(&w, &jw), (z, jz))
@@ -450,11 +477,11 @@ impl BasePairStep {
             let c = match self.lambda() {
                 None => axis(&m, j, self.ends()),
                 Some(mu) => {
-                    let c0 = axis(&m, j, self.ends());
-                    if !(c0.cross(&x[j]).norm() > 1e-9 * c0.norm()) {
-                        return Err(Error::singular("base-pair step: the rung midpoints run along a rung (no helix axis)"));
+                    let (c0, plane) = free_axis_inputs(&p, j, self.ends());
+                    if !(c0.cross(&plane).norm() > 1e-9 * c0.norm() * plane.norm()) {
+                        return Err(Error::singular("base-pair step: the rung midpoints run along the rungs (no helix axis)"));
                     }
-                    stagger_free_axis(&c0, &x[j], mu[j - 1])
+                    stagger_free_axis(&c0, &plane, mu[j - 1])
                 }
             };
             if (c - x[j] * x[j].dot(&c)).norm() < 1e-9 || (self.stagger_free && (x[j] - c * x[j].dot(&c) / c.norm_squared()).norm() < 1e-9) {
@@ -536,9 +563,10 @@ impl BasePairStep {
         for (k, (side, u)) in self.points().into_iter().enumerate() {
             p[k] = rods[side].position(u)?;
         }
-        let (x, m) = (rungs(&p), midpoints(&p));
+        let x = rungs(&p);
         for j in [1, 2] {
-            self.axis_mu[j - 1] = axis_mu(&axis(&m, j, self.ends()), &x[j])?;
+            let (c0, plane) = free_axis_inputs(&p, j, self.ends());
+            self.axis_mu[j - 1] = axis_mu(&c0, &plane, &x[j])?;
         }
         self.stagger_free = true;
         self.set_rest(rods)?;
@@ -707,27 +735,43 @@ mod tests {
             let t = 2.0 * std::f64::consts::PI * k as f64 / 10.5 + side as f64 * 2.2176;
             Vector3::new(t.cos(), t.sin(), 0.34 * k as f64)
         };
-        let mut p = [Vector3::zeros(); 8];
-        for k in 0..4 {
-            p[2 * k] = helix(k, 0);
-            p[2 * k + 1] = helix(k, 1);
-        }
-        let ends = [false, false];
-        let (x, m) = (rungs(&p), midpoints(&p));
-        let mu = [1, 2].map(|j| axis_mu(&axis(&m, j, ends), &x[j]).unwrap()); // an exact helix: never singular
-        let d = 1e-4;
-        for lambda in [None, Some(mu)] {
-            let (d0, r) = step(&p, ends, 0.45, lambda);
-            let r0 = rotation(&rotation_vector(&r).into());
+        // Inside, and at either end (the missing neighbour given as the pair).
+        for ends in [[false, false], [true, false], [false, true]] {
+            let ks = [if ends[0] { 1 } else { 0 }, 1, 2, if ends[1] { 2 } else { 3 }];
+            let mut p = [Vector3::zeros(); 8];
+            for (slot, &k) in ks.iter().enumerate() {
+                p[2 * slot] = helix(k, 0);
+                p[2 * slot + 1] = helix(k, 1);
+            }
+            let x = rungs(&p);
+            let mu = [1, 2].map(|j| {
+                let (c0, plane) = free_axis_inputs(&p, j, ends);
+                axis_mu(&c0, &plane, &x[j]).unwrap() // an exact helix: never singular
+            });
+            // At rest the stagger-free axes are the helix axis.
             for j in [1, 2] {
-                let mut q = p;
-                q[2 * j].z += d / 2.0;
-                q[2 * j + 1].z -= d / 2.0;
-                let e = strains(&q, ends, 0.45, lambda, &d0, &r0);
-                let worst = e.iter().fold(0.0f64, |w, v| w.max(v.abs()));
-                match lambda {
-                    Some(_) => assert!(worst < 1e-3 * d, "stagger-free: strain {worst:e} for a stagger {d:e} of pair {j}"),
-                    None => assert!(worst > 0.1 * d, "rung-first: strain {worst:e} for a stagger {d:e} of pair {j}"),
+                let (c0, plane) = free_axis_inputs(&p, j, ends);
+                assert!((stagger_free_axis(&c0, &plane, mu[j - 1]).normalize() - Vector3::z()).norm() < 1e-12, "pair {j} at ends {ends:?}");
+            }
+            let d = 1e-4;
+            for lambda in [None, Some(mu)] {
+                let (d0, r) = step(&p, ends, 0.45, lambda);
+                let r0 = rotation(&rotation_vector(&r).into());
+                for j in [1, 2] {
+                    // Pair j's points, wherever they appear among the eight.
+                    let mut q = p;
+                    for (slot, &k) in ks.iter().enumerate() {
+                        if k == ks[j] {
+                            q[2 * slot].z += d / 2.0;
+                            q[2 * slot + 1].z -= d / 2.0;
+                        }
+                    }
+                    let e = strains(&q, ends, 0.45, lambda, &d0, &r0);
+                    let worst = e.iter().fold(0.0f64, |w, v| w.max(v.abs()));
+                    match lambda {
+                        Some(_) => assert!(worst < 1e-3 * d, "stagger-free: strain {worst:e} for a stagger {d:e} of pair {j} at ends {ends:?}"),
+                        None => assert!(worst > 0.1 * d, "rung-first: strain {worst:e} for a stagger {d:e} of pair {j} at ends {ends:?}"),
+                    }
                 }
             }
         }

@@ -2,11 +2,12 @@
 //! base pair — one on strand a, one on strand b — read along the local
 //! helix axis, (r_b − r_a)·ẑ = rest. ẑ is [`stagger_free_axis`]: the
 //! difference of two neighbouring pairs' rung midpoints turned, in the
-//! plane it spans with the rung, by the rest angle that makes it ⟂ the
-//! rung — a plane and midpoints that do not move when the pair's two
-//! points slide past each other, so the row is the pair's stagger and
-//! nothing else to first order (the duplex turning, bending or twisting
-//! carries the axis along). With a distance rung and stagger-free stacking
+//! plane it spans with their rungs, by the rest angle that makes it ⟂ the
+//! pair's rung — a plane and midpoints that no pair's stagger moves, so
+//! the row reads the pair's stagger exactly on a helix (however large)
+//! and its neighbours' only at second order; the duplex turning or
+//! bending carries the axis along, stretching or twisting it leans the
+//! axis slightly (the rest angle is fixed: see [`stagger_free_axis`]). With a distance rung and stagger-free stacking
 //! ([`super::BasePairStep::stagger_free`]) it makes the hydrogen bonds a
 //! relative position in the pair's own frame: the rung of de Gennes'
 //! ladder, whose stiffness R (1 / compliance) against the backbone's Q sets
@@ -22,9 +23,10 @@ use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
 
 /// (r_b(ub) − r_a(ua))·ẑ = `rest`, ẑ the stagger-free helix axis from the
-/// rung midpoints of the pairs `first` and `last` (the pair's neighbours,
-/// or at a duplex's end the pair and the one after next) with the rule's
-/// `axis_mu`. Multiplier: the force along ẑ on strand a's point.
+/// rung midpoints and rungs of the pairs `first` and `last` (the pair's
+/// neighbours, or at a duplex's end the pair itself and its neighbour)
+/// with the rule's `axis_mu`. Multiplier: the stagger force (its resultant
+/// on strand a is along ẑ, spread over the three pairs' points).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PairStagger {
     pub ua: f64,
@@ -44,6 +46,12 @@ pub struct PairStagger {
 /// points.
 type Eval = (f64, [f64; 24], [Vector3<f64>; 6]);
 
+/// c₀ (the midpoints' difference, last − first) and p (the two pairs'
+/// rungs summed) of [`stagger_free_axis`], from the six points.
+fn axis_inputs<T: nalgebra::RealField + Copy>(p: &[Vector3<T>; 6]) -> (Vector3<T>, Vector3<T>) {
+    ((p[4] + p[5] - p[2] - p[3]) * T::from_subset(&0.5), p[3] - p[2] + p[5] - p[4])
+}
+
 impl PairStagger {
     /// The six abscissae with their side: the pair, first, last.
     fn points(&self) -> [(usize, f64); 6] {
@@ -55,8 +63,8 @@ impl PairStagger {
         for (k, (side, u)) in self.points().into_iter().enumerate() {
             p[k] = rods[side].position(u)?;
         }
-        let (r, c0) = (p[1] - p[0], (p[4] + p[5] - p[2] - p[3]) * 0.5);
-        if !(c0.cross(&r).norm() > 1e-9 * c0.norm() * r.norm()) {
+        let (c0, plane) = axis_inputs(&p);
+        if !(c0.cross(&plane).norm() > 1e-9 * c0.norm() * plane.norm()) || !((p[1] - p[0]).norm() > 0.0) {
             return Err(Error::singular("pair stagger: the neighbours' midpoints run along the rung, or the pair's points coincide (no helix axis)"));
         }
         Ok(p)
@@ -64,9 +72,11 @@ impl PairStagger {
 
     fn eval(&self, rods: &[&Rod]) -> Result<Eval> {
         let p = self.inputs(rods)?;
-        let (c0, jc0) = ((p[4] + p[5] - p[2] - p[3]) * 0.5, select(4, 0.5) + select(5, 0.5) - select(2, 0.5) - select(3, 0.5));
+        let (c0, plane) = axis_inputs(&p);
+        let jc0 = select(4, 0.5) + select(5, 0.5) - select(2, 0.5) - select(3, 0.5);
+        let jp = select(3, 1.0) - select(2, 1.0) + select(5, 1.0) - select(4, 1.0);
         let (r, jr): (Vector3<f64>, J3) = (p[1] - p[0], select(1, 1.0) - select(0, 1.0));
-        let (c, jc) = stagger_free_axis_jacobian(&c0, &jc0, &r, &jr, self.axis_mu);
+        let (c, jc) = stagger_free_axis_jacobian(&c0, &jc0, &plane, &jp, self.axis_mu);
         let (z, jz) = unit(&c, &jc);
         let g = z.transpose() * jr + r.transpose() * jz;
         let mut grad = [0.0; 24];
@@ -79,7 +89,8 @@ impl PairStagger {
     pub fn at_rest(rods: &[&Rod], pair: (f64, f64), first: (f64, f64), last: (f64, f64)) -> Result<PairStagger> {
         let mut s = PairStagger { ua: pair.0, ub: pair.1, ua_first: first.0, ub_first: first.1, ua_last: last.0, ub_last: last.1, axis_mu: 0.0, rest: 0.0 };
         let p = s.inputs(rods)?;
-        s.axis_mu = axis_mu(&((p[4] + p[5] - p[2] - p[3]) * 0.5), &(p[1] - p[0]).normalize())?;
+        let (c0, plane) = axis_inputs(&p);
+        s.axis_mu = axis_mu(&c0, &plane, &(p[1] - p[0]).normalize())?;
         s.rest = s.eval(rods)?.0;
         Ok(s)
     }
@@ -161,8 +172,8 @@ mod tests {
     }
 
     fn row(p: &[Vector3<f64>; 6], mu: f64) -> f64 {
-        let c0 = (p[4] + p[5] - p[2] - p[3]) * 0.5;
-        (p[1] - p[0]).dot(&stagger_free_axis(&c0, &(p[1] - p[0]), mu).normalize())
+        let (c0, plane) = axis_inputs(p);
+        (p[1] - p[0]).dot(&stagger_free_axis(&c0, &plane, mu).normalize())
     }
 
     /// The chain-rule gradient against central differences of the row.
@@ -171,8 +182,10 @@ mod tests {
         for (pair, first, last) in [(1, 0, 2), (0, 0, 2), (2, 1, 2)] {
             let p = [point(pair, 0), point(pair, 1), point(first, 0), point(first, 1), point(last, 0), point(last, 1)];
             let jc0 = select(4, 0.5) + select(5, 0.5) - select(2, 0.5) - select(3, 0.5);
+            let jp = select(3, 1.0) - select(2, 1.0) + select(5, 1.0) - select(4, 1.0);
             let (r, jr) = (p[1] - p[0], select(1, 1.0) - select(0, 1.0));
-            let (c, jc) = stagger_free_axis_jacobian(&((p[4] + p[5] - p[2] - p[3]) * 0.5), &jc0, &r, &jr, -0.8);
+            let (c0, plane) = axis_inputs(&p);
+            let (c, jc) = stagger_free_axis_jacobian(&c0, &jc0, &plane, &jp, -0.8);
             let (z, jz) = unit(&c, &jc);
             let g = z.transpose() * jr + r.transpose() * jz;
             for i in 0..18 {
@@ -186,23 +199,45 @@ mod tests {
         }
     }
 
-    /// On an exact helix the axis at rest is the helix axis, and sliding
-    /// the pair's two points along it by ±d/2 reads d: the row is the
-    /// stagger, unmoved by the duplex turning.
+    /// On an exact helix the axis at rest is the helix axis, inside and at
+    /// either end; sliding the pair's two points by ±d/2 along it reads d
+    /// exactly, however large (no snap-through), and a neighbour's stagger
+    /// does not move the row to first order.
     #[test]
     fn reads_the_stagger_along_the_helix_axis() {
         let helix = |k: usize, side: usize| {
             let t = 2.0 * std::f64::consts::PI * k as f64 / 10.5 + side as f64 * 2.2176;
             Vector3::new(t.cos(), t.sin(), 0.34 * k as f64)
         };
-        let mut p = [helix(5, 0), helix(5, 1), helix(4, 0), helix(4, 1), helix(6, 0), helix(6, 1)];
-        let c0 = (p[4] + p[5] - p[2] - p[3]) * 0.5;
-        let mu = axis_mu(&c0, &(p[1] - p[0]).normalize()).unwrap(); // an exact helix: the rung is off c₀
-        let z = stagger_free_axis(&c0, &(p[1] - p[0]), mu).normalize();
-        assert!((z - Vector3::z()).norm() < 1e-12, "axis {z:?}");
-        let d = 0.01;
-        p[0].z += d / 2.0;
-        p[1].z -= d / 2.0;
-        assert!((row(&p, mu) + d).abs() < 1e-6 * d, "stagger {} for {d}", row(&p, mu));
+        for (pair, first, last) in [(5, 4, 6), (0, 0, 1), (9, 8, 9)] {
+            let p0 = [helix(pair, 0), helix(pair, 1), helix(first, 0), helix(first, 1), helix(last, 0), helix(last, 1)];
+            let (c0, plane) = axis_inputs(&p0);
+            let mu = axis_mu(&c0, &plane, &(p0[1] - p0[0]).normalize()).unwrap(); // an exact helix: never singular
+            let z = stagger_free_axis(&c0, &plane, mu).normalize();
+            assert!((z - Vector3::z()).norm() < 1e-12, "pair {pair}: axis {z:?}");
+            let rest = row(&p0, mu);
+            // The pair's own stagger (its points appear again among the
+            // axis pairs at an end: moved there too).
+            for d in [0.01, 1.0, -1.0] {
+                let mut p = p0;
+                for k in 0..6 {
+                    let same = (p0[k] - p0[k % 2]).norm() == 0.0;
+                    if k < 2 || same {
+                        p[k].z += if k % 2 == 0 { d / 2.0 } else { -d / 2.0 };
+                    }
+                }
+                let got = row(&p, mu) - rest;
+                assert!((got + d).abs() < 1e-9 * d.abs(), "pair {pair}: stagger {got} for {d}");
+            }
+            // A neighbour's stagger: second order only.
+            if first != pair {
+                let d = 1e-3;
+                let mut p = p0;
+                p[2].z += d / 2.0;
+                p[3].z -= d / 2.0;
+                let got = row(&p, mu) - rest;
+                assert!(got.abs() < 1e-3 * d, "pair {pair}: a neighbour's stagger {d} read as {got}");
+            }
+        }
     }
 }
