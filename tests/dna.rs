@@ -176,13 +176,19 @@ fn stacking_carries_the_duplex_elasticity() {
 fn calibrated_duplex_is_b_dna() {
     let seq: String = "CCGGATAT".chars().cycle().take(80).collect();
     let p = Duplex::new(&seq);
-    let m = zero_temperature_elasticity(&p).unwrap();
+    assert_b_dna(&p, 0.02, 0.02);
+}
+
+/// The zero-temperature S and g of duplex `p` within `tol_sg`, C and B
+/// within `tol_cb` of B-DNA's 1100 pN, −90 pN·nm, 100 nm kT, 50 nm kT.
+fn assert_b_dna(p: &Duplex, tol_sg: f64, tol_cb: f64) {
+    let m = zero_temperature_elasticity(p).unwrap();
     let kt = BOLTZMANN * p.temperature;
     let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
-    assert!(rel(m.stretch_modulus, 1100.0) < 0.02, "S {}", m.stretch_modulus);
-    assert!(rel(m.twist_stretch, -90.0) < 0.02, "g {}", m.twist_stretch);
-    assert!(rel(m.twist_stiffness, 100.0 * kt) < 0.02, "C {}", m.twist_stiffness);
-    assert!(rel(m.bending_stiffness, 50.0 * kt) < 0.02, "B {}", m.bending_stiffness);
+    assert!(rel(m.stretch_modulus, 1100.0) < tol_sg, "S {}", m.stretch_modulus);
+    assert!(rel(m.twist_stretch, -90.0) < tol_sg, "g {}", m.twist_stretch);
+    assert!(rel(m.twist_stiffness, 100.0 * kt) < tol_cb, "C {}", m.twist_stiffness);
+    assert!(rel(m.bending_stiffness, 50.0 * kt) < tol_cb, "B {}", m.bending_stiffness);
 }
 
 /// Strands as stiff in stretch as free ssDNA (800 pN) leave no stable
@@ -211,13 +217,7 @@ fn position_rungs_calibrate_and_go_with_their_pairs() {
     let seq: String = "CCGGATAT".chars().cycle().take(80).collect();
     let mut p = Duplex::new(&seq);
     p.hbond = HBond::position(0.04);
-    let m = zero_temperature_elasticity(&p).unwrap();
-    let kt = BOLTZMANN * p.temperature;
-    let rel = |a: f64, b: f64| (a - b).abs() / b.abs();
-    assert!(rel(m.stretch_modulus, 1100.0) < 0.03, "S {}", m.stretch_modulus);
-    assert!(rel(m.twist_stretch, -90.0) < 0.03, "g {}", m.twist_stretch);
-    assert!(rel(m.twist_stiffness, 100.0 * kt) < 0.02, "C {}", m.twist_stiffness);
-    assert!(rel(m.bending_stiffness, 50.0 * kt) < 0.02, "B {}", m.bending_stiffness);
+    assert_b_dna(&p, 0.03, 0.02);
 
     let mut p = Duplex::new("GCGCGCGCGCGCGCGCGCGCGC");
     p.hbond = HBond::position(0.04);

@@ -248,6 +248,7 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
 
     rec = {c: [] for c in COLUMNS}
     breaks = []
+    opened = [0]  # pairs whose hydrogen bond broke (a cell: record() reads it)
     paths = {}
     writer = tw = fh = None
     x_h0 = float(np.dot(x_h, e)) if x_h is not None else 0.0
@@ -259,7 +260,7 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
         f = trap_force(t, pulled_x)
         held_x = float(np.dot(np.mean([pos(h) for h in ends_h], axis=0), e)) if ends_h else x_h0
         extension = float(np.dot(np.mean(pulled_x, axis=0), e)) - held_x - ext0
-        row = (t, speed * t if force is None else math.nan, extension, f, sum(b["bond"] == "hbond" for b in breaks),
+        row = (t, speed * t if force is None else math.nan, extension, f, opened[0],
                abs(float(np.dot(pair_midpoint(span_pairs[1]) - pair_midpoint(span_pairs[0]), e))))
         for c, v in zip(COLUMNS, row):
             rec[c].append(v)
@@ -294,11 +295,12 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
                     f_trap = trap_force(world.time, [pos(p) for p in ends_p])
                     breaks.append(dict(time=world.time, pair=labels[ev.label], label=ev.label,
                                        bond=ev.label.split("[")[0], force=ev.force, trap_force=f_trap))
+                    opened[0] += breaks[-1]["bond"] == "hbond"
             if (step + 1) % record_every == 0:
                 record()
             if tw is not None and (step + 1) % frame_every == 0:
                 tw.write()
-            if stop_when_open and n_pairs and sum(b["bond"] == "hbond" for b in breaks) == n_pairs:
+            if stop_when_open and n_pairs and opened[0] == n_pairs:
                 if (step + 1) % record_every:
                     record()
                 break
