@@ -12,7 +12,8 @@ ag, K — use ``World(units="molecular")``.
   calibrated stacking);
 - ``trajectory``: PDB/PSF/DCD with one bead per nucleotide, residues named
   by base, backbone and hydrogen bonds, broken pairs in the B-factor column;
-- ``experiments``: trap pulling, unzipping, shear, stretching.
+- ``experiments``: trap pulling, unzipping, shear, stretching, and the
+  thermal elasticity measured from fluctuations (``thermal_elasticity``).
 """
 from .duplex import Duplex, duplex
 from .viewer import trajectory
