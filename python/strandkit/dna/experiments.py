@@ -53,8 +53,9 @@ from ..loads import point_force, trap
 from .duplex import Duplex, duplex as build_duplex
 from .viewer import trajectory as duplex_trajectory
 from .fluctuations import ThermalElasticity, thermal_elasticity
+from .tweezers import TwistResult, buckling, magnetic_tweezers
 
-__all__ = ["PullResult", "ThermalElasticity", "thermal_elasticity", "pull", "unzip", "shear", "stretch", "force_clamp", "force_ramp", "unzipping_plateau",
+__all__ = ["PullResult", "ThermalElasticity", "TwistResult", "thermal_elasticity", "magnetic_tweezers", "buckling", "pull", "unzip", "shear", "stretch", "force_clamp", "force_ramp", "unzipping_plateau",
            "break_forces_for_unzipping", "ENDS", "GEOMETRIES"]
 
 ENDS = ("a5'", "a3'", "b5'", "b3'")
