@@ -2,26 +2,37 @@
 pairs are held on the surface, the last two on the bead; the bead pulls
 with a constant ``force`` along the duplex axis (z) and turns about it at a
 steady rate, after ``wait`` ns at rest under the force. Records the bead's
-turns, the extension (bead − surface, along z) and the torque the bead
-exerts on the duplex about its axis — positive turns overwind the
-right-handed helix and need a positive torque. Units: nm, pN, ns, pN·nm.
+turns, the extension (bead − surface, along z), the free pairs'
+deflection from the axis and the torques about the axis on the bead and
+the surface — positive turns overwind the right-handed helix and need a
+positive torque. Units: nm, pN, ns, pN·nm.
 
 The bead holds each of its four nucleotides on a vertical line through
 its rotated start (they slide along z together with the duplex: the pull
 is shared F/4 each), so its end is clamped in tilt and turned about the
-axis; the surface holds its four in place. The rungs of the held pairs
-are taken out (the holders keep those pairs' geometry; a rung between
-two held points would only repeat them).
+axis; the surface holds its four in place. A lateral force of
+``imperfection`` × force (along x, at the middle pair) stands for the
+imperfections of a real set-up: without it a zero-temperature duplex
+stays straight past its buckling torque (a perfect bifurcation waits for
+round-off). The rungs of the held pairs are taken out (the holders keep
+those pairs' geometry; a rung between two held points would only repeat
+them).
 
 A straight elastic rod under tension F buckles when the torque reaches
 M_c = 2√(BF) (B the bending stiffness; ``polymer.buckling_torque`` gives
-the clamped rod's finite-length value); the torque then drops and the
-extension falls. ``buckling`` finds that point in a result.
+the clamped rod's finite-length value); the extension, which grew with
+the overwinding (twist–stretch coupling), then falls. ``buckling`` finds
+that point: the extension's peak, and the elastic torque there — the mean
+of the bead's and the surface's, which differ by the rotation's drag.
+Turned slowly enough that the buckling mode keeps up (its relaxation
+slows near the threshold), the peak is the threshold.
 
 >>> import strandkit as sk
 >>> r = sk.dna.experiments.magnetic_tweezers("GATTACA" * 2, force=5.0, turns=0.05, wait=0.5, progress_bar=False)
 >>> r
-TwistResult(14 bp at 5 pN, 0 K: 101 records over 3 ns, 0.05 turns, torque ...)
+TwistResult(14 bp at 5 pN, 0 K: 31 records over 3 ns, 0.05 turns, torque up to ... pN·nm)
+>>> print(sk.dna.experiments.buckling(r))   # 0.05 turns: far from buckling
+None
 """
 from __future__ import annotations
 
@@ -29,7 +40,7 @@ import csv
 import math
 import os
 from dataclasses import dataclass, field
-from typing import List, Optional
+from typing import Callable, List, Optional, Union
 
 import numpy as np
 
@@ -39,6 +50,7 @@ from .._progress import progress
 from ..constraints import position
 from ..loads import point_force
 from .duplex import Duplex, duplex as build_duplex
+from .fluctuations import pair_frames
 from .viewer import trajectory as duplex_trajectory
 
 __all__ = ["TwistResult", "magnetic_tweezers", "buckling"]
@@ -47,8 +59,12 @@ __all__ = ["TwistResult", "magnetic_tweezers", "buckling"]
 @dataclass
 class TwistResult:
     """Records of a magnetic-tweezers run: ``time`` (ns), ``turns`` of the
-    bead, ``extension`` (nm, bead − surface along the axis), ``torque``
-    (pN·nm, the bead's on the duplex about the axis); ``force`` (pN),
+    bead, ``extension`` (nm, bead − surface along the axis), ``deflection``
+    (nm, rms over the free pairs of their axis points' distance from the
+    line of the clamps), ``torque`` (pN·nm, the bead's on the duplex about
+    the axis), ``surface_torque`` (pN·nm, the duplex's on the surface: equal
+    to ``torque`` at rest; turning, they differ by the rotation's drag, so
+    their mean is the elastic torque halfway); ``force`` (pN),
     ``temperature`` (K), ``contour`` (nm, between the held pairs at rest);
     ``breaks``: one dict per constraint that broke (``time``, ``label``,
     ``force``); ``paths``: files written."""
@@ -60,7 +76,9 @@ class TwistResult:
     time: np.ndarray
     turns: np.ndarray
     extension: np.ndarray
+    deflection: np.ndarray
     torque: np.ndarray
+    surface_torque: np.ndarray
     breaks: List[dict] = field(default_factory=list)
     paths: dict = field(default_factory=dict)
 
@@ -78,16 +96,19 @@ def _check(name, x, low=0.0, strict=True):
     return x
 
 
-def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 3.0, turns_per_ns: float = 0.02,
+def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 3.0,
+                      turns_per_ns: Union[float, Callable[[float], float]] = 0.02,
                       wait: float = 20.0, dt: float = 0.01, viscosity: float = 1.0, temperature: float = 0.0,
-                      seed: int = 0, held_pairs: int = 2, record_every: int = 10, out: Optional[str] = None,
+                      seed: int = 0, held_pairs: int = 2, imperfection: float = 0.01, record_every: int = 10, out: Optional[str] = None,
                       frame_every: int = 100, progress_bar: bool = True, duplex_options=None) -> TwistResult:
     """Turns the bead end of a duplex by ``turns`` (negative: unwinding) at
-    ``turns_per_ns`` under a constant ``force`` (pN) after ``wait`` ns at
-    rest (see the module). dt: ns; viscosity: pN·ns/nm² (water: 1; with the
+    ``turns_per_ns`` (a number, or a function of the turns done giving the
+    rate: fast, then slow near the buckling) under a constant ``force``
+    (pN) after ``wait`` ns at rest (see the module). dt: ns; viscosity: pN·ns/nm² (water: 1; with the
     rate it sets how far from quasi-static the run is: the duplex's twist
     relaxes over ~γ_θ L²/(π² C)); temperature: K (0: no noise; seed for the
-    noise); held_pairs: pairs held at each end; record_every: steps between
+    noise); held_pairs: pairs held at each end; imperfection: the lateral
+    force at the middle pair as a fraction of ``force``; record_every: steps between
     records; out: file prefix for ``.csv`` (streamed, so an interrupted run
     keeps its records) and the trajectory; frame_every: steps between
     frames. A sequence is built with ``duplex_options`` (``duplex``'s)."""
@@ -101,10 +122,15 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     turns = float(turns)
     if not (math.isfinite(turns) and turns != 0.0):
         raise _invalid(f"turns must be a finite non-zero number, got {turns}")
-    rate = _check("turns_per_ns", turns_per_ns)
+    if callable(turns_per_ns):
+        rate_at = turns_per_ns
+    else:
+        fixed = _check("turns_per_ns", turns_per_ns)
+        rate_at = lambda _: fixed  # noqa: E731
     wait, dt = _check("wait (ns)", wait, strict=False), _check("dt (ns)", dt)
     viscosity, temperature = _check("viscosity (pN·ns/nm²)", viscosity), _check("temperature (K)", temperature,
                                                                                 strict=False)
+    imperfection = _check("imperfection", imperfection, strict=False)
     held_pairs, record_every, frame_every = int(held_pairs), int(record_every), int(frame_every)
     if held_pairs < 1 or record_every < 1 or frame_every < 1:
         raise _invalid("held_pairs, record_every and frame_every must be ≥ 1")
@@ -114,9 +140,19 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
                        f"at least {2 * held_pairs + 4} bp")
     if any(k is None for k in d.hbonds[:held_pairs] + d.hbonds[n - held_pairs:]):
         raise _invalid("the held pairs must be paired (a mismatch at an end)")
-    n_wait, n_turn = int(round(wait / dt)), int(math.ceil(abs(turns) / rate / dt))
-    if n_wait + n_turn > 50_000_000:
-        raise _invalid(f"{n_wait + n_turn} steps: raise turns_per_ns or dt")
+    n_wait = int(round(wait / dt))
+    if not callable(turns_per_ns) and abs(turns) / fixed / dt > 5_000_000:  # checked before building the schedule
+        raise _invalid(f"{abs(turns) / fixed / dt:.3g} steps to turn {turns} turns: raise turns_per_ns or dt")
+    # The bead's turns after each turning step (the rate may depend on them).
+    schedule = [0.0]
+    while schedule[-1] < abs(turns):
+        r = float(rate_at(schedule[-1]))
+        if not (math.isfinite(r) and r > 0):
+            raise _invalid(f"turns_per_ns({schedule[-1]:g}) = {r}: expected a positive number of turns per ns")
+        schedule.append(min(schedule[-1] + r * dt, abs(turns)))
+        if n_wait + len(schedule) > 5_000_000:
+            raise _invalid(f"more than 5e6 steps to turn {turns} turns: raise turns_per_ns or dt")
+    n_turn = len(schedule) - 1
 
     world = World(units="molecular", dt=dt, viscosity=viscosity, temperature=temperature, seed=int(seed))
     ins = world.insert(d.assembly)
@@ -131,35 +167,41 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     points = lambda pairs: [(0, float(d.abscissae[0][k])) for k in pairs] + [  # noqa: E731
         (1, float(d.abscissae[1][int(d.partner[k])])) for k in pairs]
     pos = lambda p: np.asarray(rods[p[0]].position(p[1]), dtype=float)  # noqa: E731
-    for p in points(surface):
-        world.add_constraint(rods[p[0]], position(p[1], pos(p), axes="xyz"))
+    surface_points = points(surface)
+    anchors = [world.add_constraint(rods[p[0]], position(p[1], pos(p), axes="xyz")) for p in surface_points]
     bead_points = points(bead)
     starts = [pos(p) for p in bead_points]
     holders = [world.add_constraint(rods[s], position(u, x0, axes="xy")) for (s, u), x0 in zip(bead_points, starts)]
     for s, u in bead_points:
         world.add_load(point_force(rods[s], u, (0.0, 0.0, force / len(bead_points))))
+    if imperfection > 0:
+        for s, u in points([n // 2]):
+            world.add_load(point_force(rods[s], u, (0.5 * imperfection * force, 0.0, 0.0)))
     surface_z = float(np.mean([pos(p)[2] for p in points(surface)]))
     contour = float(np.mean([x[2] for x in starts])) - surface_z
 
     def angle(step):
         """The bead's angle (rad) after ``step`` steps."""
-        t = max(step - n_wait, 0) * dt
-        return math.copysign(min(rate * t, abs(turns)), turns) * 2.0 * math.pi
+        return math.copysign(schedule[min(max(step - n_wait, 0), n_turn)], turns) * 2.0 * math.pi
 
-    def torque():
+    def torque(handles, where):
+        """Torque (pN·nm) about the axis x = y = 0 of the holders' forces."""
         total = 0.0
-        for h, (s, u) in zip(holders, bead_points):
-            x, f = pos((s, u)), np.asarray(world.reaction(h).force, dtype=float)
-            total += x[0] * f[1] - x[1] * f[0]  # (r × f)·ẑ about the axis x = y = 0
+        for h, p in zip(handles, where):
+            x, f = pos(p), np.asarray(world.reaction(h).force, dtype=float)
+            total += x[0] * f[1] - x[1] * f[0]  # (r × f)·ẑ
         return total
 
-    rec = {c: [] for c in ("time", "turns", "extension", "torque")}
+    rec = {c: [] for c in ("time", "turns", "extension", "deflection", "torque", "surface_torque")}
     breaks, paths = [], {}
     writer = fh = tw = None
 
     def record(step):
         row = (world.time, angle(step) / (2.0 * math.pi),
-               float(np.mean([pos(p)[2] for p in bead_points])) - surface_z, torque())
+               float(np.mean([pos(p)[2] for p in bead_points])) - surface_z,
+               float(np.sqrt(np.mean(np.sum(pair_frames(d, rods[0], rods[1])[0][held_pairs:n - held_pairs, :2] ** 2,
+                                            axis=1)))),
+               torque(holders, bead_points), -torque(anchors, surface_points))
         for c, v in zip(rec, row):
             rec[c].append(v)
         if writer is not None:
@@ -172,9 +214,10 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
             paths["csv"] = out + ".csv"
             fh = open(paths["csv"], "w", newline="")
             fh.write(f"# strandkit.dna.experiments.magnetic_tweezers: {d!r}; force {force} pN, {turns} turns at "
-                     f"{rate} turns/ns after {wait} ns, {temperature} K\n")
+                     f"{turns_per_ns if not callable(turns_per_ns) else 'a rate profile'} turns/ns after {wait} ns, "
+                     f"{temperature} K\n")
             writer = csv.writer(fh)
-            writer.writerow(["time_ns", "turns", "extension_nm", "torque_pNnm"])
+            writer.writerow(["time_ns", "turns", "extension_nm", "deflection_nm", "torque_pNnm", "surface_torque_pNnm"])
             tw = duplex_trajectory(world, d, ins, out, every=frame_every)
             paths.update(tw.paths)
         world.step()  # a first solve, so that the first record has reactions
@@ -197,19 +240,24 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
         if fh is not None:
             fh.close()
     arr = {c: np.asarray(v, dtype=float) for c, v in rec.items()}
-    return TwistResult(n, force, temperature, contour, arr["time"], arr["turns"], arr["extension"], arr["torque"],
-                       breaks, paths)
+    return TwistResult(n, force, temperature, contour, arr["time"], arr["turns"], arr["extension"], arr["deflection"],
+                       arr["torque"], arr["surface_torque"], breaks, paths)
 
 
-def buckling(result: TwistResult, drop: float = 0.02) -> dict:
-    """The buckling point of a run: the record of largest |torque| before
-    the extension first falls ``drop`` (relative) below its value at that
-    record — ``turns``, ``torque`` (pN·nm), ``extension`` (nm) and
-    ``index``; None if the extension never falls so."""
-    tau, ext = np.abs(result.torque), result.extension
-    for i in range(1, len(ext)):
-        prior = int(np.argmax(tau[:i]))
-        if ext[i] < (1.0 - drop) * ext[prior] and result.turns[i] != 0:
-            return dict(index=prior, turns=float(result.turns[prior]), torque=float(result.torque[prior]),
-                        extension=float(ext[prior]))
-    return None
+def buckling(result: TwistResult) -> Optional[dict]:
+    """The buckling of a run: where the extension peaks once the bead
+    turns — ``turns``, ``torque`` (pN·nm: the mean of the bead's and the
+    surface's torques, the elastic torque halfway; turning, each differs
+    from it by half the rotation's drag), ``bead_torque``, ``extension``
+    (nm) and ``index`` of the record. None if the extension has not
+    fallen past its peak by the end of the run."""
+    ext = result.extension
+    turning = np.nonzero(result.turns != 0)[0]
+    if not len(turning):
+        return None
+    peak = int(turning[0] + np.argmax(ext[turning]))
+    if peak >= len(ext) - 1 or ext[-1] >= ext[peak] - 1e-3 * abs(ext[peak]):
+        return None
+    return dict(index=peak, turns=float(result.turns[peak]),
+                torque=float(0.5 * (result.torque[peak] + result.surface_torque[peak])),
+                bead_torque=float(result.torque[peak]), extension=float(ext[peak]))

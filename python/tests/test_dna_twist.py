@@ -1,0 +1,51 @@
+"""Magnetic tweezers on a duplex (issue 17): the straight branch against the
+calibration, and bad input. The buckling itself (300 bp at 12 pN against
+2√(BF) and the clamped finite rod) is examples/dna_twist.py's check, run
+by test_examples."""
+import math
+
+import numpy as np
+import pytest
+
+import strandkit as sk
+from strandkit.dna import experiments as ex
+
+
+@pytest.fixture(scope="module")
+def twisted():
+    d = sk.dna.duplex(("GATTACA" * 6)[:40], break_forces=[math.inf] * 40)
+    return d, ex.magnetic_tweezers(d, force=5.0, turns=0.4, turns_per_ns=0.02, wait=2.0, dt=0.02, viscosity=0.1,
+                                   record_every=5, progress_bar=False)
+
+
+def test_torque_and_extension_follow_the_calibrated_twist(twisted):
+    d, r = twisted
+    m = d.measured
+    free = (len(d) - 3) * d.params["rise"]  # nm between the held pairs
+    c_eff = m["twist_stiffness"] - m["twist_stretch"] ** 2 / m["stretch_modulus"]  # stretch free, pN·nm²
+    theta = 2 * math.pi * r.turns
+    use = r.turns > 0.05
+    elastic = 0.5 * (r.torque + r.surface_torque)
+    slope = np.polyfit(theta[use], elastic[use], 1)[0]
+    assert slope == pytest.approx(c_eff / free, rel=0.05)
+    # Turning, the bead's torque exceeds the surface's by the rotation's drag.
+    assert np.all(r.torque[use] > r.surface_torque[use])
+    # DNA lengthens as it overwinds (g < 0): −g/S nm per rad, within 30 %.
+    rise = np.polyfit(theta[use], r.extension[use], 1)[0]
+    assert rise == pytest.approx(-m["twist_stretch"] / m["stretch_modulus"], rel=0.3)
+    assert ex.buckling(r) is None  # 0.4 turns: far below M_c
+    assert r.contour == pytest.approx((len(d) - 2) * d.params["rise"], rel=1e-3)
+
+
+@pytest.mark.parametrize("kw", [dict(force=-1.0), dict(force=math.nan), dict(turns=0.0), dict(turns=math.inf),
+                                dict(turns_per_ns=0.0), dict(turns_per_ns=lambda n: -1.0), dict(dt=0.0),
+                                dict(wait=-1.0), dict(viscosity=0.0), dict(temperature=-3.0), dict(held_pairs=0),
+                                dict(imperfection=-0.1), dict(turns_per_ns=1e-9)])
+def test_magnetic_tweezers_refuses_bad_input(kw):
+    with pytest.raises(sk.errors.InvalidInputError):
+        ex.magnetic_tweezers("GATTACA" * 3, progress_bar=False, **kw)
+
+
+def test_too_short_a_duplex_is_refused():
+    with pytest.raises(sk.errors.InvalidInputError, match="too short"):
+        ex.magnetic_tweezers("GATTAC", progress_bar=False)
