@@ -25,9 +25,8 @@ def test_torque_and_extension_follow_the_calibrated_twist(twisted):
     c_eff = m["twist_stiffness"] - m["twist_stretch"] ** 2 / m["stretch_modulus"]  # stretch free, pN·nm²
     theta = 2 * math.pi * r.turns
     use = r.turns > 0.05
-    elastic = 0.5 * (r.torque + r.surface_torque)
-    slope = np.polyfit(theta[use], elastic[use], 1)[0]
-    assert slope == pytest.approx(c_eff / free, rel=0.05)
+    slope = np.polyfit(theta[use], r.elastic_torque[use], 1)[0]
+    assert slope == pytest.approx(c_eff / free, rel=0.03)
     # Turning, the bead's torque exceeds the surface's by the rotation's drag.
     assert np.all(r.torque[use] > r.surface_torque[use])
     # DNA lengthens as it overwinds (g < 0): −g/S nm per rad, within 30 %.
