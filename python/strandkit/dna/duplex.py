@@ -40,6 +40,7 @@ from typing import List, Optional, Sequence
 import numpy as np
 
 from .. import _native
+from ..errors import _invalid
 
 __all__ = ["Duplex", "duplex"]
 
@@ -150,3 +151,14 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
                   np.asarray(l["partner"]), list(l["hbonds"]), list(l["stacks"]), list(l["staggers"]), list(l["mismatches"]),
                   np.asarray(l["break_forces"]), l["rung_length"], l["phase"], l["pitch"], list(l["grooves"]),
                   dict(l["measured"]), params)
+
+
+def as_duplex(sequence_or_duplex, options=None, defaults=None) -> Duplex:
+    """A built Duplex as given (``options`` must then be empty), or one
+    built from a sequence with ``options`` (``duplex``'s keywords) over
+    ``defaults``."""
+    if isinstance(sequence_or_duplex, Duplex):
+        if options:
+            raise _invalid(f"duplex options {sorted(options)} given with a built Duplex")
+        return sequence_or_duplex
+    return duplex(sequence_or_duplex, **{**(defaults or {}), **(options or {})})

@@ -38,9 +38,7 @@ pull instead of the fork's bond).
 """
 from __future__ import annotations
 
-import csv
 import math
-import os
 from dataclasses import dataclass, field
 from typing import Callable, List, Optional, Sequence
 
@@ -50,8 +48,8 @@ from ..errors import _invalid
 from .._native import World
 from .._progress import progress
 from ..loads import point_force, trap
-from .duplex import Duplex, duplex as build_duplex
-from .viewer import trajectory as duplex_trajectory
+from .duplex import Duplex, as_duplex, duplex as build_duplex
+from ._records import Records
 from .fluctuations import ThermalElasticity, thermal_elasticity
 from .tweezers import TwistResult, buckling, magnetic_tweezers
 
@@ -248,13 +246,15 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     # Position rungs: a pair's stagger can break first (sheared, still bonded).
     labels.update({ins.constraints[h].label: kk for kk, h in enumerate(d.staggers) if h is not None})
 
-    rec = {c: [] for c in COLUMNS}
     breaks = []
     opened = [0]  # pairs whose hydrogen bond broke (a cell: record() reads it)
-    paths = {}
-    writer = tw = fh = None
     x_h0 = float(np.dot(x_h, e)) if x_h is not None else 0.0
     ext0 = float(np.dot(x_p0, e)) - x_h0
+    protocol = (f"speed {speed} nm/ns, trap {k} pN/nm" if force is None
+                else f"force protocol over {duration} ns (trap_nm: NaN)")
+    records = Records(COLUMNS, ["time_ns", "trap_nm", "extension_nm", "force_pN", "open_bp", "span_nm"], out,
+                      f"strandkit.dna.experiments.{experiment}: {d!r}; held {held}, pulled {pulled}, {protocol}, "
+                      f"direction {e.tolist()}", world, d, ins, frame_every)
 
     def record():
         t = world.time
@@ -262,28 +262,11 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
         f = trap_force(t, pulled_x)
         held_x = float(np.dot(np.mean([pos(h) for h in ends_h], axis=0), e)) if ends_h else x_h0
         extension = float(np.dot(np.mean(pulled_x, axis=0), e)) - held_x - ext0
-        row = (t, speed * t if force is None else math.nan, extension, f, opened[0],
-               abs(float(np.dot(pair_midpoint(span_pairs[1]) - pair_midpoint(span_pairs[0]), e))))
-        for c, v in zip(COLUMNS, row):
-            rec[c].append(v)
-        if writer is not None:
-            writer.writerow([f"{v:.9g}" for v in row])
-            fh.flush()
+        records.add((t, speed * t if force is None else math.nan, extension, f, opened[0],
+                     abs(float(np.dot(pair_midpoint(span_pairs[1]) - pair_midpoint(span_pairs[0]), e)))))
         return f
 
-    try:
-        if out is not None:
-            os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
-            paths["csv"] = out + ".csv"
-            fh = open(paths["csv"], "w", newline="")
-            protocol = (f"speed {speed} nm/ns, trap {k} pN/nm" if force is None
-                        else f"force protocol over {duration} ns (trap_nm: NaN)")
-            fh.write(f"# strandkit.dna.experiments.{experiment}: {d!r}; held {held}, pulled {pulled}, "
-                     f"{protocol}, direction {e.tolist()}\n")
-            writer = csv.writer(fh)
-            writer.writerow(["time_ns", "trap_nm", "extension_nm", "force_pN", "open_bp", "span_nm"])
-            tw = duplex_trajectory(world, d, ins, out, every=frame_every)
-            paths.update(tw.paths)
+    with records:
         record()
         for step in progress(range(n_steps), desc=experiment, enable=progress_bar):
             if force is not None:
@@ -300,28 +283,14 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
                     opened[0] += breaks[-1]["bond"] == "hbond"
             if (step + 1) % record_every == 0:
                 record()
-            if tw is not None and (step + 1) % frame_every == 0:
-                tw.write()
+            records.step(step + 1)
             if stop_when_open and n_pairs and opened[0] == n_pairs:
                 if (step + 1) % record_every:
                     record()
                 break
-    finally:
-        if tw is not None:
-            tw.close()
-        if fh is not None:
-            fh.close()
-    arr = {c: np.asarray(v, dtype=float) for c, v in rec.items()}
+    arr = records.arrays()
     return PullResult(experiment, len(d), e, arr["time"], arr["trap"], arr["extension"], arr["force"],
-                      arr["open"].astype(int), arr["span"], span_pairs, breaks, paths)
-
-
-def _duplex(sequence_or_duplex, kw) -> Duplex:
-    if isinstance(sequence_or_duplex, Duplex):
-        if kw:
-            raise _invalid(f"duplex options {sorted(kw)} given with a built Duplex")
-        return sequence_or_duplex
-    return build_duplex(sequence_or_duplex, **kw)
+                      arr["open"].astype(int), arr["span"], span_pairs, breaks, records.paths)
 
 
 def unzip(sequence_or_duplex, *, speed: float = 0.2, distance: Optional[float] = None, duplex_options=None,
@@ -333,7 +302,7 @@ def unzip(sequence_or_duplex, *, speed: float = 0.2, distance: Optional[float] =
     reaches its break force f_b: the trap force is a sawtooth peaking at
     ≈ 0.77 f_b − 2.1 pN, pair by pair in the order of the sequence. Other
     options: ``pull``'s."""
-    d = _duplex(sequence_or_duplex, duplex_options or {})
+    d = as_duplex(sequence_or_duplex, duplex_options)
     if distance is None:
         distance = 2.0 * 1.5 * d.params["rise"] * len(d) + 2.0
     return pull(d, held=["a5'"], pulled=["b3'"], speed=speed, distance=distance, experiment="unzip", **options)
@@ -346,7 +315,7 @@ def shear(sequence_or_duplex, *, speed: float = 0.2, distance: Optional[float] =
     load between the two strands in parallel (de Gennes' ladder); the
     pulling direction defaults to the duplex's helix axis. ``distance`` defaults to twice the duplex
     length. Other options: ``pull``'s."""
-    d = _duplex(sequence_or_duplex, duplex_options or {})
+    d = as_duplex(sequence_or_duplex, duplex_options)
     if distance is None:
         distance = 2.0 * d.params["rise"] * len(d) + 5.0
     options.setdefault("direction", "axis")
@@ -358,7 +327,7 @@ def stretch(sequence_or_duplex, *, speed: float = 0.05, distance: float = 1.0, d
     """Stretching: holds both strands at pair 0 (a5′, b3′) and pulls both
     at the last pair (a3′, b5′) along the axis (last pair's rung midpoint
     minus the first's). Other options: ``pull``'s."""
-    d = _duplex(sequence_or_duplex, duplex_options or {})
+    d = as_duplex(sequence_or_duplex, duplex_options)
     options.setdefault("direction", "axis")
     return pull(d, held=["a5'", "b3'"], pulled=["a3'", "b5'"], speed=speed, distance=distance,
                 experiment="stretch", **options)
@@ -379,7 +348,7 @@ def force_clamp(sequence_or_duplex, force: float, duration: float, *, geometry: 
     if not (f >= 0 and math.isfinite(f)):
         raise _invalid(f"force must be a finite number of pN ≥ 0, got {force}")
     held, pulled = _geometry(geometry)
-    d = _duplex(sequence_or_duplex, duplex_options or {})
+    d = as_duplex(sequence_or_duplex, duplex_options)
     return pull(d, held=held, pulled=pulled, force=lambda t: f, duration=duration,
                 experiment=f"{geometry} at {f:g} pN", **options)
 
@@ -392,7 +361,7 @@ def force_ramp(sequence_or_duplex, rate: float, max_force: float, *, geometry: s
     rate = _positive("rate (pN/ns)", rate)
     max_force = _positive("max_force (pN)", max_force)
     held, pulled = _geometry(geometry)
-    d = _duplex(sequence_or_duplex, duplex_options or {})
+    d = as_duplex(sequence_or_duplex, duplex_options)
     return pull(d, held=held, pulled=pulled, force=lambda t: min(rate * t, max_force), duration=max_force / rate,
                 experiment=f"{geometry} ramp", **options)
 

@@ -44,7 +44,7 @@ from ..errors import _invalid
 from .._native import World
 from .._progress import progress
 from .. import units
-from .duplex import Duplex, duplex as build_duplex
+from .duplex import Duplex, as_duplex
 
 __all__ = ["ThermalElasticity", "thermal_elasticity", "pair_frames"]
 
@@ -155,14 +155,8 @@ def thermal_elasticity(sequence_or_duplex, *, temperature: float = 298.15, durat
     ends are floppier). A sequence is built with unbreakable bonds (the
     elasticity alone; ``duplex_options`` go to ``duplex``); a built Duplex
     is used as given, and a bond breaking during the run is an error."""
-    if isinstance(sequence_or_duplex, Duplex):
-        if duplex_options:
-            raise _invalid(f"duplex options {sorted(duplex_options)} given with a built Duplex")
-        d = sequence_or_duplex
-    else:
-        kw = dict(duplex_options or {})
-        kw.setdefault("break_forces", [math.inf] * len(str(sequence_or_duplex)))
-        d = build_duplex(sequence_or_duplex, **kw)
+    unbreakable = {} if isinstance(sequence_or_duplex, Duplex) else {"break_forces": [math.inf] * len(str(sequence_or_duplex))}
+    d = as_duplex(sequence_or_duplex, duplex_options, unbreakable)
     for name, x in (("temperature", temperature), ("duration", duration), ("dt", dt), ("viscosity", viscosity)):
         if not (math.isfinite(float(x)) and float(x) > 0):
             raise _invalid(f"{name} must be a positive number, got {x}")

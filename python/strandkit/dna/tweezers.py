@@ -37,9 +37,7 @@ None
 """
 from __future__ import annotations
 
-import csv
 import math
-import os
 from dataclasses import dataclass, field
 from typing import Callable, List, Optional, Union
 
@@ -50,9 +48,9 @@ from .._native import World
 from .._progress import progress
 from ..constraints import position
 from ..loads import point_force
-from .duplex import Duplex, duplex as build_duplex
+from .duplex import as_duplex
 from .fluctuations import pair_frames
-from .viewer import trajectory as duplex_trajectory
+from ._records import Records
 
 __all__ = ["TwistResult", "magnetic_tweezers", "buckling"]
 
@@ -124,12 +122,7 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     records; out: file prefix for ``.csv`` (streamed, so an interrupted run
     keeps its records) and the trajectory; frame_every: steps between
     frames. A sequence is built with ``duplex_options`` (``duplex``'s)."""
-    if isinstance(sequence_or_duplex, Duplex):
-        if duplex_options:
-            raise _invalid(f"duplex options {sorted(duplex_options)} given with a built Duplex")
-        d = sequence_or_duplex
-    else:
-        d = build_duplex(sequence_or_duplex, **dict(duplex_options or {}))
+    d = as_duplex(sequence_or_duplex, duplex_options)
     force = _check("force (pN)", force)
     turns = float(turns)
     if not (math.isfinite(turns) and turns != 0.0):
@@ -204,34 +197,21 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
             total += x[0] * f[1] - x[1] * f[0]  # (r × f)·ẑ
         return total
 
-    rec = {c: [] for c in ("time", "turns", "extension", "deflection", "torque", "surface_torque")}
-    breaks, paths = [], {}
-    writer = fh = tw = None
+    breaks = []
+    rate_text = "a rate profile" if callable(turns_per_ns) else f"{turns_per_ns} turns/ns"
+    records = Records(("time", "turns", "extension", "deflection", "torque", "surface_torque"),
+                      ["time_ns", "turns", "extension_nm", "deflection_nm", "torque_pNnm", "surface_torque_pNnm"], out,
+                      f"strandkit.dna.experiments.magnetic_tweezers: {d!r}; force {force} pN, {turns} turns at "
+                      f"{rate_text} after {wait} ns, {temperature} K", world, d, ins, frame_every)
 
     def record(step):
-        row = (world.time, angle(step) / (2.0 * math.pi),
-               float(np.mean([pos(p)[2] for p in bead_points])) - surface_z,
-               float(np.sqrt(np.mean(np.sum(pair_frames(d, rods[0], rods[1])[0][held_pairs:n - held_pairs, :2] ** 2,
-                                            axis=1)))),
-               torque(holders, bead_points), -torque(anchors, surface_points))
-        for c, v in zip(rec, row):
-            rec[c].append(v)
-        if writer is not None:
-            writer.writerow([f"{v:.9g}" for v in row])
-            fh.flush()
+        free = pair_frames(d, rods[0], rods[1])[0][held_pairs:n - held_pairs, :2]
+        records.add((world.time, angle(step) / (2.0 * math.pi),
+                     float(np.mean([pos(p)[2] for p in bead_points])) - surface_z,
+                     float(np.sqrt(np.mean(np.sum(free ** 2, axis=1)))),
+                     torque(holders, bead_points), -torque(anchors, surface_points)))
 
-    try:
-        if out is not None:
-            os.makedirs(os.path.dirname(os.path.abspath(out)), exist_ok=True)
-            paths["csv"] = out + ".csv"
-            fh = open(paths["csv"], "w", newline="")
-            fh.write(f"# strandkit.dna.experiments.magnetic_tweezers: {d!r}; force {force} pN, {turns} turns at "
-                     f"{turns_per_ns if not callable(turns_per_ns) else 'a rate profile'} turns/ns after {wait} ns, "
-                     f"{temperature} K\n")
-            writer = csv.writer(fh)
-            writer.writerow(["time_ns", "turns", "extension_nm", "deflection_nm", "torque_pNnm", "surface_torque_pNnm"])
-            tw = duplex_trajectory(world, d, ins, out, every=frame_every)
-            paths.update(tw.paths)
+    with records:
         world.step()  # a first solve, so that the first record has reactions
         record(1)
         for step in progress(range(2, n_wait + n_turn + 1), desc="magnetic tweezers", enable=progress_bar):
@@ -244,16 +224,10 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
                     breaks.append(dict(time=world.time, label=ev.label, force=ev.force))
             if step % record_every == 0:
                 record(step)
-            if tw is not None and step % frame_every == 0:
-                tw.write()
-    finally:
-        if tw is not None:
-            tw.close()
-        if fh is not None:
-            fh.close()
-    arr = {c: np.asarray(v, dtype=float) for c, v in rec.items()}
+            records.step(step)
+    arr = records.arrays()
     return TwistResult(n, force, temperature, contour, arr["time"], arr["turns"], arr["extension"], arr["deflection"],
-                       arr["torque"], arr["surface_torque"], breaks, paths)
+                       arr["torque"], arr["surface_torque"], breaks, records.paths)
 
 
 def buckling(result: TwistResult) -> Optional[dict]:
