@@ -8,7 +8,7 @@ falls.
 
 References: a straight elastic rod under tension buckles at M_c = 2√(BF);
 clamped at both ends with a finite length L its threshold is a little
-higher (``strandkit.polymer.buckling_torque``, +0.9 % at L√(F/B) = 24
+higher (``strandkit.polymer.buckling_torque``, +0.8 % at L√(F/B) = 24
 here), with B = 50 nm kT the duplex's calibrated bending stiffness. The
 bead turns fast to 80 % of the turns that torque needs and then slowly (a
 slow passage keeps the buckling mode in step with the torque); the
@@ -21,10 +21,12 @@ and the extension comes back: without self-contact there is no
 plectoneme (contact is issue 15's; examples/plectoneme.py has it for a
 plain rod).
 
-Checks: the torque's slope within 5 % of (C − g²/S)/L from the
+Checks: the torque's slope within 3 % of (C − g²/S)/L from the
 calibration, the extension growing with the overwinding as −g/S (10 %),
 and the
-buckling torque within 5 % of 2√(BF) and of the finite-length threshold.
+buckling torque within 5 % of 2√(BF) and 2 % of the finite-length
+threshold (measured: slope +1.7 %, lengthening +2.0 %, buckling +1.6 %
+and +0.8 %).
 Saves dna_twist.png (torque and extension against turns) and the run's
 trajectory dna_twist.pdb/.psf/.dcd with its records in dna_twist.csv.
 About two minutes.
@@ -69,7 +71,7 @@ def main():
     early = (r.turns > 0.1 * expected) & (r.turns < 0.7 * expected)
     slope, _ = np.polyfit(theta[early], torque[early], 1)
     rise, _ = np.polyfit(theta[early], r.extension[early], 1)
-    checks.close("torque slope (pN·nm/rad) vs (C − g²/S)/L", slope, c_eff / free, rtol=0.05)
+    checks.close("torque slope (pN·nm/rad) vs (C − g²/S)/L", slope, c_eff / free, rtol=0.03)
     checks.close("overwinding lengthens the duplex (nm/rad) vs −g/S", rise, -m["twist_stretch"] / m["stretch_modulus"],
                  rtol=0.10)
     if b is None:
@@ -78,7 +80,7 @@ def main():
         print(f"buckles at {b['turns']:.3f} turns, torque {b['torque']:.2f} pN·nm (bead {b['bead_torque']:.2f}); "
               f"2√(BF) = {long_rod:.2f}, clamped L = {free:.1f} nm: {finite:.2f}")
         checks.close("buckling torque (pN·nm) vs 2√(BF)", b["torque"], long_rod, rtol=0.05)
-        checks.close("buckling torque (pN·nm) vs the clamped finite rod", b["torque"], finite, rtol=0.05)
+        checks.close("buckling torque (pN·nm) vs the clamped finite rod", b["torque"], finite, rtol=0.02)
 
     import matplotlib
     matplotlib.use("Agg")

@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from .errors import InvalidInputError
+from .errors import ConvergenceError, InvalidInputError
 
 __all__ = ["wlc_r2", "wlc_extension", "bouchiat_extension", "buckling_torque"]
 
@@ -108,8 +108,8 @@ def _clamped_determinant(m: float, b: float, f: float, length: float) -> float:
     e1, e2 = np.exp(1j * k1 * length), np.exp(1j * k2 * length)
     a = np.array([[1, 0, 1, 1], [0, 1, 1j * k1, 1j * k2], [1, length, e1, e2], [0, 1, 1j * k1 * e1, 1j * k2 * e2]])
     # Imaginary up to round-off once the phase e^{i(k₁+k₂)L/2} is taken out;
-    # divided by its trivial zeros (k₁ = k₂ at M = 2√(BF), and k → 0 where
-    # e^{ikz} meets 1 and z, to second order) so that a sign change is a root.
+    # divided by its trivial zero at k₁ = k₂ (M = 2√(BF)), so that a sign
+    # change is a root (the factor (k₁k₂)² = (F/B)² only scales it).
     d = np.linalg.det(a) * np.exp(-0.5j * (k1 + k2) * length)
     return float(d.imag / ((k1 - k2) * (k1 * k2) ** 2))
 
@@ -131,13 +131,16 @@ def buckling_torque(bending_stiffness: float, tension: float, length: float) -> 
     # At F = 0 a root k is 0 for every M; a tension of 1e-8 B/L² moves M_c
     # by ~1e-8 relative.
     f = max(f, 1e-8 * b / length ** 2)
-    low = 2.0 * math.sqrt(b * f) * (1.0 + 1e-9)
-    high = low + 12.0 * math.pi * b / length  # past Greenhill's 2.86π B/L, the highest first root
-    grid = np.linspace(low, high, 4001)
+    m0 = 2.0 * math.sqrt(b * f)
+    # Above 2√(BF) the first root lies at ≈ (πB/L)²/(2√(BF)) for long rods and
+    # below Greenhill's 2.86π B/L for short ones: a grid geometric in M − m0
+    # from well below the former to past the latter.
+    first = min((math.pi * b / length) ** 2 / (2.0 * m0), math.pi * b / length)
+    grid = m0 + np.geomspace(1e-3 * first, 12.0 * math.pi * b / length, 4001)
     values = np.array([_clamped_determinant(m, b, f, length) for m in grid])
     change = np.nonzero(np.sign(values[1:]) != np.sign(values[:-1]))[0]
     if not len(change):  # not for valid input: the grid spans past the first root
-        raise InvalidInputError(f"no buckling torque found below {high} (B {b}, F {f}, L {length})")
+        raise ConvergenceError(f"no buckling torque found below {grid[-1]} (B {b}, F {f}, L {length})")
     lo, hi = grid[change[0]], grid[change[0] + 1]
     flo = _clamped_determinant(lo, b, f, length)
     while hi - lo > 1e-10 * hi:

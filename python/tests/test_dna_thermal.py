@@ -61,7 +61,7 @@ def test_thermal_elasticity_agrees_with_the_zero_temperature_calibration(thermal
 
 
 @pytest.mark.parametrize("kw", [dict(duration=-1.0), dict(dt=0.0), dict(temperature=math.nan), dict(viscosity=math.inf),
-                                dict(equilibration=-2.0), dict(every=0), dict(skip=1.5), dict(blocks=1),
+                                dict(equilibration=-2.0), dict(every=0), dict(skip=1.5), dict(blocks=1), dict(dt="x"), dict(seed=-1),
                                 dict(duration=0.05)])
 def test_thermal_elasticity_refuses_bad_input(kw):
     with pytest.raises(sk.errors.InvalidInputError):

@@ -39,7 +39,8 @@ def test_torque_and_extension_follow_the_calibrated_twist(twisted):
 @pytest.mark.parametrize("kw", [dict(force=-1.0), dict(force=math.nan), dict(turns=0.0), dict(turns=math.inf),
                                 dict(turns_per_ns=0.0), dict(turns_per_ns=lambda n: -1.0), dict(dt=0.0),
                                 dict(wait=-1.0), dict(viscosity=0.0), dict(temperature=-3.0), dict(held_pairs=0),
-                                dict(imperfection=-0.1), dict(turns_per_ns=1e-9)])
+                                dict(imperfection=-0.1), dict(turns_per_ns=1e-9), dict(force="x"),
+                                dict(held_pairs=2.7), dict(record_every=0), dict(wait=1e9)])
 def test_magnetic_tweezers_refuses_bad_input(kw):
     with pytest.raises(sk.errors.InvalidInputError):
         ex.magnetic_tweezers("GATTACA" * 3, progress_bar=False, **kw)
@@ -48,3 +49,12 @@ def test_magnetic_tweezers_refuses_bad_input(kw):
 def test_too_short_a_duplex_is_refused():
     with pytest.raises(sk.errors.InvalidInputError, match="too short"):
         ex.magnetic_tweezers("GATTAC", progress_bar=False)
+
+
+def test_unwinding_shortens_and_is_not_taken_for_buckling():
+    d = sk.dna.duplex(("GATTACA" * 5)[:30], break_forces=[math.inf] * 30)
+    r = ex.magnetic_tweezers(d, force=5.0, turns=-0.2, turns_per_ns=0.05, wait=0.0, dt=0.02, viscosity=0.1,
+                             progress_bar=False)
+    assert r.turns[0] == 0.0 and r.turns[1] < 0  # the first record is the bead at rest
+    assert r.extension[-1] < r.extension[1] and r.elastic_torque[-1] < 0
+    assert ex.buckling(r) is None

@@ -11,7 +11,8 @@ import strandkit
 MODULES = ["strandkit"] + sorted(m.name for m in pkgutil.walk_packages(strandkit.__path__, "strandkit."))
 # Modules whose docstrings carry examples (a module losing all of them fails).
 WITH_EXAMPLES = {"strandkit", "strandkit._catalogue", "strandkit._native", "strandkit.constraints", "strandkit.dna",
-                 "strandkit.dna.duplex", "strandkit.dna.fluctuations", "strandkit.dna.viewer",
+                 "strandkit.dna.duplex", "strandkit.dna.fluctuations", "strandkit.dna.tweezers",
+                 "strandkit.dna.viewer",
                  "strandkit.errors", "strandkit.loads", "strandkit.recorder", "strandkit.trajectory",
                  "strandkit.units"}
 

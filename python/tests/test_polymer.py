@@ -75,6 +75,8 @@ def test_buckling_torque_of_a_twisted_rod_under_tension():
     m = 2 * math.sqrt(b * 5.0)
     assert buckling_torque(b, 5.0, 3000.0) == pytest.approx(m, rel=1e-4)
     assert buckling_torque(b, 5.0, 102.0) > buckling_torque(b, 5.0, 150.0) > m
+    # Very long: the first root, just above 2√(BF) (not a later one).
+    assert 0 < buckling_torque(b, 5.0, 6e4) / m - 1 < 1e-6
     # Against the finite differences, Richardson-extrapolated from 400 and 800 nodes.
     for f, length in ((5.0, 68.0), (1.0, 100.0), (0.0, 100.0)):
         fd = 2 * _fd_buckling_torque(b, f, length, 800) - _fd_buckling_torque(b, f, length, 400)

@@ -48,6 +48,7 @@ from ..errors import _invalid
 from .._native import World
 from .._progress import progress
 from ..loads import point_force, trap
+from ._checks import integer, number
 from .duplex import Duplex, as_duplex, duplex as build_duplex
 from ._records import Records
 from .fluctuations import ThermalElasticity, thermal_elasticity
@@ -112,13 +113,6 @@ def _end(d: Duplex, name: str):
     return s, float(u[0] if name[1] == "5" else u[-1])
 
 
-def _positive(name, x, allow_inf=False):
-    x = float(x)
-    if not (x > 0 and (allow_inf or math.isfinite(x))):
-        raise _invalid(f"{name} must be a positive number, got {x}")
-    return x
-
-
 def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float = 0.2, distance: float = 10.0,
          direction: Optional[Sequence[float]] = None, trap_stiffness: float = 1.0, hold_stiffness: float = 10.0,
          viscosity: float = 1.0, dt: float = 0.01, record_every: int = 10, out: Optional[str] = None,
@@ -152,13 +146,11 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
         raise _invalid(f"an end cannot be both held and pulled: {sorted(set(held) & set(pulled))}")
     ends_h = [_end(d, e) for e in held]
     ends_p = [_end(d, e) for e in pulled]
-    speed = _positive("speed (nm/ns)", speed)
-    distance = _positive("distance (nm)", distance)
-    k, kh = _positive("trap_stiffness (pN/nm)", trap_stiffness), _positive("hold_stiffness (pN/nm)", hold_stiffness)
-    viscosity, dt = _positive("viscosity (pN·ns/nm²)", viscosity), _positive("dt (ns)", dt)
-    record_every, frame_every = int(record_every), int(frame_every)
-    if record_every < 1 or frame_every < 1:
-        raise _invalid("record_every and frame_every must be ≥ 1 step")
+    speed = number("speed (nm/ns)", speed)
+    distance = number("distance (nm)", distance)
+    k, kh = number("trap_stiffness (pN/nm)", trap_stiffness), number("hold_stiffness (pN/nm)", hold_stiffness)
+    viscosity, dt = number("viscosity (pN·ns/nm²)", viscosity), number("dt (ns)", dt)
+    record_every, frame_every = integer("record_every", record_every, 1), integer("frame_every", frame_every, 1)
     n = len(d)
     if span_pairs is None:
         span_pairs = (3, n - 4) if n >= 10 else (0, n - 1)
@@ -170,7 +162,7 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
             raise _invalid(f"force must be a function of time (ns) giving pN, got {type(force).__name__}")
         if duration is None:
             raise _invalid("a force protocol needs its duration (ns)")
-        duration = _positive("duration (ns)", duration)
+        duration = number("duration (ns)", duration)
         n_steps = math.ceil(duration / dt)
     else:
         n_steps = math.ceil(distance / speed / dt)
@@ -358,8 +350,8 @@ def force_ramp(sequence_or_duplex, rate: float, max_force: float, *, geometry: s
     """Force ramp: the ``geometry``'s pulled ends pulled by a force growing
     at ``rate`` (pN/ns) from 0 up to ``max_force`` (pN), where the run
     ends. Other options: ``pull``'s."""
-    rate = _positive("rate (pN/ns)", rate)
-    max_force = _positive("max_force (pN)", max_force)
+    rate = number("rate (pN/ns)", rate)
+    max_force = number("max_force (pN)", max_force)
     held, pulled = _geometry(geometry)
     d = as_duplex(sequence_or_duplex, duplex_options)
     return pull(d, held=held, pulled=pulled, force=lambda t: min(rate * t, max_force), duration=max_force / rate,
@@ -394,7 +386,7 @@ def break_forces_for_unzipping(unzip_at: float = 9.0, unzip_gc: float = 20.0, *,
     quasi-static probes (12 bp, f_b = 10 and 30 pN; cached per option set,
     ~10 s) measure α and β; the result is (F + β)/α for each target."""
     for name, f in (("unzip_at", unzip_at), ("unzip_gc", unzip_gc)):
-        _positive(f"{name} (pN)", f)
+        number(f"{name} (pN)", f)
     fixed = {"sequence", "break_forces", "break_force_at", "break_force_gc"} & set(duplex_options)
     if fixed:
         raise _invalid(f"break_forces_for_unzipping sets {sorted(fixed)} itself (its probes' sequence and bonds)")

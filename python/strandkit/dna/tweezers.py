@@ -31,7 +31,7 @@ slows near the threshold), the peak is the threshold.
 >>> import strandkit as sk
 >>> r = sk.dna.experiments.magnetic_tweezers("GATTACA" * 2, force=5.0, turns=0.05, wait=0.5, progress_bar=False)
 >>> r
-TwistResult(14 bp at 5 pN, 0 K: 31 records over 3 ns, 0.05 turns, torque up to ... pN·nm)
+TwistResult(14 bp at 5 pN, 0 K: 31 records over 3.01 ns, 0.05 turns, torque up to ... pN·nm)
 >>> print(sk.dna.experiments.buckling(r))   # 0.05 turns: far from buckling
 None
 """
@@ -48,11 +48,14 @@ from .._native import World
 from .._progress import progress
 from ..constraints import position
 from ..loads import point_force
+from ._checks import integer, number
 from .duplex import as_duplex
 from .fluctuations import pair_frames
 from ._records import Records
 
 __all__ = ["TwistResult", "magnetic_tweezers", "buckling"]
+
+MAX_STEPS = 5_000_000  # a run longer than this is a mistake in its parameters
 
 
 @dataclass
@@ -87,9 +90,9 @@ class TwistResult:
         turning steadily, each section's drag grows with its rotation speed,
         ∝ its distance from the surface, so the torque grows quadratically
         from the surface's to the bead's and its mean is the surface's + ⅓
-        of the difference (measured: the slope against the turns then
-        within 1.7 % of (C − g²/S)/L at 40–300 bp, against up to 8.6 % for
-        the bead's and surface's mean)."""
+        of the difference (its slope against the turns: 1.1 % above
+        (C − g²/S)/L at 40 bp, tests/test_dna_twist.py, 3 %; 1.7 % at 300 bp,
+        examples/dna_twist.py, 3 %)."""
         return self.surface_torque + (self.torque - self.surface_torque) / 3.0
 
     def __repr__(self) -> str:
@@ -97,13 +100,6 @@ class TwistResult:
         return (f"TwistResult({self.n_bp} bp at {self.force:g} pN, {self.temperature:g} K: {len(self.time)} records "
                 f"over {self.time[-1] if len(self.time) else 0:.3g} ns, {self.turns[-1] if len(self.turns) else 0:.3g} "
                 f"turns, torque up to {peak:.3g} pN·nm)")
-
-
-def _check(name, x, low=0.0, strict=True):
-    x = float(x)
-    if not (math.isfinite(x) and (x > low if strict else x >= low)):
-        raise _invalid(f"{name} must be a finite number {'>' if strict else '≥'} {low}, got {x}")
-    return x
 
 
 def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 3.0,
@@ -122,32 +118,33 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     records; out: file prefix for ``.csv`` (streamed, so an interrupted run
     keeps its records) and the trajectory; frame_every: steps between
     frames. A sequence is built with ``duplex_options`` (``duplex``'s)."""
-    d = as_duplex(sequence_or_duplex, duplex_options)
-    force = _check("force (pN)", force)
-    turns = float(turns)
-    if not (math.isfinite(turns) and turns != 0.0):
-        raise _invalid(f"turns must be a finite non-zero number, got {turns}")
+    force = number("force (pN)", force)
+    turns = number("turns", turns, low=-math.inf)
+    if turns == 0.0:
+        raise _invalid("turns must be non-zero (negative: unwinding)")
     if callable(turns_per_ns):
         rate_at = turns_per_ns
     else:
-        fixed = _check("turns_per_ns", turns_per_ns)
+        fixed = number("turns_per_ns", turns_per_ns)
         rate_at = lambda _: fixed  # noqa: E731
-    wait, dt = _check("wait (ns)", wait, strict=False), _check("dt (ns)", dt)
-    viscosity, temperature = _check("viscosity (pN·ns/nm²)", viscosity), _check("temperature (K)", temperature,
-                                                                                strict=False)
-    imperfection = _check("imperfection", imperfection, strict=False)
-    held_pairs, record_every, frame_every = int(held_pairs), int(record_every), int(frame_every)
-    if held_pairs < 1 or record_every < 1 or frame_every < 1:
-        raise _invalid("held_pairs, record_every and frame_every must be ≥ 1")
+    wait, dt = number("wait (ns)", wait, strict=False), number("dt (ns)", dt)
+    viscosity = number("viscosity (pN·ns/nm²)", viscosity)
+    temperature = number("temperature (K)", temperature, strict=False)
+    imperfection = number("imperfection", imperfection, strict=False)
+    held_pairs, record_every = integer("held_pairs", held_pairs, 1), integer("record_every", record_every, 1)
+    frame_every, seed = integer("frame_every", frame_every, 1), integer("seed", seed, 0)
+    n_wait = int(round(wait / dt))
+    if n_wait > MAX_STEPS:
+        raise _invalid(f"{n_wait} steps to wait {wait} ns: raise dt (at most {MAX_STEPS:.0e} steps)")
+    if not callable(turns_per_ns) and n_wait + abs(turns) / fixed / dt > MAX_STEPS:  # before the schedule is built
+        raise _invalid(f"{abs(turns) / fixed / dt:.3g} steps to turn {turns} turns: raise turns_per_ns or dt")
+    d = as_duplex(sequence_or_duplex, duplex_options)
     n = len(d)
     if n < 2 * held_pairs + 4:
         raise _invalid(f"a {n} bp duplex is too short to twist with {held_pairs} pairs held at each end: "
                        f"at least {2 * held_pairs + 4} bp")
     if any(k is None for k in d.hbonds[:held_pairs] + d.hbonds[n - held_pairs:]):
         raise _invalid("the held pairs must be paired (a mismatch at an end)")
-    n_wait = int(round(wait / dt))
-    if not callable(turns_per_ns) and abs(turns) / fixed / dt > 5_000_000:  # checked before building the schedule
-        raise _invalid(f"{abs(turns) / fixed / dt:.3g} steps to turn {turns} turns: raise turns_per_ns or dt")
     # The bead's turns after each turning step (the rate may depend on them).
     schedule = [0.0]
     while schedule[-1] < abs(turns):
@@ -155,11 +152,11 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
         if not (math.isfinite(r) and r > 0):
             raise _invalid(f"turns_per_ns({schedule[-1]:g}) = {r}: expected a positive number of turns per ns")
         schedule.append(min(schedule[-1] + r * dt, abs(turns)))
-        if n_wait + len(schedule) > 5_000_000:
-            raise _invalid(f"more than 5e6 steps to turn {turns} turns: raise turns_per_ns or dt")
+        if n_wait + len(schedule) > MAX_STEPS:
+            raise _invalid(f"more than {MAX_STEPS:.0e} steps to turn {turns} turns: raise turns_per_ns or dt")
     n_turn = len(schedule) - 1
 
-    world = World(units="molecular", dt=dt, viscosity=viscosity, temperature=temperature, seed=int(seed))
+    world = World(units="molecular", dt=dt, viscosity=viscosity, temperature=temperature, seed=seed)
     ins = world.insert(d.assembly)
     rods = [ins.rods[i] for i in d.strands]
     surface = list(range(held_pairs))
@@ -186,7 +183,8 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     contour = float(np.mean([x[2] for x in starts])) - surface_z
 
     def angle(step):
-        """The bead's angle (rad) after ``step`` steps."""
+        """The bead's angle (rad) at turning step ``step`` (0: the first
+        solve, at rest)."""
         return math.copysign(schedule[min(max(step - n_wait, 0), n_turn)], turns) * 2.0 * math.pi
 
     def torque(handles, where):
@@ -212,9 +210,9 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
                      torque(holders, bead_points), -torque(anchors, surface_points)))
 
     with records:
-        world.step()  # a first solve, so that the first record has reactions
-        record(1)
-        for step in progress(range(2, n_wait + n_turn + 1), desc="magnetic tweezers", enable=progress_bar):
+        world.step()  # a first solve at rest, so that the first record has reactions
+        record(0)
+        for step in progress(range(1, n_wait + n_turn + 1), desc="magnetic tweezers", enable=progress_bar):
             c, s_ = math.cos(angle(step)), math.sin(angle(step))
             for h, (s, u), x0 in zip(holders, bead_points, starts):
                 world.set_constraint(h, position(u, (c * x0[0] - s_ * x0[1], s_ * x0[0] + c * x0[1], 0.0), axes="xy"))
@@ -235,12 +233,15 @@ def buckling(result: TwistResult) -> Optional[dict]:
     turns — ``turns``, ``torque`` (pN·nm: ``elastic_torque`` there),
     ``bead_torque``, ``extension``
     (nm) and ``index`` of the record. None if the extension has not
-    fallen past its peak by the end of the run."""
+    fallen past its peak by the end of the run, and for an unwinding run
+    (DNA shortens as it unwinds, so its extension has no peak to find)."""
     ext = result.extension
-    turning = np.nonzero(result.turns != 0)[0]
-    if not len(turning):
+    turning = np.nonzero(result.turns > 0)[0]
+    if not len(turning) or result.turns[-1] < 0:
         return None
     peak = int(turning[0] + np.argmax(ext[turning]))
+    if peak == turning[0]:
+        return None
     if peak >= len(ext) - 1 or ext[-1] >= ext[peak] - 1e-3 * abs(ext[peak]):
         return None
     return dict(index=peak, turns=float(result.turns[peak]),
