@@ -5,11 +5,13 @@
 //! wall second for each length.
 //! Run: cargo run --release --example dna_bench [n_bp ...]   (default 24 80 240)
 //! Env: T=298.15 adds thermal noise (K); DT the step (ns, default 0.01);
-//! STEPS the steps per length.
+//! STEPS the steps per length; SCHEME=trapezoidal (default implicit Euler:
+//! with noise it freezes the stiff modes, docs/dna_calibration.md); VISC the
+//! viscosity (pN·ns/nm², default water's 1).
 use std::time::Instant;
 use strandkit::prelude::*;
 use strandkit_builders::dna::{duplex, Duplex};
-use strandkit_core::Units;
+use strandkit_core::{Scheme, Units};
 
 /// An environment variable parsed, else `default`.
 fn env<T: std::str::FromStr>(name: &str, default: T) -> T {
@@ -28,7 +30,9 @@ fn main() -> Result<()> {
         p.break_averaging_time = 1.0;
         let (asm, _) = duplex(&p)?;
         let temperature = env("T", 0.0);
-        let mut w = World::new(IntegrationParameters { dt, viscosity: 1.0, temperature, seed: 7, units: Units::Molecular, ..Default::default() });
+        let scheme = if env("SCHEME", String::new()) == "trapezoidal" { Scheme::Trapezoidal } else { Scheme::ImplicitEuler };
+        let viscosity = env("VISC", 1.0);
+        let mut w = World::new(IntegrationParameters { dt, viscosity, temperature, seed: 7, scheme, units: Units::Molecular, ..Default::default() });
         w.insert(&asm)?;
         let cps: usize = w.rods().map(|(_, r)| r.n_ctrl()).sum();
         w.step()?;
