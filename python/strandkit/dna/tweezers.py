@@ -179,7 +179,7 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     if imperfection > 0:
         for s, u in points([n // 2]):
             world.add_load(point_force(rods[s], u, (0.5 * imperfection * force, 0.0, 0.0)))
-    surface_z = float(np.mean([pos(p)[2] for p in points(surface)]))
+    surface_z = float(np.mean([pos(p)[2] for p in surface_points]))
     contour = float(np.mean([x[2] for x in starts])) - surface_z
 
     def angle(step):
