@@ -72,12 +72,17 @@ from .errors import (
     SolverError,
     StrandkitError,
     WorldBusyError,
+    SceneError,
+    Interrupted,
 )
 from .loads import *  # noqa: F401,F403  (one helper per load kind)
 from .recorder import Recorder
 from .trajectory import TrajectoryWriter, write_trajectory
 from . import builders  # noqa: E402  (strandkit.builders: structure builders)
 from . import dna  # noqa: E402  (strandkit.dna: the DNA duplex)
+from . import scene  # noqa: E402  (strandkit.scene: scene files)
+from .scene import Scene, load_scene, save_scene, run_scene  # noqa: E402
+from .sweeps import sweep  # noqa: E402
 
 __version__ = _native.__version__
 
@@ -92,6 +97,9 @@ __all__ = [
     # errors
     "StrandkitError", "InvalidInputError", "InvalidHandleError", "SolverError", "SingularError",
     "ConvergenceError", "NonFiniteError", "DivergedError", "FileError", "WorldBusyError",
+    "SceneError", "Interrupted",
+    # scenes and sweeps
+    "Scene", "load_scene", "save_scene", "run_scene", "sweep",
     # output
     "Recorder", "TrajectoryWriter", "write_trajectory", "Topology", "DcdWriter", "read_dcd",
     "bead_positions", "write_pdb", "write_psf", "tube_mesh", "write_obj", "write_vtk", "write_gltf",

@@ -17,7 +17,8 @@ from __future__ import annotations
 
 __all__ = [
     "StrandkitError", "InvalidInputError", "InvalidHandleError", "SolverError", "SingularError",
-    "ConvergenceError", "NonFiniteError", "DivergedError", "FileError", "WorldBusyError",
+    "ConvergenceError", "NonFiniteError", "DivergedError", "FileError", "WorldBusyError", "SceneError",
+    "Interrupted",
 ]
 
 
@@ -78,6 +79,34 @@ class WorldBusyError(StrandkitError, RuntimeError):
     right now (``step``, ``relax`` and frames run without the GIL): the call
     did nothing; retry once that step has returned. Not a core variant:
     raised by the bindings."""
+
+
+class SceneError(InvalidInputError):
+    """A scene file or a sweep grid that cannot run: an unknown version or
+    key, a value out of range, a missing file, an output directory that is
+    not writable. Raised before any work starts. Attributes: ``key`` (the
+    dotted path of the offending entry, e.g. ``protocol[1].pull.velocity``),
+    ``what``, ``value``, ``expected``."""
+
+    key: str
+
+
+class Interrupted(StrandkitError, KeyboardInterrupt):
+    """A scene run or sweep stopped by Ctrl-C (or SIGTERM) between two steps:
+    the outputs written so far are valid and a snapshot to resume from is on
+    disk. Attributes: ``out`` (the output directory), ``time`` (simulated
+    time reached), ``done`` (sweep points finished)."""
+
+
+def _scene_error(key: str, problem: str, value=None, expected: str = "") -> SceneError:
+    """A SceneError naming ``key``: ``invalid scene: <key>: <problem>``."""
+    text = f"{key}: {problem}" if key else problem
+    if expected:
+        text += f" (expected {expected})"
+    e = SceneError(f"invalid scene: {text}")
+    e.kind, e.key, e.what = "InvalidInput", key, key
+    e.value, e.expected = "" if value is None else repr(value), expected
+    return e
 
 
 def _invalid(what: str, value: str = "", expected: str = "") -> InvalidInputError:
