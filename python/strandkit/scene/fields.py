@@ -56,7 +56,9 @@ class Field:
         s = dict({"enum": list(self.choices)} if self.choices else SCHEMA[self.ty])
         unit = f" [{self.unit}]" if self.unit else ""
         s["description"] = self.doc + unit
-        if self.default is not REQUIRED and self.default is not None:
+        if self.default is None:  # optional, absent: null in the written scene
+            return {"anyOf": [s, {"type": "null"}], "description": s.pop("description")}
+        if self.default is not REQUIRED:
             s["default"] = self.default
         return s
 
