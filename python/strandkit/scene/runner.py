@@ -105,6 +105,7 @@ class _Outputs:
         self.rows: List[list] = []
         self.events: List[dict] = []
         self.traj = None
+        self.snapshot_step = world.n_steps
         o = scene.data["outputs"]
         self.every = o["every"]
         self.frame_every = o["frame_every"] or 10 * o["every"]
@@ -126,9 +127,11 @@ class _Outputs:
             prefix = os.path.join(out, TRAJ)
             if resume_state is not None:
                 self._cut_dcd(prefix + ".dcd", resume_state["frames"])
+            from .._native import Topology, bead_positions
             self.traj = TrajectoryWriter(world, prefix, scale=o["scale"], every=self.frame_every,
                                          initial=resume_state is None, append=resume_state is not None,
-                                         pdb=resume_state is None, psf=resume_state is None)
+                                         pdb=resume_state is None, psf=resume_state is None,
+                                         topology=Topology(world), positions=lambda: bead_positions(self.world))
             self.paths.update({k: v for k, v in self.traj.paths.items()})
             self.paths.update(pdb=prefix + ".pdb", psf=prefix + ".psf")
 
@@ -196,13 +199,23 @@ class _Outputs:
                 self.ev.flush()
 
     def snapshot(self, state: dict) -> None:
-        """World first, then the state naming it (both atomic): a kill between
-        the two leaves the previous consistent pair's state pointing at a
-        snapshot with more steps, which resume refuses by its step count."""
+        """Writes the world, then the state naming it (both atomic), and
+        continues from the snapshot itself: the solver's caches (the sparse
+        pattern, which factorisation it trusts) depend on the steps since a
+        world was built or loaded, so a run that carries on with its old
+        world and one resumed from the file would part at rounding level.
+        Reloading here (also when nothing is written) makes every run, cut
+        or not, take the same path."""
+        from .._files import temporary_for
+        from .._native import World
+        text = self.world.to_json()
+        self.world = World.from_json(text)
+        self.snapshot_step = self.world.n_steps
         if self.out is None:
             return
-        from .._files import temporary_for
-        self.world.save(os.path.join(self.out, SNAPSHOT))
+        with temporary_for(os.path.join(self.out, SNAPSHOT)) as tmp:
+            with open(tmp, "w", encoding="utf-8") as f:
+                f.write(text)
         state = dict(state, rows=len(self.rows), events=len(self.events),
                      frames=self.traj.n_frames if self.traj is not None else 0, n_steps=self.world.n_steps)
         with temporary_for(os.path.join(self.out, STATE)) as tmp:
@@ -336,7 +349,8 @@ def run_scene(scene, out: Optional[str] = None, *, resume: bool = False, progres
         elif os.path.exists(os.path.join(out, STATE)):
             os.remove(os.path.join(out, STATE))  # a fresh run: the old resume point is void
     if state is not None:
-        world = World.load(os.path.join(out, SNAPSHOT))
+        with open(os.path.join(out, SNAPSHOT), encoding="utf-8") as f:
+            world = World.from_json(f.read())
         if world.n_steps != state["n_steps"]:
             raise FileError(f"i/o error: {out}: the snapshot is at step {world.n_steps}, the state at {state['n_steps']}")
     else:
@@ -355,31 +369,36 @@ def run_scene(scene, out: Optional[str] = None, *, resume: bool = False, progres
         bar.update(done_before)
     try:
         with stop:
-            _run_protocol(world, protocol, state, outputs, stop, bar)
+            _run_protocol(outputs, protocol, state, stop, bar)
         outputs.finish()
     except KeyboardInterrupt as e:
-        outputs.snapshot(state)
+        # No snapshot here: the last one (every snapshot_every steps and
+        # after each operation) is where the uninterrupted run reloaded too;
+        # resume cuts the rows and frames written after it.
         bar.close()
         outputs.close()
+        world = outputs.world
         err = Interrupted(f"interrupted at t = {world.time:.6g} (step {world.n_steps}); "
-                          + (f"resume with resume=True / --resume on {out}" if out else "nothing written (out=None)"))
+                          + (f"resume with resume=True / --resume on {out} (from its last snapshot, "
+                             f"step {outputs.snapshot_step})" if out else "nothing written (out=None)"))
         err.out, err.time, err.done = out, world.time, None
         raise err from e
     except BaseException:
-        outputs.snapshot(state)  # the last good state: a refused step leaves the world as it found it
         bar.close()
         outputs.close()
         raise
     bar.close()
     outputs.close()
-    return SceneResult(scene, world, outputs.observables(), outputs.events, dict(getattr(outputs, "paths", {})))
+    return SceneResult(scene, outputs.world, outputs.observables(), outputs.events, dict(getattr(outputs, "paths", {})))
 
 
-def _run_protocol(world, protocol, state, outputs, stop, bar) -> None:
+def _run_protocol(outputs, protocol, state, stop, bar) -> None:
     """Runs the operations from ``state`` on; the state is advanced right
-    after each step, so a snapshot always matches the world."""
+    after each step, so a snapshot always matches the world (which a
+    snapshot replaces: ``outputs.world`` is read afresh)."""
     while state["op"] < len(protocol):
         i = state["op"]
+        world = outputs.world
         op, args = op_of(protocol[i])
         n = op.steps(args, world.dt)
         if n == 0:
@@ -405,6 +424,7 @@ def _run_protocol(world, protocol, state, outputs, stop, bar) -> None:
                     outputs.frame()
                 if k < n and world.n_steps % outputs.snapshot_every == 0:
                     outputs.snapshot(state)
+                    world = outputs.world
                 stop.check()
         state.update(op=i + 1, k=0, drive=None)
         outputs.snapshot(state)
