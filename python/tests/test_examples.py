@@ -19,6 +19,7 @@ OUTPUTS = {
     "dna_force_extension.py": ["dna_force_extension.png"],
     "dna_trap.py": ["dna_trap.png"],
     "dna_twist.py": ["dna_twist.csv", "dna_twist.dcd", "dna_twist.pdb", "dna_twist.png", "dna_twist.psf"],
+    "dna_stretch_sweep.py": ["dna_stretch_sweep", "dna_stretch_sweep.png"],
     "dna_shear.py": ["dna_shear.csv", "dna_shear.dcd", "dna_shear.pdb", "dna_shear.png", "dna_shear.psf"],
     "dna_unzip.py": ["dna_unzip.csv", "dna_unzip.dcd", "dna_unzip.pdb", "dna_unzip.png", "dna_unzip.psf"],
     "necklace.py": ["necklace.dcd", "necklace.pdb", "necklace.png", "necklace.psf", "necklace_energy.png"],

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import copy
 import math
+import re
 from typing import Dict, List, Optional
 
 import numpy as np
@@ -27,6 +28,10 @@ from .fields import Field, check_table
 #: (the first three components of a Position's target are the point).
 POINT_FIELDS = {"Position": "target", "Distance": "point", "Plane": "origin", "Axis": "origin",
                 "SlidingPoint": "point", "OrientedSlidingPoint": "point"}
+
+
+#: What World.set_label accepts (core: labels name groups, "name[i]" / "name[i,j]").
+LABEL = re.compile(r"[A-Za-z0-9_\-.:/]+(\[\d+(,\d+)?\])?")
 
 
 class Op:
@@ -152,9 +157,14 @@ class Hold(Op):
     fields = [Field("rod", "string", "", "label of the rod (e.g. \"strand[0]\")"),
               Field("at", "abscissa", "u", "where: \"start\", \"end\" or a spline parameter", "start"),
               Field("axes", "string", "", "held axes: letters of \"xyzr\" (r: the roll coordinate)", "xyz"),
-              Field("label", "string", "", "label of the new constraint", "held")]
+              Field("label", "string", "", "label of the new constraint", "held"),
+              Field("compliance", "nonneg", "length/force", "0: rigid; > 0: a spring of stiffness 1/compliance "
+                    "(holding both ends of a rigid rung would repeat it)", 0.0)]
 
     def check(self, args, key):
+        if not LABEL.fullmatch(args["label"]) or len(args["label"]) > 256:
+            raise _scene_error(f"{key}.label", f"{args['label']!r} is not a label", args["label"],
+                               "letters, digits, _-.:/ optionally followed by [i] or [i,j]")
         if not set(args["axes"]) <= set("xyzr") or len(set(args["axes"])) != len(args["axes"]):
             raise _scene_error(f"{key}.axes", f"{args['axes']!r} is not valid", args["axes"], 'letters of "xyzr"')
         return args
@@ -174,7 +184,8 @@ class Hold(Op):
         u = rod.u_start if args["at"] == "start" else rod.u_end if args["at"] == "end" else float(args["at"])
         if not rod.u_start <= u <= rod.u_end:
             raise _scene_error("protocol", f"hold: u = {u} is outside the rod's [{rod.u_start}, {rod.u_end}]")
-        world.add_constraint(rod, position(u, rod.position(u), axes=args["axes"]), label=args["label"])
+        world.add_constraint(rod, position(u, rod.position(u), axes=args["axes"]), label=args["label"],
+                             compliance=args["compliance"])
 
 
 class Pull(Op):
@@ -375,7 +386,3 @@ def check_labels(protocol: List[dict], labels: set) -> None:
 
 def measure_nan() -> Dict[str, float]:
     return {c: math.nan for c in DRIVE_COLUMNS}
-
-
-def optional(x) -> Optional[float]:
-    return None if x is None else float(x)
