@@ -22,7 +22,8 @@ points never changes another's seed: a scene point gets it as
 takes one. A point's result is a dict of scalars (a scene's:
 ``SceneResult.summary()``); the sweep returns a pandas DataFrame, one row
 per point in grid order: the point's values, ``point`` (its id), ``seed``,
-the results, ``elapsed`` (s of wall clock).
+the results, ``elapsed`` (s of wall clock), and ``error`` where the
+simulation failed at that point (a solver error: the other points go on).
 
 With ``out=DIR``: ``DIR/sweep.json`` (the grid), ``DIR/points/<id>.parquet``
 written atomically as each point finishes, ``DIR/results.parquet`` at the
@@ -40,7 +41,7 @@ import os
 import time
 from typing import Any, Callable, Dict, List, Optional, Union
 
-from .errors import Interrupted, StrandkitError, _scene_error
+from .errors import Interrupted, SolverError, StrandkitError, _scene_error
 
 __all__ = ["sweep", "grid_points", "point_seed"]
 
@@ -135,6 +136,16 @@ def _scalars(result, where: str) -> Dict[str, Any]:
 def _run_point(payload: dict) -> dict:
     """One point, in a worker (a process of the pool, or a Dask worker)."""
     t0 = time.perf_counter()
+    try:
+        result = _compute(payload)
+    except (SolverError, Interrupted) as e:
+        # A simulation that fails at one point (a refused step, no
+        # convergence) is that point's result, not the sweep's end.
+        result = {"error": f"{type(e).__name__}: {e}"}
+    return {"result": result, "elapsed": time.perf_counter() - t0, "pid": os.getpid()}
+
+
+def _compute(payload: dict) -> dict:
     point, seed = payload["point"], payload["seed"]
     if payload["kind"] == "scene":
         from .scene import Scene
@@ -152,7 +163,7 @@ def _run_point(payload: dict) -> dict:
         if payload["pass_seed"]:
             kwargs["seed"] = seed
         result = _scalars(fn(**kwargs), f"point {point}")
-    return {"result": result, "elapsed": time.perf_counter() - t0, "pid": os.getpid()}
+    return result
 
 
 class _Store:
@@ -263,8 +274,10 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
             pl["run_dir"] = os.path.join(out, "runs", pid)
         payloads[pid] = pl
 
+    index = {pid: i for i, pid in enumerate(ids)}
+
     def row(pid, r):
-        p = points[ids.index(pid)]
+        p = points[index[pid]]
         return {**p, "point": pid, "seed": point_seed(seed, p), **r["result"], "elapsed": r["elapsed"]}
 
     from ._progress import progress

@@ -14,6 +14,7 @@ WITH_EXAMPLES = {"strandkit", "strandkit._catalogue", "strandkit._native", "stra
                  "strandkit.dna.duplex", "strandkit.dna.fluctuations", "strandkit.dna.tweezers",
                  "strandkit.dna.viewer",
                  "strandkit.errors", "strandkit.loads", "strandkit.recorder", "strandkit.trajectory",
+                 "strandkit.scene", "strandkit.scene.format", "strandkit.sweeps",
                  "strandkit.units"}
 
 

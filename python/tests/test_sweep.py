@@ -144,3 +144,19 @@ def test_bad_scene_grid_and_directory(tmp_path):
     with pytest.raises(sk.SceneError):
         sk.sweep(scene, {"world.dt": [1e-3]}, seed=-1, workers=0, progress_bar=False)
     assert np.isfinite(sk.sweep(scene, {"world.dt": [1e-3]}, workers=0, progress_bar=False)["final_total"]).all()
+
+
+def test_a_failing_simulation_is_that_points_result(tmp_path):
+    """A point whose run fails (here: relax of a rod held at no point, a
+    free rigid motion: SingularError) gets an error; the other points run."""
+    def sag(held):
+        w = sk.World(gravity=(0, -9.81, 0))
+        rod = w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="carbon_steel", n_control_points=8))
+        if held:
+            sk.clamp(w, rod)
+        w.relax()
+        return {"tip_y": float(rod.position(rod.u_end)[1])}
+    df = sk.sweep(sag, {"held": [True, False]}, workers=0, progress_bar=False, out=tmp_path)
+    assert df["error"].isna().tolist() == [True, False]
+    assert df["error"].iloc[1].startswith("SingularError")
+    assert df["tip_y"].iloc[0] < 0 and np.isnan(df["tip_y"].iloc[1])

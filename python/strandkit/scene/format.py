@@ -179,21 +179,19 @@ class Scene:
     def from_builder(cls, builder: str, *, world: Optional[dict] = None, protocol=(), outputs: Optional[dict] = None,
                      contact: Optional[dict] = None, obstacles=(), name: Optional[str] = None, **args) -> "Scene":
         """A scene of a registered builder (``strandkit.scene.BUILDERS``) called with ``args``."""
-        data = {"format": FORMAT, "version": VERSION, "structure": {"builder": builder, "args": args},
-                "world": world or {}, "protocol": list(protocol), "outputs": outputs or {}, "obstacles": list(obstacles)}
-        if contact is not None:
-            data["contact"] = contact
-        if name is not None:
-            data["name"] = name
-        return cls(data)
+        return cls._made({"builder": builder, "args": args}, world, protocol, outputs, contact, obstacles, name)
 
     @classmethod
     def from_assembly(cls, assembly, *, world: Optional[dict] = None, protocol=(), outputs: Optional[dict] = None,
                       contact: Optional[dict] = None, obstacles=(), name: Optional[str] = None) -> "Scene":
         """A scene of an Assembly (or a builder's result holding one, ``.assembly``), written inline."""
         asm = getattr(assembly, "assembly", assembly)
-        data = {"format": FORMAT, "version": VERSION, "structure": {"assembly": json.loads(asm.to_json())},
-                "world": world or {}, "protocol": list(protocol), "outputs": outputs or {}, "obstacles": list(obstacles)}
+        return cls._made({"assembly": json.loads(asm.to_json())}, world, protocol, outputs, contact, obstacles, name)
+
+    @classmethod
+    def _made(cls, structure, world, protocol, outputs, contact, obstacles, name) -> "Scene":
+        data = {"format": FORMAT, "version": VERSION, "structure": structure, "world": world or {},
+                "protocol": list(protocol), "outputs": outputs or {}, "obstacles": list(obstacles)}
         if contact is not None:
             data["contact"] = contact
         if name is not None:

@@ -123,14 +123,34 @@ def _fraction(k: int, n: int) -> float:
     return k / n
 
 
+class Drive(Op):
+    """An operation moving the labelled constraints over ``duration`` (dynamic
+    steps) or ``increments`` (quasi-static, each relaxed)."""
+
+    def check(self, args, key):
+        return _duration_or_increments(args, key)
+
+    def steps(self, args, dt):
+        return _drive_steps(args, dt)
+
+    def quasi_static(self, args):
+        return args["increments"] is not None
+
+    def labels_used(self, args):
+        return [args["constraints"]]
+
+    @staticmethod
+    def shift(world, args, drive, shift) -> None:
+        """Moves every driven constraint's point from where it was at the start by ``shift``."""
+        for h, kind in zip(_handles(world, args["constraints"]), drive["kinds"]):
+            world.set_constraint(h, _moved(kind, shift))
+
+
 class Relax(Op):
     name = "relax"
     doc = "Static equilibrium (World.relax): Newton's method with a line search."
     fields = [Field("perturb", "nonneg", "length", "leave an unstable equilibrium along a descent direction "
                     "by this amplitude (0: no)", 0.0)]
-
-    def steps(self, args, dt):
-        return 0
 
     def at_once(self, world, args):
         world.relax(perturb=args["perturb"] or None)
@@ -188,7 +208,7 @@ class Hold(Op):
                              compliance=args["compliance"])
 
 
-class Pull(Op):
+class Pull(Drive):
     name = "pull"
     doc = ("Moves the points of the labelled constraints at a constant velocity; records their "
            "displacement along it and the force they exert on their rods along it.")
@@ -209,15 +229,6 @@ class Pull(Op):
             raise _scene_error(f"{key}.velocity", "is zero", args["velocity"], "a non-zero velocity")
         return args
 
-    def steps(self, args, dt):
-        return _drive_steps(args, dt)
-
-    def quasi_static(self, args):
-        return args["increments"] is not None
-
-    def labels_used(self, args):
-        return [args["constraints"]]
-
     def _total(self, args):
         return args["duration"] if args["duration"] is not None else args["time"]
 
@@ -225,9 +236,7 @@ class Pull(Op):
         return {"kinds": _movable_kinds(world, args["constraints"])}
 
     def before(self, world, args, drive, k, n):
-        shift = np.asarray(args["velocity"]) * (self._total(args) * _fraction(k, n))
-        for h, kind in zip(_handles(world, args["constraints"]), drive["kinds"]):
-            world.set_constraint(h, _moved(kind, shift))
+        self.shift(world, args, drive, np.asarray(args["velocity"]) * (self._total(args) * _fraction(k, n)))
 
     def measure(self, world, args, drive, k, n):
         v = np.asarray(args["velocity"])
@@ -236,7 +245,7 @@ class Pull(Op):
                 "drive_force": _force_along(world, args["constraints"], d)}
 
 
-class Stretch(Op):
+class Stretch(Drive):
     name = "stretch"
     doc = ("Moves the labelled constraints away from (strain > 0) or toward the `about` constraints "
            "until the distance between their centroids has changed by the strain; records the "
@@ -253,12 +262,6 @@ class Stretch(Op):
             raise _scene_error(f"{key}.strain", f"{args['strain']} would cross the held end", args["strain"],
                                "a strain > -1")
         return args
-
-    def steps(self, args, dt):
-        return _drive_steps(args, dt)
-
-    def quasi_static(self, args):
-        return args["increments"] is not None
 
     def labels_used(self, args):
         return [args["constraints"], args["about"]]
@@ -277,16 +280,14 @@ class Stretch(Op):
         return args["strain"] * drive["length"] * _fraction(k, n)
 
     def before(self, world, args, drive, k, n):
-        shift = np.asarray(drive["direction"]) * self._extension(args, drive, k, n)
-        for h, kind in zip(_handles(world, args["constraints"]), drive["kinds"]):
-            world.set_constraint(h, _moved(kind, shift))
+        self.shift(world, args, drive, np.asarray(drive["direction"]) * self._extension(args, drive, k, n))
 
     def measure(self, world, args, drive, k, n):
         return {"drive_displacement": self._extension(args, drive, k, n),
                 "drive_force": _force_along(world, args["constraints"], drive["direction"])}
 
 
-class Rotate(Op):
+class Rotate(Drive):
     name = "rotate"
     doc = ("Turns the roll of the labelled constraints (Position constraints holding the roll 'r', "
            "or MaterialRoll) by a number of turns; records the turns and the torque about the rod's tangent.")
@@ -294,18 +295,6 @@ class Rotate(Op):
               Field("turns", "number", "turns", "turns added to the roll (positive: right-handed about the tangent)"),
               Field("duration", "positive", "time", "how long (dynamic)", None),
               Field("increments", "count", "", "quasi-static increments (instead of duration)", None)]
-
-    def check(self, args, key):
-        return _duration_or_increments(args, key)
-
-    def steps(self, args, dt):
-        return _drive_steps(args, dt)
-
-    def quasi_static(self, args):
-        return args["increments"] is not None
-
-    def labels_used(self, args):
-        return [args["constraints"]]
 
     def begin(self, world, args):
         kinds = []
