@@ -7,11 +7,13 @@
   ``observables.png`` at the end;
 - ``trajectory.pdb/.psf/.dcd`` (mdtraj: ``md.load("trajectory.dcd",
   top="trajectory.psf")``), ``events.jsonl`` (breaks, ruptures, releases);
-- ``snapshot.json`` + ``state.json``: the world and where the protocol
-  stands, every ``outputs.snapshot_every`` steps, after each operation and
-  when the run is interrupted (Ctrl-C, SIGTERM). ``resume=True`` continues
-  from them; rows and frames written after the snapshot are cut, so a
-  resumed run's outputs are those of an uninterrupted one, bit for bit.
+- ``snapshot.json`` (the world, for ``World.load``) and ``state.json``
+  (where the protocol stands, with the world): every
+  ``outputs.snapshot_every`` steps and after each operation. A Ctrl-C or
+  SIGTERM stops the run at the next step boundary; ``resume=True``
+  continues from the last snapshot, cutting the rows, events and frames
+  written after it, so a resumed run's outputs are those of an
+  uninterrupted one, bit for bit.
 """
 from __future__ import annotations
 
@@ -150,7 +152,8 @@ class _Outputs:
             f.write("\n".join(lines[:1 + state["rows"]]) + "\n")
         self.csv = open(self.paths["observables"], "a", newline="", encoding="utf-8")
         with open(self.paths["events"], encoding="utf-8") as f:
-            ev = [json.loads(x) for x in f.read().split("\n") if x][: state["events"]]
+            # only the lines the snapshot counted: a kill may have cut the one after
+            ev = [json.loads(x) for x in f.read().split("\n")[: state["events"]]]
         self.events = ev
         with open(self.paths["events"], "w", encoding="utf-8") as f:
             f.write("".join(json.dumps(e) + "\n" for e in ev))
@@ -199,8 +202,9 @@ class _Outputs:
                 self.ev.flush()
 
     def snapshot(self, state: dict) -> None:
-        """Writes the world, then the state naming it (both atomic), and
-        continues from the snapshot itself: the solver's caches (the sparse
+        """Writes the world (``snapshot.json``, for ``World.load``) and the
+        resume state with it (both atomic), and continues from the snapshot
+        itself: the solver's caches (the sparse
         pattern, which factorisation it trusts) depend on the steps since a
         world was built or loaded, so a run that carries on with its old
         world and one resumed from the file would part at rounding level.
@@ -216,8 +220,11 @@ class _Outputs:
         with temporary_for(os.path.join(self.out, SNAPSHOT)) as tmp:
             with open(tmp, "w", encoding="utf-8") as f:
                 f.write(text)
+        # The resume state carries the world too: one atomic write, so a kill
+        # can never leave a state and a world of different steps.
         state = dict(state, rows=len(self.rows), events=len(self.events),
-                     frames=self.traj.n_frames if self.traj is not None else 0, n_steps=self.world.n_steps)
+                     frames=self.traj.n_frames if self.traj is not None else 0, n_steps=self.world.n_steps,
+                     world=text)
         with temporary_for(os.path.join(self.out, STATE)) as tmp:
             with open(tmp, "w", encoding="utf-8") as f:
                 json.dump(state, f)
@@ -349,10 +356,10 @@ def run_scene(scene, out: Optional[str] = None, *, resume: bool = False, progres
         elif os.path.exists(os.path.join(out, STATE)):
             os.remove(os.path.join(out, STATE))  # a fresh run: the old resume point is void
     if state is not None:
-        with open(os.path.join(out, SNAPSHOT), encoding="utf-8") as f:
-            world = World.from_json(f.read())
-        if world.n_steps != state["n_steps"]:
-            raise FileError(f"i/o error: {out}: the snapshot is at step {world.n_steps}, the state at {state['n_steps']}")
+        try:
+            world = World.from_json(state["world"])
+        except (KeyError, TypeError, FileError) as e:
+            raise FileError(f"i/o error: {os.path.join(out, STATE)}: corrupt resume state ({e})") from e
     else:
         world, _ = scene.world()
     outputs = _Outputs(scene, out, world, state)
