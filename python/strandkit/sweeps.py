@@ -7,10 +7,10 @@ that an interrupted sweep resumes where it stopped.
 ...     s = sk.Scene.from_builder("rope_bridge", span=span, n_planks=n_planks, sag=0.1 * span,
 ...                               world={"gravity": [0, -9.81, 0]}, protocol=[{"relax": {}}])
 ...     w = s.run(progress_bar=False).world
-...     return {"lowest": float(min(r.sample_points[:, 1].min() for r in w.rods()))}
+...     return {"lowest": float(min(r.sample_points()[:, 1].min() for r in w.rods()))}
 >>> df = sk.sweep(sag, {"span": [4.0, 8.0], "n_planks": [3]}, workers=0, progress_bar=False)
->>> df[["span", "n_planks"]].values.tolist(), bool((df["lowest"] < 0).all())
-([[4.0, 3], [8.0, 3]], True)
+>>> df["span"].tolist(), df["n_planks"].tolist(), bool((df["lowest"] < 0).all())
+([4.0, 8.0], [3, 3], True)
 
 Grid: ``{"key": [values…], …}`` (the Cartesian product, first key slowest)
 or a list of points ``[{"key": value, …}, …]``. For a scene the keys are

@@ -9,7 +9,7 @@ command line (``strandkit run scene.json --out DIR``) and in sweeps.
 ...     protocol=[{"relax": {}}, {"step": {"duration": 0.02}}],
 ...     outputs={"every": 5, "groups": ["plank"]})
 >>> r = s.run(progress_bar=False)
->>> r.observables["operation"][:3].tolist(), r.observables["step"][-1]
+>>> r.observables["operation"][:3].tolist(), int(r.observables["step"][-1])
 (['start', 'relax', 'step'], 10)
 
 Format (version 1): ``format`` ("strandkit-scene"), ``version`` (1),
