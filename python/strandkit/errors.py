@@ -104,7 +104,7 @@ def _scene_error(key: str, problem: str, value=None, expected: str = "") -> Scen
     if expected:
         text += f" (expected {expected})"
     e = SceneError(f"invalid scene: {text}")
-    e.kind, e.key, e.what = "InvalidInput", key, key
+    e.kind, e.key, e.what, e.problem = "InvalidInput", key, key, problem
     e.value, e.expected = "" if value is None else repr(value), expected
     return e
 

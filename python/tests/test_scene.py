@@ -113,7 +113,7 @@ def test_rotate_records_the_torque_of_a_twisted_rod():
     o = scene.run(progress_bar=False).observables
     rot = o["operation"] == "rotate"
     gj = E / (2 * (1 + nu)) * math.pi * R**4 / 2
-    np.testing.assert_allclose(np.abs(o["drive_torque"][rot]), gj * 2 * math.pi * o["drive_turns"][rot] / L, rtol=1e-6)
+    np.testing.assert_allclose(o["drive_torque"][rot], gj * 2 * math.pi * o["drive_turns"][rot] / L, rtol=1e-6)
 
 
 def test_shipped_schema_is_current_and_accepts_our_scenes(tmp_path):
@@ -199,3 +199,53 @@ def test_resume_refuses_another_scene(tmp_path):
     assert "another scene" in str(e.value)
     again = bridge_scene().run(tmp_path, resume=True, progress_bar=False)  # finished: read back
     assert len(again.observables["time"]) == len(bridge_scene().run(progress_bar=False).observables["time"])
+
+
+def necklace(protocol, **outputs):
+    return {"version": 1, "structure": {"builder": "necklace", "args": {"n_beads": 4}},
+            "protocol": protocol, "outputs": outputs}
+
+
+@pytest.mark.parametrize("protocol,outputs,key,words", [
+    ([{"hold": {"rod": "bead"}}], {}, "protocol[0].hold", "names 0 rods"),
+    ([{"hold": {"rod": "string", "at": 99.0}}], {}, "protocol[0].hold", "outside the rod"),
+    ([{"hold": {"rod": "string", "label": "held[a]"}}], {}, "protocol[0].hold.label", "not a label"),
+    ([{"rotate": {"constraints": "peg", "turns": 1, "duration": 0.01}}], {}, "protocol[0].rotate", "roll"),
+    ([{"hold": {"rod": "string", "at": 1.0, "label": "h"}},
+      {"stretch": {"constraints": "h", "about": "h", "strain": 0.1, "duration": 0.01}}], {},
+     "protocol[1].stretch", "centroids coincide"),
+    ([{"hold": {"rod": "string", "at": 1.0, "label": "h"}}], {"groups": ["h", "nothing"]}, "outputs.groups", "'nothing'"),
+])
+def test_protocol_walked_before_any_work(tmp_path, protocol, outputs, key, words):
+    """What only shows when the protocol runs (a hold on no rod, a drive on
+    constraints it cannot move) is refused when the scene loads."""
+    with pytest.raises(sk.SceneError) as e:
+        sk.Scene(necklace(protocol, **outputs), tmp_path)
+    assert e.value.key == key and words in str(e.value), str(e.value)
+
+
+def test_a_drive_goes_on_when_one_of_its_constraints_breaks():
+    """Two wires stretched quasi-statically through their end pins; one pin
+    breaks at 1.2 N (breaks are events of the relax): the other keeps its
+    own target, and the force is the one left's, EA·ε."""
+    E, R = 1e9, 1e-3
+    ea = E * math.pi * R**2
+    asm = sk.Assembly()
+    for k in range(2):
+        i = asm.add_rod(sk.straight((0, k, 0), (1, k, 0), section=R, material=sk.Material("m", E, 0.3, 1000.0),
+                                    n_control_points=6, with_roll=False), label=f"wire[{k}]")
+        rod = asm.rod(i)
+        asm.constrain(i, sk.position(rod.u_start, (0, k, 0)), label=f"left[{k}]")
+        asm.constrain(i, sk.tangent(rod.u_start, (1, 0, 0)))  # clamped: still defined once its pin breaks
+        asm.constrain(i, sk.position(rod.u_end, (1, k, 0)), label=f"right[{k}]", break_force=1.2 if k else None)
+    scene = sk.Scene.from_assembly(asm, protocol=[
+        {"pull": {"constraints": "right", "velocity": [1e-3, 0, 0], "increments": 4, "time": 1.0}}],
+        outputs={"groups": ["right"]})
+    r = scene.run(progress_bar=False)
+    o = r.observables
+    strain = np.array([0.25, 0.5, 0.75, 1.0]) * 1e-3
+    np.testing.assert_allclose(o["drive_force"][1:], ea * strain * [2, 1, 1, 1], rtol=1e-6)
+    assert o["right.broken"].tolist() == [0, 0, 1, 1, 1]
+    assert [e["kind"] for e in r.events] == ["ConstraintBroken"]
+    ends = [rod.position(rod.u_end)[0] for rod in r.world.rods()]
+    assert ends[0] == pytest.approx(1 + 1e-3, abs=1e-12) and ends[1] < 1 + 1e-6  # the free one sprang back

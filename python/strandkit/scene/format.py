@@ -232,22 +232,32 @@ class Scene:
         return w, ins
 
     def _check_built(self) -> None:
-        """Builds the world once: builder arguments, world settings, obstacles
-        and the protocol's labels are checked before any run starts."""
+        """Builds the world once and walks the protocol on it without
+        stepping: holds are made, drives find and check the constraints
+        they move (existing, movable, holding a roll to turn), so a scene
+        that loads runs; then the recorded groups must exist."""
+        from .protocol import Hold, op_of
         w, _ = self.world()
         labels = set(w.groups)
         for g in list(labels):
             labels.update(label for label, _ in w.group(g).members)
         check_labels(self.data["protocol"], labels)
+        for i, entry in enumerate(self.data["protocol"]):
+            op, args = op_of(entry)
+            try:
+                if isinstance(op, Hold):
+                    op.at_once(w, args)
+                elif op.steps(args, w.dt) > 0:
+                    op.begin(w, args)
+            except StrandkitError as e:
+                raise _scene_error(f"protocol[{i}].{op.name}", getattr(e, "problem", str(e))) from e
+        known = set(w.groups)
+        for g in list(known):
+            known.update(label for label, _ in w.group(g).members)
         for g in self.data["outputs"]["groups"]:
-            if g not in labels:
-                known = set(labels)
-                for entry in self.data["protocol"]:
-                    from .protocol import op_of
-                    op, args = op_of(entry)
-                    known.update(x.split("[")[0] for x in op.labels_added(args))
-                if g not in known:
-                    raise _scene_error("outputs.groups", f"no group {g!r} in the scene", g, "one of " + ", ".join(sorted(w.groups)))
+            if g not in known:
+                raise _scene_error("outputs.groups", f"no group {g!r} in the scene", g,
+                                   "one of " + ", ".join(sorted(w.groups)))
 
     # -- values ---------------------------------------------------------------------------------
     def to_dict(self) -> dict:

@@ -59,8 +59,8 @@ class Op:
         """JSON-serialisable state taken at the start (kept in the resume state)."""
         return {}
 
-    def at_once(self, world, args: dict) -> None:
-        """What a zero-step operation does."""
+    def at_once(self, world, args: dict):
+        """What a zero-step operation does; returns its events (or None)."""
 
     def before(self, world, args: dict, drive: dict, k: int, n: int) -> None:
         """Sets the targets for the end of step (or increment) k of n."""
@@ -81,11 +81,12 @@ def _drive_steps(args, dt):
     return max(1, math.ceil(args["duration"] / dt - 1e-9))
 
 
-def _handles(world, label: str):
-    hs = [h for h in world.group(label).constraints if h.alive]
-    if not hs:
-        raise _scene_error("protocol", f"no live constraint labelled {label!r} to drive")
-    return hs
+def _members(world, label: str, drive: dict):
+    """(handle, kind at the start) of the driven constraints still alive: a
+    drive keeps each member's position in the group (which lists gone
+    members too), so a break removes that member only."""
+    hs = world.group(label).constraints
+    return [(hs[i], kind) for i, kind in zip(drive["members"], drive["kinds"]) if hs[i].alive]
 
 
 def _point(kind: dict) -> np.ndarray:
@@ -102,21 +103,36 @@ def _moved(kind: dict, shift: np.ndarray) -> dict:
     return k
 
 
-def _movable_kinds(world, label: str) -> List[dict]:
-    kinds = []
-    for h in _handles(world, label):
+def _drive_state(world, label: str, accept, what: str) -> dict:
+    """The members a drive moves (positions in the group) and their kinds
+    at its start; ``accept(kind)`` says whether the drive can move one."""
+    members, kinds = [], []
+    for i, h in enumerate(world.group(label).constraints):
+        if not h.alive:
+            continue
         kind = h.kind
-        if next(iter(kind)) not in POINT_FIELDS:
-            raise _scene_error("protocol", f"constraint {h.label!r} is a {next(iter(kind))}: a drive moves "
-                               + ", ".join(sorted(POINT_FIELDS)) + " constraints")
+        if not accept(kind):
+            raise _scene_error("protocol", f"constraint {h.label!r} is a {next(iter(kind))}: {what}")
+        members.append(i)
         kinds.append(kind)
-    return kinds
+    if not members:
+        raise _scene_error("protocol", f"no live constraint labelled {label!r} to drive")
+    return {"members": members, "kinds": kinds}
 
 
-def _force_along(world, label: str, direction) -> float:
-    """Σ of the reactions of the driven constraints on their rods along ``direction`` (force unit)."""
+def _movable(world, label: str) -> dict:
+    return _drive_state(world, label, lambda kind: next(iter(kind)) in POINT_FIELDS,
+                        "a drive moves " + ", ".join(sorted(POINT_FIELDS)) + " constraints")
+
+
+def _force_along(world, label: str, drive: dict, direction) -> float:
+    """Σ of the reactions of the driven constraints still alive on their rods
+    along ``direction`` (force unit); NaN once none is left."""
     d = np.asarray(direction, dtype=float)
-    return float(sum(np.dot(world.reaction(h).force, d) for h in _handles(world, label)))
+    alive = _members(world, label, drive)
+    if not alive:
+        return math.nan
+    return float(sum(np.dot(world.reaction(h).force, d) for h, _ in alive))
 
 
 def _fraction(k: int, n: int) -> float:
@@ -142,7 +158,7 @@ class Drive(Op):
     @staticmethod
     def shift(world, args, drive, shift) -> None:
         """Moves every driven constraint's point from where it was at the start by ``shift``."""
-        for h, kind in zip(_handles(world, args["constraints"]), drive["kinds"]):
+        for h, kind in _members(world, args["constraints"], drive):
             world.set_constraint(h, _moved(kind, shift))
 
 
@@ -153,7 +169,7 @@ class Relax(Op):
                     "by this amplitude (0: no)", 0.0)]
 
     def at_once(self, world, args):
-        world.relax(perturb=args["perturb"] or None)
+        return world.relax(perturb=args["perturb"] or None).events
 
 
 class Step(Op):
@@ -233,7 +249,7 @@ class Pull(Drive):
         return args["duration"] if args["duration"] is not None else args["time"]
 
     def begin(self, world, args):
-        return {"kinds": _movable_kinds(world, args["constraints"])}
+        return _movable(world, args["constraints"])
 
     def before(self, world, args, drive, k, n):
         self.shift(world, args, drive, np.asarray(args["velocity"]) * (self._total(args) * _fraction(k, n)))
@@ -242,7 +258,7 @@ class Pull(Drive):
         v = np.asarray(args["velocity"])
         d = v / np.linalg.norm(v)
         return {"drive_displacement": float(np.linalg.norm(v) * self._total(args) * _fraction(k, n)),
-                "drive_force": _force_along(world, args["constraints"], d)}
+                "drive_force": _force_along(world, args["constraints"], drive, d)}
 
 
 class Stretch(Drive):
@@ -267,14 +283,14 @@ class Stretch(Drive):
         return [args["constraints"], args["about"]]
 
     def begin(self, world, args):
-        kinds = _movable_kinds(world, args["constraints"])
-        fixed = _movable_kinds(world, args["about"])
-        a = np.mean([_point(k) for k in fixed], axis=0)
-        b = np.mean([_point(k) for k in kinds], axis=0)
+        drive = _movable(world, args["constraints"])
+        fixed = _movable(world, args["about"])
+        a = np.mean([_point(k) for k in fixed["kinds"]], axis=0)
+        b = np.mean([_point(k) for k in drive["kinds"]], axis=0)
         length = float(np.linalg.norm(b - a))
         if not length > 0:
             raise _scene_error("protocol", "stretch: the two groups' centroids coincide")
-        return {"kinds": kinds, "direction": ((b - a) / length).tolist(), "length": length}
+        return dict(drive, direction=((b - a) / length).tolist(), length=length)
 
     def _extension(self, args, drive, k, n):
         return args["strain"] * drive["length"] * _fraction(k, n)
@@ -284,7 +300,7 @@ class Stretch(Drive):
 
     def measure(self, world, args, drive, k, n):
         return {"drive_displacement": self._extension(args, drive, k, n),
-                "drive_force": _force_along(world, args["constraints"], drive["direction"])}
+                "drive_force": _force_along(world, args["constraints"], drive, drive["direction"])}
 
 
 class Rotate(Drive):
@@ -297,19 +313,13 @@ class Rotate(Drive):
               Field("increments", "count", "", "quasi-static increments (instead of duration)", None)]
 
     def begin(self, world, args):
-        kinds = []
-        for h in _handles(world, args["constraints"]):
-            kind = h.kind
-            name = next(iter(kind))
-            if not (name == "MaterialRoll" or (name == "Position" and kind[name]["axes"][3])):
-                raise _scene_error("protocol", f"rotate: constraint {h.label!r} holds no roll "
-                                   "(a Position with axis 'r', or a MaterialRoll)")
-            kinds.append(kind)
-        return {"kinds": kinds}
+        return _drive_state(world, args["constraints"],
+                            lambda kind: "MaterialRoll" in kind or ("Position" in kind and kind["Position"]["axes"][3]),
+                            "rotate needs a roll to turn (a Position holding 'r', or a MaterialRoll)")
 
     def before(self, world, args, drive, k, n):
         angle = 2 * math.pi * args["turns"] * _fraction(k, n)
-        for h, kind in zip(_handles(world, args["constraints"]), drive["kinds"]):
+        for h, kind in _members(world, args["constraints"], drive):
             k2 = copy.deepcopy(kind)
             if "MaterialRoll" in k2:
                 k2["MaterialRoll"]["angle"] = float(kind["MaterialRoll"]["angle"] + angle)
@@ -318,9 +328,10 @@ class Rotate(Drive):
             world.set_constraint(h, k2)
 
     def measure(self, world, args, drive, k, n):
-        torque = 0.0
-        for h in _handles(world, args["constraints"]):
-            u = next(iter(h.kind.values()))["u"]
+        alive = _members(world, args["constraints"], drive)
+        torque = 0.0 if alive else math.nan
+        for h, kind in alive:
+            u = next(iter(kind.values()))["u"]
             t = np.asarray(h.rod.tangent(u), dtype=float)
             torque += float(np.dot(world.reaction(h).torque, t / np.linalg.norm(t)))
         return {"drive_turns": args["turns"] * _fraction(k, n), "drive_torque": torque}

@@ -148,15 +148,13 @@ class _Outputs:
         if len(kept) != state["rows"]:
             raise FileError(f"i/o error: {self.paths['observables']}: {len(kept)} rows, the snapshot wrote {state['rows']}")
         self.rows = [[_parse(c, x) for c, x in zip(self.cols, line.split(","))] for line in kept]
-        with open(self.paths["observables"], "w", newline="", encoding="utf-8") as f:
-            f.write("\n".join(lines[:1 + state["rows"]]) + "\n")
+        _rewrite(self.paths["observables"], "\n".join(lines[:1 + state["rows"]]) + "\n")
         self.csv = open(self.paths["observables"], "a", newline="", encoding="utf-8")
         with open(self.paths["events"], encoding="utf-8") as f:
             # only the lines the snapshot counted: a kill may have cut the one after
             ev = [json.loads(x) for x in f.read().split("\n")[: state["events"]]]
         self.events = ev
-        with open(self.paths["events"], "w", encoding="utf-8") as f:
-            f.write("".join(json.dumps(e) + "\n" for e in ev))
+        _rewrite(self.paths["events"], "".join(json.dumps(e) + "\n" for e in ev))
         self.ev = open(self.paths["events"], "a", encoding="utf-8")
 
     def _cut_dcd(self, path: str, frames: int) -> None:
@@ -175,6 +173,9 @@ class _Outputs:
         row = [w.time, w.n_steps, op_name, op_index, e["kinetic"], e["elastic"], e["external"], e["total"]]
         row += [drive.get(c, math.nan) for c in DRIVE_COLUMNS]
         for g in self.scene.data["outputs"]["groups"]:
+            if g not in self._known(g):
+                row += [0, math.nan, math.nan]  # a group a later hold makes: nothing in it yet
+                continue
             grp = w.group(g)
             t = np.asarray(grp.tensions, dtype=float) if len(grp.constraints) else np.zeros(0)
             forces = np.asarray(grp.forces, dtype=float).reshape(-1, 3)
@@ -187,6 +188,13 @@ class _Outputs:
         if self.out is not None:
             self.writer.writerow([_fmt(v) for v in row])
             self.csv.flush()
+
+    def _known(self, g: str) -> set:
+        """Names the world answers for now: group names and full labels."""
+        w = self.world
+        if g in w.groups:
+            return {g}
+        return {label for name in w.groups for label, _ in w.group(name).members}
 
     def frame(self) -> None:
         if self.traj is not None:
@@ -273,6 +281,20 @@ class _Outputs:
                                                   self.scene.data.get("name", ""), self.scene.data["world"]["units"])
 
 
+def _rewrite(path: str, text: str) -> None:
+    """Replaces a file's content atomically (a kill leaves the old or the new one)."""
+    from .._files import temporary_for
+    with temporary_for(path) as tmp:
+        with open(tmp, "w", newline="", encoding="utf-8") as f:
+            f.write(text)
+
+
+#: Files a run writes in its directory (a fresh run removes them first, so
+#: none is left over from an earlier run).
+OUTPUT_FILES = ("scene.json", STATE, SNAPSHOT, CSV, EVENTS, "observables.parquet", "observables.png",
+                TRAJ + ".pdb", TRAJ + ".psf", TRAJ + ".dcd")
+
+
 def _check_out(out: str) -> None:
     try:
         os.makedirs(out, exist_ok=True)
@@ -321,6 +343,8 @@ class _StopFlag:
         return self
 
     def _set(self, signum, frame):
+        if self.flag:  # a second signal: stop now (the snapshot on disk is still the last one)
+            raise KeyboardInterrupt
         self.flag = True
 
     def check(self):
@@ -330,7 +354,7 @@ class _StopFlag:
     def __exit__(self, *exc):
         import signal
         for sig, h in self.saved.items():
-            signal.signal(sig, h)
+            signal.signal(sig, h if h is not None else signal.SIG_DFL)
         return False
 
 
@@ -341,8 +365,10 @@ def run_scene(scene, out: Optional[str] = None, *, resume: bool = False, progres
     memory); ``resume``: continue the run recorded in ``out`` (a fresh run
     when there is none; a finished one is read back). A Ctrl-C (or SIGTERM
     through the command line) between two steps writes a snapshot and raises
-    :class:`~strandkit.Interrupted`. A solver error ends the run with the
-    outputs and a snapshot of the last good state written, and is raised."""
+    :class:`~strandkit.Interrupted`; the last snapshot (every
+    ``outputs.snapshot_every`` steps and after each operation) is where
+    ``resume`` continues. A solver error ends the run and is raised: the
+    rows and frames written so far stay, with the last snapshot."""
     from .._native import World
     from .format import load_scene
     if not isinstance(scene, Scene):
@@ -353,8 +379,10 @@ def run_scene(scene, out: Optional[str] = None, *, resume: bool = False, progres
         _check_out(out)
         if resume:
             state = _load_state(scene, out)
-        elif os.path.exists(os.path.join(out, STATE)):
-            os.remove(os.path.join(out, STATE))  # a fresh run: the old resume point is void
+        else:
+            for name in OUTPUT_FILES:  # a fresh run: nothing of an earlier one stays beside it
+                if os.path.exists(os.path.join(out, name)):
+                    os.remove(os.path.join(out, name))
     if state is not None:
         try:
             world = World.from_json(state["world"])
@@ -409,7 +437,7 @@ def _run_protocol(outputs, protocol, state, stop, bar) -> None:
         op, args = op_of(protocol[i])
         n = op.steps(args, world.dt)
         if n == 0:
-            op.at_once(world, args)
+            outputs.add_events(op.at_once(world, args) or [])
             outputs.record(i, op.name, measure_nan())
             outputs.frame()
         else:
@@ -420,7 +448,7 @@ def _run_protocol(outputs, protocol, state, stop, bar) -> None:
                 k = state["k"] + 1
                 op.before(world, args, state["drive"], k, n)
                 if quasi:
-                    world.relax()
+                    outputs.add_events(world.relax().events)
                 else:
                     outputs.add_events(world.step().events)
                 state["k"] = k
@@ -429,7 +457,7 @@ def _run_protocol(outputs, protocol, state, stop, bar) -> None:
                     outputs.record(i, op.name, {**measure_nan(), **op.measure(world, args, state["drive"], k, n)})
                 if quasi or world.n_steps % outputs.frame_every == 0:
                     outputs.frame()
-                if k < n and world.n_steps % outputs.snapshot_every == 0:
+                if k < n and (k if quasi else world.n_steps) % outputs.snapshot_every == 0:
                     outputs.snapshot(state)
                     world = outputs.world
                 stop.check()
