@@ -41,7 +41,7 @@ import os
 import time
 from typing import Any, Callable, Dict, List, Optional, Union
 
-from .errors import Interrupted, SolverError, StrandkitError, _scene_error
+from .errors import FileError, Interrupted, SolverError, StrandkitError, _scene_error
 
 __all__ = ["sweep", "grid_points", "point_seed"]
 
@@ -60,6 +60,27 @@ def _finite_value(v) -> bool:
     return False
 
 
+def _plain(v):
+    """numpy arrays and scalars → lists and Python numbers."""
+    if hasattr(v, "tolist"):
+        return v.tolist()
+    if isinstance(v, (list, tuple)):
+        return [_plain(x) for x in v]
+    if isinstance(v, dict):
+        return {k: _plain(x) for k, x in v.items()}
+    return v
+
+
+def _kind(v) -> str:
+    if isinstance(v, bool):
+        return "boolean"
+    if isinstance(v, (int, float)):
+        return "number"
+    if v is None:
+        return "null"
+    return {str: "string", list: "list", dict: "table"}.get(type(v), type(v).__name__)
+
+
 def grid_points(grid) -> List[Dict[str, Any]]:
     """The points of ``grid`` (a dict of value lists, or a list of dicts),
     checked: at least one point, finite JSON-like values, the same keys in
@@ -72,7 +93,7 @@ def grid_points(grid) -> List[Dict[str, Any]]:
                 raise _scene_error("grid", f"key {k!r} is not a name")
             if isinstance(vals, (str, bytes)) or not hasattr(vals, "__iter__"):
                 raise _scene_error(f"grid.{k}", "expected a list of values", vals)
-        lists = [list(v) for v in grid.values()]
+        lists = [list(_plain(v)) for v in grid.values()]
         n = math.prod(len(v) for v in lists)
         if n == 0:
             empty = next(k for k, v in zip(grid, lists) if not v)
@@ -94,11 +115,15 @@ def grid_points(grid) -> List[Dict[str, Any]]:
         raise _scene_error("grid", f"expected a dict of value lists or a list of points, got {type(grid).__name__}")
     for i, p in enumerate(points):
         for k, v in p.items():
-            v = v.item() if hasattr(v, "item") and not isinstance(v, (list, tuple, dict)) else v
-            v = v.tolist() if hasattr(v, "tolist") else v
-            p[k] = v
+            v = _plain(v)
             if not _finite_value(v):
                 raise _scene_error(f"grid.{k}", f"point {i}: {v!r} is not a finite value", v, "finite numbers, strings, booleans")
+            p[k] = json.loads(json.dumps(v))  # tuples → lists: as the manifest reads back
+    for k in points[0]:  # one type per key: a results column has one type
+        kinds = {_kind(p[k]) for p in points}
+        if len(kinds) > 1:
+            raise _scene_error(f"grid.{k}", f"mixes {' and '.join(sorted(kinds))} values", None,
+                               "values of one type per key")
     ids = [point_id(p) for p in points]
     if len(set(ids)) != len(ids):
         raise _scene_error("grid", "repeats a point")
@@ -114,6 +139,16 @@ def point_seed(seed: int, point: Dict[str, Any]) -> int:
     """The point's seed: 63 bits of SHA-256(seed, point), independent of the other points."""
     h = hashlib.sha256(f"{int(seed)}/{json.dumps(point, sort_keys=True)}".encode()).digest()
     return int.from_bytes(h[:8], "little") >> 1
+
+
+def _source_digest(fn) -> str:
+    """SHA-256 of the function's source (when Python has it): a sweep
+    directory refuses a function whose body changed, so old and new results
+    never mix."""
+    try:
+        return hashlib.sha256(inspect.getsource(fn).encode()).hexdigest()[:16]
+    except (OSError, TypeError):
+        return ""
 
 
 def _takes(fn, name: str) -> bool:
@@ -138,7 +173,7 @@ def _run_point(payload: dict) -> dict:
     t0 = time.perf_counter()
     try:
         result = _compute(payload)
-    except (SolverError, Interrupted) as e:
+    except SolverError as e:
         # A simulation that fails at one point (a refused step, no
         # convergence) is that point's result, not the sweep's end.
         result = {"error": f"{type(e).__name__}: {e}"}
@@ -150,7 +185,7 @@ def _compute(payload: dict) -> dict:
     if payload["kind"] == "scene":
         from .scene import Scene
         values = dict(point)
-        values.setdefault("world.seed", seed)
+        values["world.seed"] = seed
         scene = Scene(payload["scene"], payload["base_dir"]).with_values(values)
         result = scene.run(payload.get("run_dir"), resume=payload.get("run_dir") is not None,
                            progress_bar=False).summary()
@@ -217,7 +252,8 @@ class _Store:
 
 
 def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None, client=None,
-          workers: Optional[int] = None, seed: int = 0, progress_bar: bool = True, retries: int = 2):
+          workers: Optional[int] = None, seed: int = 0, progress_bar: bool = True, retries: int = 2,
+          runs: bool = True):
     """Runs ``target`` — a function of the grid's keys, a :class:`~strandkit.Scene`
     or a scene file's path — at every point of ``grid`` and returns a pandas
     DataFrame (see the module's documentation).
@@ -226,7 +262,10 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
     points are submitted as tasks, retried ``retries`` times on an error, and
     moved to another worker when theirs dies; None: local processes
     (``workers`` of them, default the CPU count; 0 runs in this process).
-    seed: the base of every point's seed. Everything is checked before any
+    seed: the base of every point's seed. runs: with ``out``, each scene
+    point's own outputs go to ``out/runs/<id>/`` (written by the worker that
+    runs it: on a real cluster ``out`` must be on a filesystem the workers
+    share; ``runs=False`` keeps only the results, which the driver writes). Everything is checked before any
     point runs (SceneError naming the key). Ctrl-C stops the sweep with
     :class:`~strandkit.Interrupted`, finished points kept."""
     import pandas as pd
@@ -252,7 +291,8 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
             if not _takes(target, k):
                 raise _scene_error(f"grid.{k}", f"is not an argument of {getattr(target, '__name__', target)}")
         kind = "function"
-        desc = {"function": f"{getattr(target, '__module__', '')}.{getattr(target, '__qualname__', repr(target))}"}
+        desc = {"function": f"{getattr(target, '__module__', '')}.{getattr(target, '__qualname__', repr(target))}",
+                "source": _source_digest(target)}
         try:
             import cloudpickle
             fn = cloudpickle.dumps(target)
@@ -269,8 +309,8 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
     todo = [(pid, p) for pid, p in zip(ids, points) if store.done(pid) is None]
     payloads = {}
     for pid, p in todo:
-        pl = dict(base, point=p, seed=point_seed(seed, p))
-        if kind == "scene" and out is not None:
+        pl = dict(base, point=p, seed=p["world.seed"] if kind == "scene" and "world.seed" in p else point_seed(seed, p))
+        if kind == "scene" and out is not None and runs:
             pl["run_dir"] = os.path.join(out, "runs", pid)
         payloads[pid] = pl
 
@@ -278,14 +318,15 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
 
     def row(pid, r):
         p = points[index[pid]]
-        return {**p, "point": pid, "seed": point_seed(seed, p), **r["result"], "elapsed": r["elapsed"]}
+        return {**p, "point": pid, "seed": payloads[pid]["seed"], **r["result"], "elapsed": r["elapsed"]}
 
     from ._progress import progress
     bar = progress(total=len(points), desc="sweep", enable=progress_bar)
     bar.update(len(points) - len(todo))
     try:
         if client is not None:
-            _on_dask(client, payloads, retries, lambda pid, r: (store.put(pid, row(pid, r)), bar.update(1)))
+            tag = hashlib.sha256(json.dumps(manifest, sort_keys=True, default=str).encode()).hexdigest()[:12]
+            _on_dask(client, payloads, retries, tag, lambda pid, r: (store.put(pid, row(pid, r)), bar.update(1)))
         elif workers == 0 or (workers is None and len(todo) <= 1):
             for pid, pl in payloads.items():
                 store.put(pid, row(pid, _run_point(pl)))
@@ -305,8 +346,16 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
     if out is not None:
         from ._files import temporary_for
         with temporary_for(os.path.join(out, "results.parquet")) as tmp:
-            df.to_parquet(tmp, index=False)
+            try:
+                df.to_parquet(tmp, index=False)
+            except (ValueError, TypeError, ImportError) as e:  # pyarrow's errors are ValueError/TypeError kinds
+                raise FileError(f"i/o error: {out}/results.parquet: cannot write the results ({e})") from e
     return df
+
+
+def _one_thread() -> None:
+    """Each worker process keeps the core to one thread: the processes are the parallelism."""
+    os.environ.setdefault("RAYON_NUM_THREADS", "1")
 
 
 def _on_processes(n: int, payloads: dict, done: Callable) -> None:
@@ -314,7 +363,8 @@ def _on_processes(n: int, payloads: dict, done: Callable) -> None:
     core's thread pool)."""
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor, as_completed
-    with ProcessPoolExecutor(max_workers=min(n, len(payloads)) or 1, mp_context=mp.get_context("spawn")) as ex:
+    with ProcessPoolExecutor(max_workers=min(n, len(payloads)) or 1, mp_context=mp.get_context("spawn"),
+                             initializer=_one_thread) as ex:
         futs = {ex.submit(_run_point, pl): pid for pid, pl in payloads.items()}
         try:
             for f in as_completed(futs):
@@ -325,9 +375,11 @@ def _on_processes(n: int, payloads: dict, done: Callable) -> None:
             raise
 
 
-def _on_dask(client, payloads: dict, retries: int, done: Callable) -> None:
+def _on_dask(client, payloads: dict, retries: int, tag: str, done: Callable) -> None:
+    """Task keys name the sweep (its grid, seed and target) and the point, so
+    two sweeps on one scheduler never share a result."""
     from distributed import as_completed
-    futs = {client.submit(_run_point, pl, key=f"strandkit-point-{pid}", pure=False, retries=retries): pid
+    futs = {client.submit(_run_point, pl, key=f"strandkit-{tag}-{pid}", pure=False, retries=retries): pid
             for pid, pl in payloads.items()}
     try:
         for f in as_completed(list(futs)):

@@ -96,6 +96,8 @@ def test_resume_after_a_hard_kill_cuts_what_followed_the_snapshot(tmp_path):
         time.sleep(0.02)
     p.kill()  # SIGKILL: no snapshot at the stop, rows and frames past the last one
     p.communicate()
+    assert p.returncode == -signal.SIGKILL
+    assert not json.loads((out / "state.json").read_text())["done"]
     r = cli("run", path, "--out", out, "--resume", "--no-progress")
     assert r.returncode == 0, r.stderr
     for name in ("observables.csv", "trajectory.dcd"):
