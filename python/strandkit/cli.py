@@ -25,11 +25,12 @@ from .errors import FileError, Interrupted, SceneError, SolverError, StrandkitEr
 
 
 def _values(pairs: List[str], flag: str) -> dict:
+    from .errors import _scene_error
     from .scene import parse_value
     out = {}
     for p in pairs or []:
         if "=" not in p:
-            raise SystemExit(f"strandkit: {flag} {p!r}: expected key=value")
+            raise _scene_error(flag, f"{p!r}: expected KEY=VALUE")
         k, v = p.split("=", 1)
         out[k] = parse_value(v)
     return out
@@ -108,6 +109,11 @@ def main(argv: Optional[List[str]] = None) -> int:
             c.add_argument("--scheduler", default=None, help="address of a Dask scheduler")
     sub.add_parser("schema", help="print the scene format's JSON Schema")
     args = p.parse_args(argv)
+    import signal
+    import threading
+    if threading.current_thread() is threading.main_thread():
+        # SIGTERM as Ctrl-C: a scene run defers both to its next step, a sweep stops (exit 130)
+        signal.signal(signal.SIGTERM, signal.default_int_handler)
     try:
         if args.command == "schema":
             from .scene import schema
@@ -130,6 +136,10 @@ def main(argv: Optional[List[str]] = None) -> int:
         return 130
     except (SceneError, FileError) as e:
         print(f"strandkit: {e}", file=sys.stderr)
+        return 2
+    except ImportError as e:
+        print(f"strandkit: {e.name or e} is needed for this: pip install \"strandkit[study]\" "
+              "(TOML scenes, Parquet outputs, sweeps on Dask)", file=sys.stderr)
         return 2
     except (SolverError, StrandkitError) as e:
         print(f"strandkit: the simulation failed: {e}", file=sys.stderr)

@@ -138,3 +138,19 @@ def test_bad_input_exits_2_naming_it(tmp_path, args, words):
     r = cli(*[a.format(scene=scene, tmp=tmp_path) for a in args])
     assert r.returncode == 2 and words in r.stderr, r.stderr
     assert "Traceback" not in r.stderr
+
+
+def test_set_without_a_value_and_sigterm(tmp_path):
+    scene = pull_scene(duration=4.0).save(tmp_path / "bridge.json")
+    r = cli("validate", scene, "--set", "world.dt")
+    assert r.returncode == 2 and "--set" in r.stderr and "KEY=VALUE" in r.stderr
+    out = tmp_path / "out"
+    p = subprocess.Popen([sys.executable, "-m", "strandkit", "run", str(scene), "--out", str(out), "--no-progress"],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.time() + 120
+    while time.time() < deadline and not ((out / "observables.csv").exists()
+                                           and (out / "observables.csv").read_text().count("\n") > 10):
+        time.sleep(0.05)
+    p.terminate()
+    _, err = p.communicate(timeout=120)
+    assert p.returncode == 130 and "interrupted" in err

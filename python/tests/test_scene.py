@@ -5,6 +5,7 @@ and accepts what we write; bad scenes are refused naming the key, before
 any work."""
 import json
 import math
+import os
 import pathlib
 
 import numpy as np
@@ -147,12 +148,21 @@ BAD = [
     (dict(base(), colour="red"), "colour", "unknown key"),
     (edit("world.timestep", 1e-3), "world.timestep", "unknown setting"),
     (edit("world.dt", -1.0), "world.dt", "dt must be finite and > 0"),
-    (edit("world.gravity", [0, float("nan"), 0]), "world.gravity", "not valid"),
+    (edit("world.gravity", [0, float("nan"), 0]), "world.gravity[1]", "not a finite value"),
     (edit("structure.args.n_plonks", 3), "structure.args.n_plonks", "unknown argument"),
     (edit("structure.args.n_planks", -3), "structure.args", "n_planks"),
+    (edit("structure.args.n_planks", 3.7), "structure.args.n_planks", "an integer"),
+    (edit("structure.args.sag", True), "structure.args.sag", "a finite number"),
+    (edit("structure.builder", ["rope_bridge"]), "structure.builder", "not a builder name"),
+    (edit("world.seed", 2**70), "world.seed", "not valid"),
+    (edit("world.seed", 1.5), "world.seed", "not valid"),
+    (edit("world.units", "imperial"), "world.units", "units"),
+    (edit("world.scheme", "rk4"), "world.scheme", "scheme"),
+    (edit("structure.args.span", float("nan")), "structure.args.span", "not a finite value"),
+    (edit("structure.args.span", object()), "structure.args.span", "cannot be written"),
     (edit("structure.builder", "castle"), "structure.builder", "unknown builder"),
     (edit("protocol.1", {"jump": {}}), "protocol[1].jump", "unknown operation"),
-    (edit("protocol.1.step.duration", float("inf")), "protocol[1].step.duration", "not valid"),
+    (edit("protocol.1.step.duration", float("inf")), "protocol[1].step.duration", "not a finite value"),
     (edit("protocol.1.step.steps", 3), "protocol[1].step", "exactly one of duration and steps"),
     (edit("protocol.2.pull.constraints", "anchor[9,9]"), "protocol[2].pull", "no object labelled"),
     (edit("protocol.2.pull.velocity", [0, 0, 0]), "protocol[2].pull.velocity", "is zero"),
@@ -189,6 +199,28 @@ def test_bad_files_and_directories(tmp_path):
     with pytest.raises(sk.SceneError) as e:
         scene.with_values({"protocol.7.step.steps": 3})
     assert e.value.key == "protocol.7"
+
+
+def test_numpy_values_and_paths_survive_saving_elsewhere(tmp_path):
+    """numpy numbers become plain ones; a scene whose Assembly is a file is
+    saved into another directory with the path rebased, and the copy a run
+    writes into its directory loads and resumes as the same scene."""
+    asm_dir = tmp_path / "data"
+    asm_dir.mkdir()
+    (asm_dir / "bridge.assembly.json").write_text(sk.builders.rope_bridge(n_planks=3, span=4.0, sag=0.4).assembly.to_json())
+    src = {"version": 1, "structure": {"assembly_file": "bridge.assembly.json"},
+           "world": {"gravity": np.array([0.0, -9.81, 0.0]), "dt": np.float64(2e-3), "seed": np.int64(3)},
+           "protocol": [{"step": {"steps": np.int64(6)}}], "outputs": {"every": 3}}
+    scene = sk.Scene(src, asm_dir)
+    assert scene.data["world"]["seed"] == 3 and type(scene.data["world"]["seed"]) is int
+    moved = sk.load_scene(scene.save(tmp_path / "elsewhere" / "scene.toml") if (tmp_path / "elsewhere").mkdir() is None else None)
+    assert moved.data["structure"]["assembly_file"] == os.path.join("..", "data", "bridge.assembly.json")
+    assert moved.digest == scene.digest
+    r = moved.run(tmp_path / "out", progress_bar=False)
+    copy = sk.load_scene(tmp_path / "out" / "scene.json")
+    assert copy.digest == scene.digest
+    again = copy.run(tmp_path / "out", resume=True, progress_bar=False)
+    assert same(again.observables, r.observables)
 
 
 def test_resume_refuses_another_scene(tmp_path):

@@ -20,7 +20,8 @@ SCHEMA = {
     "bool": {"type": "boolean"},
     "string": {"type": "string", "minLength": 1},
     "vec3": {"type": "array", "items": {"type": "number"}, "minItems": 3, "maxItems": 3},
-    "labels": {"type": "array", "items": {"type": "string", "minLength": 1}},
+    "labels": {"oneOf": [{"type": "string", "minLength": 1},
+                         {"type": "array", "items": {"type": "string", "minLength": 1}}]},
     "abscissa": {"oneOf": [{"type": "number"}, {"enum": ["start", "end"]}]},
     "object": {"type": "object"},
 }
@@ -81,6 +82,8 @@ def check_value(f: Field, value, key: str):
             raise bad()
         return float(value)
     if t in ("count", "integer"):
+        if isinstance(value, float) and value.is_integer():  # 10.0 is an integer to JSON Schema too
+            value = int(value)
         if isinstance(value, bool) or not isinstance(value, int) or (t == "count" and value < 1):
             raise bad()
         return value

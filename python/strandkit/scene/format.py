@@ -77,7 +77,9 @@ def _check_world(world, units_default: str) -> dict:
         d = known[k]
         if isinstance(d, bool):
             ok = isinstance(v, bool)
-        elif isinstance(d, (int, float)):
+        elif isinstance(d, int):
+            ok = isinstance(v, int) and not isinstance(v, bool) and 0 <= v < 2**63
+        elif isinstance(d, float):
             ok = finite(v) or (k == "divergence_factor" and v == math.inf)
         elif isinstance(d, list):
             ok = isinstance(v, (list, tuple)) and len(v) == len(d) and all(finite(x) for x in v)
@@ -88,6 +90,44 @@ def _check_world(world, units_default: str) -> dict:
         out[k] = list(v) if isinstance(v, tuple) else v
     out.setdefault("units", units_default)
     return out
+
+
+def _failing_setting(settings: dict, e: Exception) -> str:
+    """The key of the setting World refused: its own ``what``, else the one
+    that fails alone."""
+    from .._native import World
+    what = getattr(e, "what", "") or ""
+    if what in settings:
+        return f"world.{what}"
+    for k, v in settings.items():
+        try:
+            World(**{k: v})
+        except (StrandkitError, ValueError, TypeError, OverflowError):
+            return f"world.{k}"
+    return "world"
+
+
+def _json_plain(x, key: str):
+    """The scene as plain JSON values: numpy scalars and arrays become
+    numbers and lists; anything else that JSON cannot hold, and NaN or
+    infinity, is a SceneError naming its key."""
+    if hasattr(x, "tolist") and not isinstance(x, (list, dict, str)):
+        x = x.tolist()
+    if isinstance(x, dict):
+        out = {}
+        for k, v in x.items():
+            if not isinstance(k, str):
+                raise _scene_error(key, f"key {k!r} is not a string")
+            out[k] = _json_plain(v, f"{key}.{k}" if key else k)
+        return out
+    if isinstance(x, (list, tuple)):
+        return [_json_plain(v, f"{key}[{i}]") for i, v in enumerate(x)]
+    if isinstance(x, float) and not math.isfinite(x) and not key.endswith("divergence_factor"):
+        raise _scene_error(key, f"{x!r} is not a finite value", x, "a finite number")
+    if x is None or isinstance(x, (bool, int, float, str)):
+        return x
+    raise _scene_error(key, f"a {type(x).__name__} cannot be written in a scene file", None,
+                       "numbers, strings, booleans, lists and tables")
 
 
 def _check_obstacles(obstacles, base_dir: str) -> List[dict]:
@@ -171,7 +211,7 @@ class Scene:
 
     def __init__(self, data: dict, base_dir: str = "."):
         self.base_dir = os.path.abspath(base_dir)
-        self.data = check_scene(copy.deepcopy(data), self.base_dir)
+        self.data = check_scene(_json_plain(data, ""), self.base_dir)
         self._check_built()
 
     # -- construction -------------------------------------------------------------------------
@@ -204,11 +244,11 @@ class Scene:
         (the protocol is not run). Returns (world, inserted)."""
         from .. import obstacles as obs
         from .._native import World
+        settings = self.data["world"]
         try:
-            w = World(**self.data["world"])
-        except (StrandkitError, ValueError, TypeError) as e:
-            what = getattr(e, "what", "") or ""
-            raise _scene_error(f"world.{what}" if what in self.data["world"] else "world", str(e)) from e
+            w = World(**settings)
+        except (StrandkitError, ValueError, TypeError, OverflowError) as e:
+            raise _scene_error(_failing_setting(settings, e), str(e)) from e
         ins = w.insert(build(self.data["structure"], self.base_dir))
         c = self.data.get("contact")
         if c is not None:
@@ -267,7 +307,8 @@ class Scene:
     @property
     def digest(self) -> str:
         """SHA-256 of the scene's canonical JSON: what a resumed run checks it continues."""
-        return hashlib.sha256(json.dumps(self.data, sort_keys=True).encode()).hexdigest()
+        # file paths made absolute: the copy a run writes into its directory has the same digest
+        return hashlib.sha256(json.dumps(_rebased(self, "/"), sort_keys=True).encode()).hexdigest()
 
     def with_values(self, values: Dict[str, Any]) -> "Scene":
         """A copy with ``{"dotted.key": value}`` set (``world.dt``,
@@ -365,8 +406,23 @@ def _toml_load(raw: bytes):
     return tomllib.loads(raw.decode("utf-8"))
 
 
-def scene_text(scene: Scene, fmt: str) -> str:
+def _rebased(scene: Scene, target_dir: str) -> dict:
+    """The scene's data with its relative file paths (assembly file, meshes)
+    made relative to ``target_dir``, where the scene is being written."""
     data = scene.to_dict()
+
+    def move(p):
+        return p if os.path.isabs(p) else os.path.relpath(os.path.join(scene.base_dir, p), target_dir)
+    if "assembly_file" in data["structure"]:
+        data["structure"]["assembly_file"] = move(data["structure"]["assembly_file"])
+    for entry in data["obstacles"]:
+        if "mesh" in entry:
+            entry["mesh"]["path"] = move(entry["mesh"]["path"])
+    return data
+
+
+def scene_text(scene: Scene, fmt: str, target_dir: Optional[str] = None) -> str:
+    data = _rebased(scene, target_dir or scene.base_dir)
     if fmt == "toml":
         import tomli_w
         s = data["structure"]
@@ -380,7 +436,7 @@ def save_scene(scene: Scene, path: str) -> str:
     """Writes ``scene`` atomically to ``path`` (``.toml`` → TOML, else JSON)."""
     from .._files import temporary_for
     path = os.fspath(path)
-    text = scene_text(scene, "toml" if path.endswith(".toml") else "json")
+    text = scene_text(scene, "toml" if path.endswith(".toml") else "json", os.path.dirname(os.path.abspath(path)))
     with temporary_for(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as f:
             f.write(text)

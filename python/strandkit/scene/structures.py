@@ -7,6 +7,7 @@ from __future__ import annotations
 import importlib
 import inspect
 import json
+import math
 import os
 
 from ..errors import StrandkitError, _scene_error
@@ -31,6 +32,22 @@ def builder_function(name: str, key: str = "structure.builder"):
     return getattr(importlib.import_module(module), fn)
 
 
+def _check_like_default(default, value, key: str) -> None:
+    """A builder argument of the type of its default: an integer where the
+    default is one (3.7 planks would be cut to 3), a boolean where it is
+    one, a finite number where it is a float."""
+    bad = None
+    if isinstance(default, bool):
+        bad = not isinstance(value, bool) and "true or false"
+    elif isinstance(default, int):
+        bad = (isinstance(value, bool) or not isinstance(value, int)) and "an integer"
+    elif isinstance(default, float):
+        bad = (isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value)) \
+            and "a finite number"
+    if bad:
+        raise _scene_error(key, f"{value!r} is not valid", value, bad)
+
+
 def check_structure(structure, base_dir: str) -> dict:
     """The structure table checked: exactly one of ``builder`` (+ ``args``),
     ``assembly`` (inline, the Assembly's JSON) or ``assembly_file`` (a path,
@@ -50,6 +67,9 @@ def check_structure(structure, base_dir: str) -> dict:
     kind = given[0]
     if kind == "builder":
         name = structure["builder"]
+        if not isinstance(name, str):
+            raise _scene_error(f"{key}.builder", f"{name!r} is not a builder name", name,
+                               "one of " + ", ".join(sorted(BUILDERS)))
         fn = builder_function(name)
         args = structure.get("args", {}) or {}
         if not isinstance(args, dict):
@@ -60,6 +80,7 @@ def check_structure(structure, base_dir: str) -> dict:
                                                          inspect.Parameter.POSITIONAL_OR_KEYWORD):
                 raise _scene_error(f"{key}.args.{a}", f"unknown argument of {name}", None,
                                    "one of " + ", ".join(p for p in params))
+            _check_like_default(params[a].default, args[a], f"{key}.args.{a}")
         return {"builder": name, "args": dict(args)}
     if kind == "assembly":
         if not isinstance(structure["assembly"], dict):
@@ -80,10 +101,13 @@ def build(structure: dict, base_dir: str):
     from .._native import Assembly
     if "builder" in structure:
         fn = builder_function(structure["builder"])
+        args = structure["args"]
         try:
-            made = fn(**structure["args"])
-        except (StrandkitError, ValueError, TypeError) as e:
-            raise _scene_error("structure.args", f"{structure['builder']}: {e}") from e
+            made = fn(**args)
+        except (StrandkitError, ValueError, TypeError, OverflowError) as e:
+            what = getattr(e, "what", "") or ""
+            key = f"structure.args.{what}" if what in args else "structure.args"
+            raise _scene_error(key, f"{structure['builder']}: {e}") from e
         return made.assembly
     if "assembly" in structure:
         text, key = json.dumps(structure["assembly"]), "structure.assembly"
