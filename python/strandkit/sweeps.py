@@ -184,9 +184,7 @@ def _compute(payload: dict) -> dict:
     point, seed = payload["point"], payload["seed"]
     if payload["kind"] == "scene":
         from .scene import Scene
-        values = dict(point)
-        values["world.seed"] = seed
-        scene = Scene(payload["scene"], payload["base_dir"]).with_values(values)
+        scene = Scene._checked(payload["scene"], payload["base_dir"])
         result = scene.run(payload.get("run_dir"), resume=payload.get("run_dir") is not None,
                            progress_bar=False).summary()
     else:
@@ -278,14 +276,17 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
         raise _scene_error("seed", f"{seed!r} is not a seed", seed, "an integer >= 0")
     if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 0):
         raise _scene_error("workers", f"{workers!r}", workers, "an integer >= 0")
+    scenes = {}
     if isinstance(target, Scene):
         for i, p in enumerate(points):  # every point's scene is checked (and built once) before any runs
             try:
-                target.with_values(p)
+                values = dict(p)
+                values.setdefault("world.seed", point_seed(seed, p))
+                scenes[point_id(p)] = target.with_values(values).data
             except StrandkitError as e:
                 raise _scene_error(f"grid[{i}]", f"{p}: {e}") from e
         kind, desc = "scene", {"scene": target.digest}
-        base = {"kind": "scene", "scene": target.to_dict(), "base_dir": target.base_dir}
+        base = {"kind": "scene", "base_dir": target.base_dir}
     elif callable(target):
         for k in points[0]:
             if not _takes(target, k):
@@ -310,6 +311,8 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
     payloads = {}
     for pid, p in todo:
         pl = dict(base, point=p, seed=p["world.seed"] if kind == "scene" and "world.seed" in p else point_seed(seed, p))
+        if kind == "scene":
+            pl["scene"] = scenes[pid]  # the point's own checked scene, its seed in it
         if kind == "scene" and out is not None and runs:
             pl["run_dir"] = os.path.join(out, "runs", pid)
         payloads[pid] = pl

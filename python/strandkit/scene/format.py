@@ -214,6 +214,14 @@ class Scene:
         self.data = check_scene(_json_plain(data, ""), self.base_dir)
         self._check_built()
 
+    @classmethod
+    def _checked(cls, data: dict, base_dir: str) -> "Scene":
+        """A scene from data a Scene has already checked and built (a sweep's
+        point, checked in the driver before it was sent): not built again."""
+        scene = cls.__new__(cls)
+        scene.base_dir, scene.data = base_dir, data
+        return scene
+
     # -- construction -------------------------------------------------------------------------
     @classmethod
     def from_builder(cls, builder: str, *, world: Optional[dict] = None, protocol=(), outputs: Optional[dict] = None,
