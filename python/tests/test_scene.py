@@ -281,3 +281,13 @@ def test_a_drive_goes_on_when_one_of_its_constraints_breaks():
     assert [e["kind"] for e in r.events] == ["ConstraintBroken"]
     ends = [rod.position(rod.u_end)[0] for rod in r.world.rods()]
     assert ends[0] == pytest.approx(1 + 1e-3, abs=1e-12) and ends[1] < 1 + 1e-6  # the free one sprang back
+
+
+def test_shipped_scene_files_load_and_follow_the_schema():
+    jsonschema = pytest.importorskip("jsonschema")
+    scenes = sorted((pathlib.Path(__file__).resolve().parents[2] / "examples" / "scenes").iterdir())
+    assert [p.name for p in scenes] == ["bridge_pull.json", "dna_stretch.toml"]
+    for p in scenes:
+        s = sk.load_scene(p)
+        assert s.data.get("description")
+        jsonschema.validate(json.loads(json.dumps(s.to_dict())), sk.scene.schema())

@@ -18,8 +18,10 @@ def plot_observables(obs, path: str, title: str = "", units: str = "si") -> str:
     n = 1 + int(pulled) + int(turned)
     fig, axes = plt.subplots(1, n, figsize=(5.2 * n, 4), squeeze=False)
     ax = axes[0][0]
-    for k in ("kinetic", "elastic", "total"):
-        ax.plot(obs["time"], obs[k], label=k)
+    ax.plot(obs["time"], obs["kinetic"], label="kinetic")
+    ax.plot(obs["time"], obs["elastic"], label="elastic")
+    if len(obs["total"]):  # the total's change: gravity's potential would flatten the others
+        ax.plot(obs["time"], obs["total"] - obs["total"][0], label="total − its start")
     ax.set_xlabel(f"time ({t_u})")
     ax.set_ylabel(f"energy ({e_u})")
     ax.legend()
