@@ -154,3 +154,18 @@ def test_set_without_a_value_and_sigterm(tmp_path):
     p.terminate()
     _, err = p.communicate(timeout=120)
     assert p.returncode == 130 and "interrupted" in err
+
+
+def test_sweep_from_a_grid_file_on_a_local_cluster(tmp_path):
+    """`strandkit sweep --grid FILE --local-cluster 2` gives the numbers of
+    the same sweep run in process."""
+    pytest.importorskip("distributed")
+    path = pull_scene(duration=0.02).save(tmp_path / "bridge.json")
+    grid = tmp_path / "grid.json"
+    grid.write_text(json.dumps([{"structure.args.n_planks": n, "world.dt": dt} for n in (3, 5) for dt in (1e-3, 2e-3)]))
+    runs = {}
+    for name, extra in (("dask", ["--local-cluster", "2"]), ("here", ["--workers", "0"])):
+        r = cli("sweep", path, "--grid", grid, "--out", tmp_path / name, "--no-progress", *extra)
+        assert r.returncode == 0, r.stderr
+        runs[name] = pd.read_parquet(tmp_path / name / "results.parquet").drop(columns=["elapsed"])
+    assert len(runs["here"]) == 4 and runs["dask"].equals(runs["here"])
