@@ -259,7 +259,9 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
     client: a ``distributed.Client`` (a LocalCluster's or a real cluster's):
     points are submitted as tasks, retried ``retries`` times on an error, and
     moved to another worker when theirs dies; None: local processes
-    (``workers`` of them, default the CPU count; 0 runs in this process).
+    (``workers`` of them, default the CPU count; 0 runs in this process;
+    the processes are spawned, so a script calling ``sweep`` needs the
+    ``if __name__ == "__main__":`` guard, as for ``multiprocessing``).
     seed: the base of every point's seed. runs: with ``out``, each scene
     point's own outputs go to ``out/runs/<id>/`` (written by the worker that
     runs it: on a real cluster ``out`` must be on a filesystem the workers

@@ -263,7 +263,9 @@ class _Outputs:
                 import pandas as pd
                 import pyarrow  # noqa: F401  (pandas' Parquet engine)
             except ImportError:
-                pass  # documented: needs the "study" extra
+                import warnings
+                warnings.warn("observables.parquet not written: it needs pandas and pyarrow "
+                              '(pip install "strandkit[study]"); observables.csv has the same data', stacklevel=3)
             else:
                 from .._files import temporary_for
                 path = os.path.join(self.out, "observables.parquet")
@@ -274,6 +276,9 @@ class _Outputs:
             try:
                 import matplotlib
             except ImportError:
+                import warnings
+                warnings.warn('observables.png not drawn: it needs matplotlib (pip install "strandkit[plot]")',
+                              stacklevel=3)
                 return
             matplotlib.use("Agg")
             from .plots import plot_observables
