@@ -81,7 +81,7 @@ def _client(args):
     if args.local_cluster:
         from distributed import Client, LocalCluster
         cluster = LocalCluster(n_workers=args.local_cluster, threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+                               dashboard_address=None, env={"RAYON_NUM_THREADS": "1"})
         return Client(cluster), cluster
     return None, None
 
@@ -111,9 +111,18 @@ def main(argv: Optional[List[str]] = None) -> int:
     args = p.parse_args(argv)
     import signal
     import threading
+    previous = None
     if threading.current_thread() is threading.main_thread():
         # SIGTERM as Ctrl-C: a scene run defers both to its next step, a sweep stops (exit 130)
-        signal.signal(signal.SIGTERM, signal.default_int_handler)
+        previous = signal.signal(signal.SIGTERM, signal.default_int_handler)
+    try:
+        return _command(args)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _command(args) -> int:
     try:
         if args.command == "schema":
             from .scene import schema
@@ -133,6 +142,9 @@ def main(argv: Optional[List[str]] = None) -> int:
         return _sweep(scene, args)
     except Interrupted as e:
         print(f"strandkit: {e}", file=sys.stderr)
+        return 130
+    except KeyboardInterrupt:
+        print("strandkit: interrupted", file=sys.stderr)
         return 130
     except (SceneError, FileError) as e:
         print(f"strandkit: {e}", file=sys.stderr)

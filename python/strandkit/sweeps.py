@@ -120,7 +120,7 @@ def grid_points(grid) -> List[Dict[str, Any]]:
                 raise _scene_error(f"grid.{k}", f"point {i}: {v!r} is not a finite value", v, "finite numbers, strings, booleans")
             p[k] = json.loads(json.dumps(v))  # tuples → lists: as the manifest reads back
     for k in points[0]:  # one type per key: a results column has one type
-        kinds = {_kind(p[k]) for p in points}
+        kinds = {_kind(p[k]) for p in points} - {"null"}  # None (a default) goes with any type
         if len(kinds) > 1:
             raise _scene_error(f"grid.{k}", f"mixes {' and '.join(sorted(kinds))} values", None,
                                "values of one type per key")
@@ -143,8 +143,10 @@ def point_seed(seed: int, point: Dict[str, Any]) -> int:
 
 def _source_digest(fn) -> str:
     """SHA-256 of the function's source (when Python has it): a sweep
-    directory refuses a function whose body changed, so old and new results
-    never mix."""
+    directory refuses a function whose code changed, so old and new results
+    never mix. Values it reads from outside (defaults, closures, globals)
+    are not covered — their repr may hold memory addresses, which would make
+    every run a new sweep: change the directory when they change."""
     try:
         return hashlib.sha256(inspect.getsource(fn).encode()).hexdigest()[:16]
     except (OSError, TypeError):
@@ -193,7 +195,7 @@ def _compute(payload: dict) -> dict:
             import cloudpickle
             fn = cloudpickle.loads(fn)
         kwargs = dict(point)
-        if payload["pass_seed"]:
+        if payload["pass_seed"] and "seed" not in kwargs:
             kwargs["seed"] = seed
         result = _scalars(fn(**kwargs), f"point {point}")
     return result
@@ -284,7 +286,9 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
             try:
                 values = dict(p)
                 values.setdefault("world.seed", point_seed(seed, p))
-                scenes[point_id(p)] = target.with_values(values).data
+                checked = target.with_values(values).data
+                if out is None or not _persisted(out, point_id(p)):
+                    scenes[point_id(p)] = checked  # kept only for points still to run
             except StrandkitError as e:
                 raise _scene_error(f"grid[{i}]", f"{p}: {e}") from e
         kind, desc = "scene", {"scene": target.digest}
@@ -312,7 +316,8 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
     todo = [(pid, p) for pid, p in zip(ids, points) if store.done(pid) is None]
     payloads = {}
     for pid, p in todo:
-        pl = dict(base, point=p, seed=p["world.seed"] if kind == "scene" and "world.seed" in p else point_seed(seed, p))
+        given = "world.seed" if kind == "scene" else "seed"  # a seed the grid sets is the one used
+        pl = dict(base, point=p, seed=p[given] if given in p else point_seed(seed, p))
         if kind == "scene":
             pl["scene"] = scenes[pid]  # the point's own checked scene, its seed in it
         if kind == "scene" and out is not None and runs:
@@ -330,7 +335,7 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
     bar.update(len(points) - len(todo))
     try:
         if client is not None:
-            tag = hashlib.sha256(json.dumps(manifest, sort_keys=True, default=str).encode()).hexdigest()[:12]
+            tag = hashlib.sha256(json.dumps([manifest, out, runs], sort_keys=True, default=str).encode()).hexdigest()[:12]
             _on_dask(client, payloads, retries, tag, lambda pid, r: (store.put(pid, row(pid, r)), bar.update(1)))
         elif workers == 0 or (workers is None and len(todo) <= 1):
             for pid, pl in payloads.items():
@@ -358,6 +363,10 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
     return df
 
 
+def _persisted(out, pid: str) -> bool:
+    return os.path.exists(os.path.join(os.path.abspath(os.fspath(out)), "points", f"{pid}.parquet"))
+
+
 def _one_thread() -> None:
     """Each worker process keeps the core to one thread: the processes are the parallelism."""
     os.environ.setdefault("RAYON_NUM_THREADS", "1")
@@ -365,19 +374,29 @@ def _one_thread() -> None:
 
 def _on_processes(n: int, payloads: dict, done: Callable) -> None:
     """A pool of ``n`` spawned processes (not forked: the parent may hold the
-    core's thread pool)."""
+    core's thread pool). On Ctrl-C or an error the queued points are
+    cancelled and the workers told to stop (SIGINT: a scene run stops at its
+    next step), instead of finishing what they had."""
     import multiprocessing as mp
+    import signal
     from concurrent.futures import ProcessPoolExecutor, as_completed
-    with ProcessPoolExecutor(max_workers=min(n, len(payloads)) or 1, mp_context=mp.get_context("spawn"),
-                             initializer=_one_thread) as ex:
-        futs = {ex.submit(_run_point, pl): pid for pid, pl in payloads.items()}
-        try:
-            for f in as_completed(futs):
-                done(futs[f], f.result())
-        except BaseException:
-            for f in futs:
-                f.cancel()
-            raise
+    ex = ProcessPoolExecutor(max_workers=min(n, len(payloads)) or 1, mp_context=mp.get_context("spawn"),
+                             initializer=_one_thread)
+    futs = {ex.submit(_run_point, pl): pid for pid, pl in payloads.items()}
+    try:
+        for f in as_completed(futs):
+            done(futs[f], f.result())
+    except BaseException:
+        for f in futs:
+            f.cancel()
+        for proc in list(getattr(ex, "_processes", {}).values()):  # the executor keeps no public list
+            try:
+                os.kill(proc.pid, signal.SIGINT)
+            except OSError:
+                pass  # already gone
+        ex.shutdown(wait=True, cancel_futures=True)
+        raise
+    ex.shutdown(wait=True)
 
 
 def _on_dask(client, payloads: dict, retries: int, tag: str, done: Callable) -> None:

@@ -176,6 +176,15 @@ def test_grid_values_normalised_and_typed(tmp_path):
     assert e.value.key == "grid.x" and "mixes" in str(e.value)
 
 
+def test_a_seed_in_the_grid_is_the_one_used_and_none_mixes():
+    def f(x, seed, cap=None):
+        return {"seed_seen": seed, "capped": cap is not None}
+    df = sk.sweep(f, [{"x": 1, "seed": 5, "cap": None}, {"x": 2, "seed": 6, "cap": 2.5}], workers=0,
+                  progress_bar=False)
+    assert df["seed_seen"].tolist() == [5, 6] and df["seed"].tolist() == [5, 6]
+    assert df["capped"].tolist() == [False, True]
+
+
 def test_a_changed_function_does_not_mix_with_old_results(tmp_path):
     def f(x):
         return {"y": x}
@@ -197,7 +206,7 @@ def test_ctrl_c_in_a_scene_sweep_stops_it(tmp_path):
     import time
     scene = sk.Scene.from_builder("rope_bridge", n_planks=4, span=5.0, sag=0.5,
                                   world={"gravity": [0, -9.81, 0], "dt": 2e-3},
-                                  protocol=[{"step": {"steps": 400}}], outputs={"every": 50})
+                                  protocol=[{"step": {"steps": 1500}}], outputs={"every": 50})
     path = scene.save(tmp_path / "bridge.json")
     out = tmp_path / "sweep"
     args = [sys.executable, "-m", "strandkit", "sweep", str(path), "--vary", "structure.args.n_planks=3,4,5,6",

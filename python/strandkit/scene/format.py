@@ -78,9 +78,11 @@ def _check_world(world, units_default: str) -> dict:
         if isinstance(d, bool):
             ok = isinstance(v, bool)
         elif isinstance(d, int):
+            if isinstance(v, float) and v.is_integer():  # 10.0 is an integer to JSON Schema too
+                v = int(v)
             ok = isinstance(v, int) and not isinstance(v, bool) and 0 <= v < 2**63
         elif isinstance(d, float):
-            ok = finite(v) or (k == "divergence_factor" and v == math.inf)
+            ok = finite(v)
         elif isinstance(d, list):
             ok = isinstance(v, (list, tuple)) and len(v) == len(d) and all(finite(x) for x in v)
         else:
@@ -122,7 +124,7 @@ def _json_plain(x, key: str):
         return out
     if isinstance(x, (list, tuple)):
         return [_json_plain(v, f"{key}[{i}]") for i, v in enumerate(x)]
-    if isinstance(x, float) and not math.isfinite(x) and not key.endswith("divergence_factor"):
+    if isinstance(x, float) and not math.isfinite(x):
         raise _scene_error(key, f"{x!r} is not a finite value", x, "a finite number")
     if x is None or isinstance(x, (bool, int, float, str)):
         return x
@@ -314,9 +316,9 @@ class Scene:
 
     @property
     def digest(self) -> str:
-        """SHA-256 of the scene's canonical JSON: what a resumed run checks it continues."""
-        # file paths made absolute: the copy a run writes into its directory has the same digest
-        return hashlib.sha256(json.dumps(_rebased(self, "/"), sort_keys=True).encode()).hexdigest()
+        """SHA-256 of the scene's canonical JSON, files it names by their
+        content: what a resumed run or a sweep directory checks it continues."""
+        return hashlib.sha256(json.dumps(_identity(self), sort_keys=True).encode()).hexdigest()
 
     def with_values(self, values: Dict[str, Any]) -> "Scene":
         """A copy with ``{"dotted.key": value}`` set (``world.dt``,
@@ -414,18 +416,41 @@ def _toml_load(raw: bytes):
     return tomllib.loads(raw.decode("utf-8"))
 
 
-def _rebased(scene: Scene, target_dir: str) -> dict:
-    """The scene's data with its relative file paths (assembly file, meshes)
-    made relative to ``target_dir``, where the scene is being written."""
-    data = scene.to_dict()
-
-    def move(p):
-        return p if os.path.isabs(p) else os.path.relpath(os.path.join(scene.base_dir, p), target_dir)
+def _file_paths(data: dict):
+    """(table, key) of every file path in scene data (assembly file, meshes)."""
     if "assembly_file" in data["structure"]:
-        data["structure"]["assembly_file"] = move(data["structure"]["assembly_file"])
+        yield data["structure"], "assembly_file"
     for entry in data["obstacles"]:
         if "mesh" in entry:
-            entry["mesh"]["path"] = move(entry["mesh"]["path"])
+            yield entry["mesh"], "path"
+
+
+def _rebased(scene: Scene, target_dir: str) -> dict:
+    """The scene's data with its relative file paths made relative to
+    ``target_dir``, where the scene is being written (real paths on both
+    sides: ``..`` is resolved by the system on the real path, so a symlinked
+    directory must not be taken literally)."""
+    data = scene.to_dict()
+    for table, key in _file_paths(data):
+        p = table[key]
+        if not os.path.isabs(p):
+            table[key] = os.path.relpath(os.path.realpath(os.path.join(scene.base_dir, p)),
+                                         os.path.realpath(target_dir))
+    return data
+
+
+def _identity(scene: Scene) -> dict:
+    """The scene's data with each file path replaced by the SHA-256 of the
+    file's content: a moved scene is the same scene, an edited file is not."""
+    data = scene.to_dict()
+    for table, key in _file_paths(data):
+        p = table[key]
+        full = p if os.path.isabs(p) else os.path.join(scene.base_dir, p)
+        try:
+            with open(full, "rb") as f:
+                table[key] = "sha256:" + hashlib.sha256(f.read()).hexdigest()
+        except OSError:
+            table[key] = "missing:" + os.path.realpath(full)
     return data
 
 

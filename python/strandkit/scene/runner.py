@@ -33,6 +33,7 @@ from .protocol import DRIVE_COLUMNS, measure_nan, op_of
 
 BASE_COLUMNS = ("time", "step", "operation", "op", "kinetic", "elastic", "external", "total") + DRIVE_COLUMNS
 STATE, SNAPSHOT, CSV, EVENTS, TRAJ = "state.json", "snapshot.json", "observables.csv", "events.jsonl", "trajectory"
+STATE_VERSION = 1
 #: Bytes of a DCD header and of one frame of n atoms (core/src/io/trajectory.rs: unit cell + x, y, z blocks).
 DCD_HEADER = 276
 
@@ -152,7 +153,11 @@ class _Outputs:
         self.csv = open(self.paths["observables"], "a", newline="", encoding="utf-8")
         with open(self.paths["events"], encoding="utf-8") as f:
             # only the lines the snapshot counted: a kill may have cut the one after
-            ev = [json.loads(x) for x in f.read().split("\n")[: state["events"]]]
+            lines = f.read().split("\n")[: state["events"]]
+        try:
+            ev = [json.loads(x) for x in lines]
+        except ValueError as e:
+            raise FileError(f"i/o error: {self.paths['events']}: fewer or other events than the snapshot counted ({e})") from e
         self.events = ev
         _rewrite(self.paths["events"], "".join(json.dumps(e) + "\n" for e in ev))
         self.ev = open(self.paths["events"], "a", encoding="utf-8")
@@ -323,6 +328,10 @@ def _load_state(scene: Scene, out: str) -> Optional[dict]:
             state = json.load(f)
     except ValueError as e:
         raise FileError(f"i/o error: {path}: corrupt resume state ({e})") from e
+    keys = {"state_version", "digest", "op", "k", "drive", "done", "rows", "events", "frames", "n_steps", "world"}
+    if not isinstance(state, dict) or state.get("state_version") != STATE_VERSION or not keys <= set(state):
+        raise FileError(f"i/o error: {path}: not a resume state of this strandkit (version {STATE_VERSION}); "
+                        "run without resume")
     if state.get("digest") != scene.digest:
         raise _scene_error("out", f"{out} holds a run of another scene (or of this one with other values): "
                            "choose another directory or run without resume")
@@ -368,8 +377,8 @@ def run_scene(scene, out: Optional[str] = None, *, resume: bool = False, progres
 
     ``out``: directory for the outputs (None: nothing written, observables in
     memory); ``resume``: continue the run recorded in ``out`` (a fresh run
-    when there is none; a finished one is read back). A Ctrl-C (or SIGTERM
-    through the command line) between two steps writes a snapshot and raises
+    when there is none; a finished one is read back). A Ctrl-C or SIGTERM
+    stops the run at the next step boundary and raises
     :class:`~strandkit.Interrupted`; the last snapshot (every
     ``outputs.snapshot_every`` steps and after each operation) is where
     ``resume`` continues. A solver error ends the run and is raised: the
@@ -382,9 +391,8 @@ def run_scene(scene, out: Optional[str] = None, *, resume: bool = False, progres
     if out is not None:
         out = os.path.abspath(os.fspath(out))
         _check_out(out)
-        if resume:
-            state = _load_state(scene, out)
-        else:
+        state = _load_state(scene, out) if resume else None
+        if state is None:
             for name in OUTPUT_FILES:  # a fresh run: nothing of an earlier one stays beside it
                 if os.path.exists(os.path.join(out, name)):
                     os.remove(os.path.join(out, name))
@@ -398,7 +406,8 @@ def run_scene(scene, out: Optional[str] = None, *, resume: bool = False, progres
     outputs = _Outputs(scene, out, world, state)
     protocol = scene.data["protocol"]
     if state is None:
-        state = {"digest": scene.digest, "op": 0, "k": 0, "drive": None, "done": False}
+        state = {"state_version": STATE_VERSION, "digest": scene.digest, "op": 0, "k": 0, "drive": None,
+                 "done": False}
         outputs.record(-1, "start", measure_nan())
         outputs.snapshot(state)
     total = sum(op_of(e)[0].steps(op_of(e)[1], world.dt) for e in protocol)

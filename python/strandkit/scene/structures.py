@@ -40,7 +40,8 @@ def _check_like_default(default, value, key: str) -> None:
     if isinstance(default, bool):
         bad = not isinstance(value, bool) and "true or false"
     elif isinstance(default, int):
-        bad = (isinstance(value, bool) or not isinstance(value, int)) and "an integer"
+        bad = (isinstance(value, bool) or not (isinstance(value, int) or (isinstance(value, float) and value.is_integer()))) \
+            and "an integer"
     elif isinstance(default, float):
         bad = (isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value)) \
             and "a finite number"
@@ -81,7 +82,15 @@ def check_structure(structure, base_dir: str) -> dict:
                 raise _scene_error(f"{key}.args.{a}", f"unknown argument of {name}", None,
                                    "one of " + ", ".join(p for p in params))
             _check_like_default(params[a].default, args[a], f"{key}.args.{a}")
-        return {"builder": name, "args": dict(args)}
+        out = {}
+        for k, v in args.items():
+            d = params[k].default
+            if v is None and d is None:
+                continue  # the default spelled out: TOML cannot write None, so a scene never holds it
+            if isinstance(d, int) and not isinstance(d, bool) and isinstance(v, float):
+                v = int(v)  # an integral float (checked above), as JSON Schema's integers allow
+            out[k] = v
+        return {"builder": name, "args": out}
     if kind == "assembly":
         if not isinstance(structure["assembly"], dict):
             raise _scene_error(f"{key}.assembly", "expected the Assembly's JSON object", None)
