@@ -44,3 +44,28 @@ def temporary_for(path: str) -> Iterator[str]:
         if isinstance(e, FileError):
             raise
         raise file_error(path, e) from e
+
+
+def write_text(path: str, text: str) -> None:
+    """Writes ``text`` (UTF-8) to ``path`` atomically (see temporary_for)."""
+    with temporary_for(path) as tmp:
+        with open(tmp, "w", newline="", encoding="utf-8") as f:
+            f.write(text)
+
+
+def writable_dir(path: str, what: str) -> None:
+    """Creates directory ``path`` if needed and checks that a file can be
+    written in it (root ignores permission bits, so it is tried, not read);
+    a SceneError keyed ``out`` naming ``what`` otherwise."""
+    from .errors import _scene_error
+    try:
+        os.makedirs(path, exist_ok=True)
+    except OSError as e:
+        raise _scene_error("out", f"cannot create the {what} {path}: {e.strerror or e}", path) from e
+    probe = os.path.join(path, f".write-test-{os.getpid()}")
+    try:
+        with open(probe, "w"):
+            pass
+        os.remove(probe)
+    except OSError as e:
+        raise _scene_error("out", f"the {what} {path} is not writable: {e.strerror or e}", path) from e

@@ -41,34 +41,12 @@ import os
 import time
 from typing import Any, Callable, Dict, List, Optional, Union
 
+from ._files import temporary_for, write_text, writable_dir
 from .errors import FileError, Interrupted, SolverError, StrandkitError, _scene_error
 
 __all__ = ["sweep", "grid_points", "point_seed"]
 
 MAX_POINTS = 1_000_000
-
-
-def _finite_value(v) -> bool:
-    if isinstance(v, bool) or isinstance(v, str) or v is None:
-        return True
-    if isinstance(v, (int, float)):
-        return math.isfinite(v)
-    if isinstance(v, (list, tuple)):
-        return all(_finite_value(x) for x in v)
-    if isinstance(v, dict):
-        return all(isinstance(k, str) and _finite_value(x) for k, x in v.items())
-    return False
-
-
-def _plain(v):
-    """numpy arrays and scalars → lists and Python numbers."""
-    if hasattr(v, "tolist"):
-        return v.tolist()
-    if isinstance(v, (list, tuple)):
-        return [_plain(x) for x in v]
-    if isinstance(v, dict):
-        return {k: _plain(x) for k, x in v.items()}
-    return v
 
 
 def _kind(v) -> str:
@@ -93,7 +71,7 @@ def grid_points(grid) -> List[Dict[str, Any]]:
                 raise _scene_error("grid", f"key {k!r} is not a name")
             if isinstance(vals, (str, bytes)) or not hasattr(vals, "__iter__"):
                 raise _scene_error(f"grid.{k}", "expected a list of values", vals)
-        lists = [list(_plain(v)) for v in grid.values()]
+        lists = [list(v) for v in grid.values()]
         n = math.prod(len(v) for v in lists)
         if n == 0:
             empty = next(k for k, v in zip(grid, lists) if not v)
@@ -113,12 +91,14 @@ def grid_points(grid) -> List[Dict[str, Any]]:
                 raise _scene_error(f"grid[{i}]", f"keys {sorted(p)} differ from the first point's {sorted(keys)}")
     else:
         raise _scene_error("grid", f"expected a dict of value lists or a list of points, got {type(grid).__name__}")
+    from .scene.format import _json_plain
     for i, p in enumerate(points):
         for k, v in p.items():
-            v = _plain(v)
-            if not _finite_value(v):
-                raise _scene_error(f"grid.{k}", f"point {i}: {v!r} is not a finite value", v, "finite numbers, strings, booleans")
-            p[k] = json.loads(json.dumps(v))  # tuples → lists: as the manifest reads back
+            try:  # plain JSON values (numpy → numbers, tuples → lists): as the manifest reads back
+                p[k] = _json_plain(v, f"grid.{k}")
+            except StrandkitError as e:
+                raise _scene_error(f"grid.{k}", f"point {i}: {v!r} is not a finite value", v,
+                                   "finite numbers, strings, booleans") from e
     for k in points[0]:  # one type per key: a results column has one type
         kinds = {_kind(p[k]) for p in points} - {"null"}  # None (a default) goes with any type
         if len(kinds) > 1:
@@ -208,14 +188,7 @@ class _Store:
         self.out, self.rows = out, {}
         if out is None:
             return
-        try:
-            os.makedirs(os.path.join(out, "points"), exist_ok=True)
-            probe = os.path.join(out, f".write-test-{os.getpid()}")
-            with open(probe, "w"):
-                pass
-            os.remove(probe)
-        except OSError as e:
-            raise _scene_error("out", f"the sweep directory {out} is not writable: {e.strerror or e}", out) from e
+        writable_dir(os.path.join(out, "points"), "sweep directory")
         path = os.path.join(out, "sweep.json")
         if os.path.exists(path):
             with open(path, encoding="utf-8") as f:
@@ -227,12 +200,7 @@ class _Store:
                 raise _scene_error("out", f"{out} holds another sweep (other grid, seed or target): "
                                    "choose another directory")
         else:
-            self._atomic(path, lambda tmp: open(tmp, "w", encoding="utf-8").write(json.dumps(manifest, indent=1)))
-
-    def _atomic(self, path, write):
-        from ._files import temporary_for
-        with temporary_for(path) as tmp:
-            write(tmp)
+            write_text(path, json.dumps(manifest, indent=1))
 
     def done(self, pid: str) -> Optional[dict]:
         if self.out is None:
@@ -247,8 +215,8 @@ class _Store:
         self.rows[pid] = row
         if self.out is not None:
             import pandas as pd
-            self._atomic(os.path.join(self.out, "points", f"{pid}.parquet"),
-                         lambda tmp: pd.DataFrame([row]).to_parquet(tmp, index=False))
+            with temporary_for(os.path.join(self.out, "points", f"{pid}.parquet")) as tmp:
+                pd.DataFrame([row]).to_parquet(tmp, index=False)
 
 
 def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None, client=None,
@@ -354,7 +322,6 @@ def sweep(target: Union[Callable, Any, str], grid, *, out: Optional[str] = None,
     bar.close()
     df = pd.DataFrame([store.done(pid) for pid in ids])
     if out is not None:
-        from ._files import temporary_for
         with temporary_for(os.path.join(out, "results.parquet")) as tmp:
             try:
                 df.to_parquet(tmp, index=False)

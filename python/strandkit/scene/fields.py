@@ -138,6 +138,26 @@ def check_table(fields: Sequence[Field], table, key: str) -> Dict[str, Any]:
     return out
 
 
+def one_key_tables(value, key: str, names, what: str, expected: str):
+    """(key[i], name, arguments) of a list of one-key tables ``{name: {…}}``
+    whose names are in ``names``; None is an empty list. The errors name the
+    entry (an unknown name: ``key[i].name``)."""
+    if value is None:
+        return []
+    if not isinstance(value, list):
+        raise _scene_error(key, f"expected {expected}", value)
+    out = []
+    for i, entry in enumerate(value):
+        sub = f"{key}[{i}]"
+        if not isinstance(entry, dict) or len(entry) != 1:
+            raise _scene_error(sub, f"expected one {what} as {{name: {{…}}}}", entry, "one of " + ", ".join(names))
+        name, args = next(iter(entry.items()))
+        if name not in names:
+            raise _scene_error(f"{sub}.{name}", f"unknown {what}", None, "one of " + ", ".join(names))
+        out.append((sub, name, args if args is not None else {}))
+    return out
+
+
 def table_schema(fields: Sequence[Field], doc: str = "") -> dict:
     """The JSON Schema of a table of ``fields`` (no other keys)."""
     s = {"type": "object", "additionalProperties": False,

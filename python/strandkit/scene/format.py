@@ -10,6 +10,7 @@ the structure does not have — and the error names the key
 from __future__ import annotations
 
 import copy
+import functools
 import hashlib
 import json
 import math
@@ -17,7 +18,7 @@ import os
 from typing import Any, Dict, List, Optional
 
 from ..errors import FileError, StrandkitError, _scene_error
-from .fields import Field, check_table, finite
+from .fields import Field, check_table, finite, one_key_tables
 from .protocol import check_labels, check_protocol
 from .structures import build, check_structure, default_units
 
@@ -59,7 +60,12 @@ OUTPUT_FIELDS = [
 
 
 def world_settings() -> Dict[str, Any]:
-    """The world's settings and their defaults (World().params)."""
+    """The world's settings and their defaults (World().params, a copy)."""
+    return copy.deepcopy(_default_params())
+
+
+@functools.lru_cache(maxsize=1)
+def _default_params() -> Dict[str, Any]:
     from .._native import World
     return World().params
 
@@ -133,17 +139,8 @@ def _json_plain(x, key: str):
 
 
 def _check_obstacles(obstacles, base_dir: str) -> List[dict]:
-    if obstacles is None:
-        return []
-    if not isinstance(obstacles, list):
-        raise _scene_error("obstacles", "expected a list", obstacles)
     out = []
-    for i, entry in enumerate(obstacles):
-        key = f"obstacles[{i}]"
-        if not isinstance(entry, dict) or len(entry) != 1 or next(iter(entry)) not in OBSTACLE_FIELDS:
-            raise _scene_error(key, "expected one obstacle as {kind: {…}}", entry,
-                               "one of " + ", ".join(OBSTACLE_FIELDS))
-        kind, args = next(iter(entry.items()))
+    for key, kind, args in one_key_tables(obstacles, "obstacles", OBSTACLE_FIELDS, "obstacle", "a list"):
         args = check_table(OBSTACLE_FIELDS[kind], args, f"{key}.{kind}")
         if kind == "mesh":
             full = args["path"] if os.path.isabs(args["path"]) else os.path.join(base_dir, args["path"])
@@ -286,12 +283,9 @@ class Scene:
         stepping: holds are made, drives find and check the constraints
         they move (existing, movable, holding a roll to turn), so a scene
         that loads runs; then the recorded groups must exist."""
-        from .protocol import Hold, op_of
+        from .protocol import Hold, op_of, world_labels
         w, _ = self.world()
-        labels = set(w.groups)
-        for g in list(labels):
-            labels.update(label for label, _ in w.group(g).members)
-        check_labels(self.data["protocol"], labels)
+        check_labels(self.data["protocol"], world_labels(w))
         for i, entry in enumerate(self.data["protocol"]):
             op, args = op_of(entry)
             try:
@@ -301,9 +295,7 @@ class Scene:
                     op.begin(w, args)
             except StrandkitError as e:
                 raise _scene_error(f"protocol[{i}].{op.name}", getattr(e, "problem", str(e))) from e
-        known = set(w.groups)
-        for g in list(known):
-            known.update(label for label, _ in w.group(g).members)
+        known = world_labels(w)
         for g in self.data["outputs"]["groups"]:
             if g not in known:
                 raise _scene_error("outputs.groups", f"no group {g!r} in the scene", g,
@@ -467,10 +459,8 @@ def scene_text(scene: Scene, fmt: str, target_dir: Optional[str] = None) -> str:
 
 def save_scene(scene: Scene, path: str) -> str:
     """Writes ``scene`` atomically to ``path`` (``.toml`` → TOML, else JSON)."""
-    from .._files import temporary_for
+    from .._files import write_text
     path = os.fspath(path)
-    text = scene_text(scene, "toml" if path.endswith(".toml") else "json", os.path.dirname(os.path.abspath(path)))
-    with temporary_for(path) as tmp:
-        with open(tmp, "w", encoding="utf-8") as f:
-            f.write(text)
+    write_text(path, scene_text(scene, "toml" if path.endswith(".toml") else "json",
+                                os.path.dirname(os.path.abspath(path))))
     return path

@@ -17,12 +17,12 @@ from __future__ import annotations
 import copy
 import math
 import re
-from typing import Dict, List, Optional
+from typing import Dict, List
 
 import numpy as np
 
 from ..errors import _scene_error
-from .fields import Field, check_table
+from .fields import Field, check_table, one_key_tables
 
 #: Constraint kinds whose point a drive moves, and the field holding it
 #: (the first three components of a Position's target are the point).
@@ -69,16 +69,18 @@ class Op:
         return {}
 
 
-def _duration_or_increments(args, key):
-    if (args.get("duration") is None) == (args.get("increments") is None):
-        raise _scene_error(key, "give exactly one of duration (dynamic) and increments (quasi-static)")
-    return args
+def _steps_for(duration: float, dt: float) -> int:
+    """Steps of ``dt`` that cover ``duration`` (at least one; a duration that
+    is a whole number of steps up to rounding takes that number)."""
+    return max(1, math.ceil(duration / dt - 1e-9))
 
 
-def _drive_steps(args, dt):
-    if args.get("increments") is not None:
-        return args["increments"]
-    return max(1, math.ceil(args["duration"] / dt - 1e-9))
+def world_labels(world) -> set:
+    """Every name the world answers for: group names and full labels."""
+    names = set(world.groups)
+    for g in world.groups:
+        names.update(label for label, _ in world.group(g).members)
+    return names
 
 
 def _members(world, label: str, drive: dict):
@@ -135,8 +137,9 @@ def _force_along(world, label: str, drive: dict, direction) -> float:
     return float(sum(np.dot(world.reaction(h).force, d) for h, _ in alive))
 
 
-def _fraction(k: int, n: int) -> float:
-    return k / n
+#: How long a drive runs: one of the two (``Drive.check``).
+DURATION = Field("duration", "positive", "time", "how long (dynamic)", None)
+INCREMENTS = Field("increments", "count", "", "quasi-static increments (instead of duration)", None)
 
 
 class Drive(Op):
@@ -144,10 +147,12 @@ class Drive(Op):
     steps) or ``increments`` (quasi-static, each relaxed)."""
 
     def check(self, args, key):
-        return _duration_or_increments(args, key)
+        if (args["duration"] is None) == (args["increments"] is None):
+            raise _scene_error(key, "give exactly one of duration (dynamic) and increments (quasi-static)")
+        return args
 
     def steps(self, args, dt):
-        return _drive_steps(args, dt)
+        return args["increments"] if args["increments"] is not None else _steps_for(args["duration"], dt)
 
     def quasi_static(self, args):
         return args["increments"] is not None
@@ -184,7 +189,7 @@ class Step(Op):
         return args
 
     def steps(self, args, dt):
-        return args["steps"] if args["steps"] is not None else max(1, math.ceil(args["duration"] / dt - 1e-9))
+        return args["steps"] if args["steps"] is not None else _steps_for(args["duration"], dt)
 
 
 class Hold(Op):
@@ -229,14 +234,13 @@ class Pull(Drive):
     doc = ("Moves the points of the labelled constraints at a constant velocity; records their "
            "displacement along it and the force they exert on their rods along it.")
     fields = [Field("constraints", "string", "", "label or group of the driven constraints"),
-              Field("velocity", "vec3", "length/time", "velocity of the targets"),
-              Field("duration", "positive", "time", "how long (dynamic)", None),
+              Field("velocity", "vec3", "length/time", "velocity of the targets"), DURATION,
               Field("increments", "count", "", "quasi-static increments over the distance "
                     "velocity × time (instead of a dynamic pull)", None),
               Field("time", "positive", "time", "with increments: the time the distance corresponds to", None)]
 
     def check(self, args, key):
-        _duration_or_increments(args, key)
+        super().check(args, key)
         if args["increments"] is not None and args["time"] is None:
             raise _scene_error(f"{key}.time", "missing: increments move the targets by velocity × time")
         if args["increments"] is None and args["time"] is not None:
@@ -252,12 +256,12 @@ class Pull(Drive):
         return _movable(world, args["constraints"])
 
     def before(self, world, args, drive, k, n):
-        self.shift(world, args, drive, np.asarray(args["velocity"]) * (self._total(args) * _fraction(k, n)))
+        self.shift(world, args, drive, np.asarray(args["velocity"]) * (self._total(args) * (k / n)))
 
     def measure(self, world, args, drive, k, n):
         v = np.asarray(args["velocity"])
         d = v / np.linalg.norm(v)
-        return {"drive_displacement": float(np.linalg.norm(v) * self._total(args) * _fraction(k, n)),
+        return {"drive_displacement": float(np.linalg.norm(v) * self._total(args) * (k / n)),
                 "drive_force": _force_along(world, args["constraints"], drive, d)}
 
 
@@ -268,12 +272,10 @@ class Stretch(Drive):
            "displacement and the force along that line.")
     fields = [Field("constraints", "string", "", "label or group of the moved constraints"),
               Field("about", "string", "", "label or group of the constraints held still"),
-              Field("strain", "number", "", "relative change of the centroids' distance"),
-              Field("duration", "positive", "time", "how long (dynamic)", None),
-              Field("increments", "count", "", "quasi-static increments (instead of duration)", None)]
+              Field("strain", "number", "", "relative change of the centroids' distance"), DURATION, INCREMENTS]
 
     def check(self, args, key):
-        _duration_or_increments(args, key)
+        super().check(args, key)
         if args["strain"] <= -1:
             raise _scene_error(f"{key}.strain", f"{args['strain']} would cross the held end", args["strain"],
                                "a strain > -1")
@@ -293,7 +295,7 @@ class Stretch(Drive):
         return dict(drive, direction=((b - a) / length).tolist(), length=length)
 
     def _extension(self, args, drive, k, n):
-        return args["strain"] * drive["length"] * _fraction(k, n)
+        return args["strain"] * drive["length"] * (k / n)
 
     def before(self, world, args, drive, k, n):
         self.shift(world, args, drive, np.asarray(drive["direction"]) * self._extension(args, drive, k, n))
@@ -309,8 +311,7 @@ class Rotate(Drive):
            "or MaterialRoll) by a number of turns; records the turns and the torque about the rod's tangent.")
     fields = [Field("constraints", "string", "", "label or group of the turned constraints"),
               Field("turns", "number", "turns", "turns added to the roll (positive: right-handed about the tangent)"),
-              Field("duration", "positive", "time", "how long (dynamic)", None),
-              Field("increments", "count", "", "quasi-static increments (instead of duration)", None)]
+              DURATION, INCREMENTS]
 
     def begin(self, world, args):
         return _drive_state(world, args["constraints"],
@@ -318,7 +319,7 @@ class Rotate(Drive):
                             "rotate needs a roll to turn (a Position holding 'r', or a MaterialRoll)")
 
     def before(self, world, args, drive, k, n):
-        angle = 2 * math.pi * args["turns"] * _fraction(k, n)
+        angle = 2 * math.pi * args["turns"] * (k / n)
         for h, kind in _members(world, args["constraints"], drive):
             k2 = copy.deepcopy(kind)
             if "MaterialRoll" in k2:
@@ -334,7 +335,7 @@ class Rotate(Drive):
             u = next(iter(kind.values()))["u"]
             t = np.asarray(h.rod.tangent(u), dtype=float)
             torque += float(np.dot(world.reaction(h).torque, t / np.linalg.norm(t)))
-        return {"drive_turns": args["turns"] * _fraction(k, n), "drive_torque": torque}
+        return {"drive_turns": args["turns"] * (k / n), "drive_torque": torque}
 
 
 #: The operations by name: one line per operation.
@@ -346,22 +347,10 @@ DRIVE_COLUMNS = ("drive_displacement", "drive_force", "drive_turns", "drive_torq
 
 def check_protocol(protocol) -> List[dict]:
     """The protocol checked: a list of one-key tables naming an operation."""
-    if protocol is None:
-        return []
-    if not isinstance(protocol, list):
-        raise _scene_error("protocol", "expected a list of operations", protocol)
     out = []
-    for i, entry in enumerate(protocol):
-        key = f"protocol[{i}]"
-        if not isinstance(entry, dict) or len(entry) != 1:
-            raise _scene_error(key, "expected one operation as {name: {arguments}}", entry,
-                               "one of " + ", ".join(OPS))
-        name, args = next(iter(entry.items()))
-        if name not in OPS:
-            raise _scene_error(f"{key}.{name}", "unknown operation", None, "one of " + ", ".join(OPS))
+    for key, name, args in one_key_tables(protocol, "protocol", OPS, "operation", "a list of operations"):
         op = OPS[name]
-        out.append({name: op.check(check_table(op.fields, args if args is not None else {}, f"{key}.{name}"),
-                                   f"{key}.{name}")})
+        out.append({name: op.check(check_table(op.fields, args, f"{key}.{name}"), f"{key}.{name}")})
     return out
 
 

@@ -27,9 +27,10 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from ..errors import FileError, Interrupted, _scene_error
+from .._files import temporary_for, write_text, writable_dir
 from .._progress import progress
 from .format import Scene, save_scene
-from .protocol import DRIVE_COLUMNS, measure_nan, op_of
+from .protocol import DRIVE_COLUMNS, measure_nan, op_of, world_labels
 
 BASE_COLUMNS = ("time", "step", "operation", "op", "kinetic", "elastic", "external", "total") + DRIVE_COLUMNS
 STATE, SNAPSHOT, CSV, EVENTS, TRAJ = "state.json", "snapshot.json", "observables.csv", "events.jsonl", "trajectory"
@@ -135,8 +136,7 @@ class _Outputs:
                                          initial=resume_state is None, append=resume_state is not None,
                                          pdb=resume_state is None, psf=resume_state is None,
                                          topology=Topology(world), positions=lambda: bead_positions(self.world))
-            self.paths.update({k: v for k, v in self.traj.paths.items()})
-            self.paths.update(pdb=prefix + ".pdb", psf=prefix + ".psf")
+            self.paths.update(dcd=prefix + ".dcd", pdb=prefix + ".pdb", psf=prefix + ".psf")
 
     def _restore(self, state: dict) -> None:
         """Reads back the rows and events the snapshot had written, cutting what came after."""
@@ -149,7 +149,7 @@ class _Outputs:
         if len(kept) != state["rows"]:
             raise FileError(f"i/o error: {self.paths['observables']}: {len(kept)} rows, the snapshot wrote {state['rows']}")
         self.rows = [[_parse(c, x) for c, x in zip(self.cols, line.split(","))] for line in kept]
-        _rewrite(self.paths["observables"], "\n".join(lines[:1 + state["rows"]]) + "\n")
+        write_text(self.paths["observables"], "\n".join(lines[:1 + state["rows"]]) + "\n")
         self.csv = open(self.paths["observables"], "a", newline="", encoding="utf-8")
         with open(self.paths["events"], encoding="utf-8") as f:
             # only the lines the snapshot counted: a kill may have cut the one after
@@ -159,7 +159,7 @@ class _Outputs:
         except ValueError as e:
             raise FileError(f"i/o error: {self.paths['events']}: fewer or other events than the snapshot counted ({e})") from e
         self.events = ev
-        _rewrite(self.paths["events"], "".join(json.dumps(e) + "\n" for e in ev))
+        write_text(self.paths["events"], "".join(x + "\n" for x in lines))
         self.ev = open(self.paths["events"], "a", encoding="utf-8")
 
     def _cut_dcd(self, path: str, frames: int) -> None:
@@ -178,28 +178,23 @@ class _Outputs:
         row = [w.time, w.n_steps, op_name, op_index, e["kinetic"], e["elastic"], e["external"], e["total"]]
         row += [drive.get(c, math.nan) for c in DRIVE_COLUMNS]
         for g in self.scene.data["outputs"]["groups"]:
-            if g not in self._known(g):
+            if g not in w.groups and g not in world_labels(w):
                 row += [0, math.nan, math.nan]  # a group a later hold makes: nothing in it yet
                 continue
             grp = w.group(g)
-            t = np.asarray(grp.tensions, dtype=float) if len(grp.constraints) else np.zeros(0)
-            forces = np.asarray(grp.forces, dtype=float).reshape(-1, 3)
-            alive = np.asarray(grp.alive, dtype=bool) if len(grp.constraints) else np.zeros(0, bool)
-            mags = np.linalg.norm(forces[alive], axis=1) if alive.any() else np.zeros(0)
-            row += [int(np.asarray(grp.broken, dtype=bool).sum()) if len(grp.constraints) else 0,
+            if not len(grp.constraints):  # a group of rods or loads only: no constraint to measure
+                row += [0, math.nan, math.nan]
+                continue
+            t = np.asarray(grp.tensions, dtype=float)
+            alive = np.asarray(grp.alive, dtype=bool)
+            mags = np.linalg.norm(np.asarray(grp.forces, dtype=float).reshape(-1, 3)[alive], axis=1)
+            row += [int(np.asarray(grp.broken, dtype=bool).sum()),
                     float(np.nansum(t)) if np.isfinite(t).any() else math.nan,
                     float(mags.max()) if len(mags) else math.nan]
         self.rows.append(row)
         if self.out is not None:
             self.writer.writerow([_fmt(v) for v in row])
             self.csv.flush()
-
-    def _known(self, g: str) -> set:
-        """Names the world answers for now: group names and full labels."""
-        w = self.world
-        if g in w.groups:
-            return {g}
-        return {label for name in w.groups for label, _ in w.group(name).members}
 
     def frame(self) -> None:
         if self.traj is not None:
@@ -223,24 +218,19 @@ class _Outputs:
         world and one resumed from the file would part at rounding level.
         Reloading here (also when nothing is written) makes every run, cut
         or not, take the same path."""
-        from .._files import temporary_for
         from .._native import World
         text = self.world.to_json()
         self.world = World.from_json(text)
         self.snapshot_step = self.world.n_steps
         if self.out is None:
             return
-        with temporary_for(os.path.join(self.out, SNAPSHOT)) as tmp:
-            with open(tmp, "w", encoding="utf-8") as f:
-                f.write(text)
+        write_text(os.path.join(self.out, SNAPSHOT), text)
         # The resume state carries the world too: one atomic write, so a kill
         # can never leave a state and a world of different steps.
         state = dict(state, rows=len(self.rows), events=len(self.events),
                      frames=self.traj.n_frames if self.traj is not None else 0, n_steps=self.world.n_steps,
                      world=text)
-        with temporary_for(os.path.join(self.out, STATE)) as tmp:
-            with open(tmp, "w", encoding="utf-8") as f:
-                json.dump(state, f)
+        write_text(os.path.join(self.out, STATE), json.dumps(state))
 
     def observables(self) -> Dict[str, np.ndarray]:
         cols = list(zip(*self.rows)) if self.rows else [[] for _ in self.cols]
@@ -272,7 +262,6 @@ class _Outputs:
                 warnings.warn("observables.parquet not written: it needs pandas and pyarrow "
                               '(pip install "strandkit[study]"); observables.csv has the same data', stacklevel=3)
             else:
-                from .._files import temporary_for
                 path = os.path.join(self.out, "observables.parquet")
                 with temporary_for(path) as tmp:
                     pd.DataFrame(obs).to_parquet(tmp, index=False)
@@ -291,32 +280,10 @@ class _Outputs:
                                                   self.scene.data.get("name", ""), self.scene.data["world"]["units"])
 
 
-def _rewrite(path: str, text: str) -> None:
-    """Replaces a file's content atomically (a kill leaves the old or the new one)."""
-    from .._files import temporary_for
-    with temporary_for(path) as tmp:
-        with open(tmp, "w", newline="", encoding="utf-8") as f:
-            f.write(text)
-
-
 #: Files a run writes in its directory (a fresh run removes them first, so
 #: none is left over from an earlier run).
 OUTPUT_FILES = ("scene.json", STATE, SNAPSHOT, CSV, EVENTS, "observables.parquet", "observables.png",
                 TRAJ + ".pdb", TRAJ + ".psf", TRAJ + ".dcd")
-
-
-def _check_out(out: str) -> None:
-    try:
-        os.makedirs(out, exist_ok=True)
-    except OSError as e:
-        raise _scene_error("out", f"cannot create the output directory {out}: {e.strerror or e}", out) from e
-    probe = os.path.join(out, f".write-test-{os.getpid()}")
-    try:
-        with open(probe, "w"):
-            pass
-        os.remove(probe)
-    except OSError as e:
-        raise _scene_error("out", f"the output directory {out} is not writable: {e.strerror or e}", out) from e
 
 
 def _load_state(scene: Scene, out: str) -> Optional[dict]:
@@ -390,7 +357,7 @@ def run_scene(scene, out: Optional[str] = None, *, resume: bool = False, progres
     state = None
     if out is not None:
         out = os.path.abspath(os.fspath(out))
-        _check_out(out)
+        writable_dir(out, "output directory")
         state = _load_state(scene, out) if resume else None
         if state is None:
             for name in OUTPUT_FILES:  # a fresh run: nothing of an earlier one stays beside it
