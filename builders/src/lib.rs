@@ -11,6 +11,8 @@
 //! - [`dna::duplex`]: a B-DNA duplex from a sequence: two strands, hydrogen
 //!   bonds, breakable stacking (§9.1); [`dna_elasticity`]: its elastic
 //!   constants measured at zero temperature.
+//! - [`knit::fabric`]: weft-knit fabrics (jersey, rib, garter, seed, any
+//!   knit/purl grid) of naturally straight yarns held by contact (§9.3).
 //! - [`rope::Rope`]: a rope given by linear density, EA and EI.
 //! - [`curves`]: catenary and loaded-cable shapes (initial shapes and the
 //!   closed forms of the tests).
@@ -19,6 +21,7 @@ pub mod curves;
 pub mod dna;
 pub mod dna_elasticity;
 pub mod harness;
+pub mod knit;
 pub mod necklace;
 pub mod rope;
 pub mod rope_bridge;
@@ -27,6 +30,7 @@ pub mod spring;
 pub use cable::{cable_on_clips, CableLayout, CableOnClips};
 pub use dna::{duplex, Duplex, DuplexLayout, Elasticity, Stacking, Strand};
 pub use harness::{harness, BranchEnd, Harness, HarnessLayout, JunctionLink};
+pub use knit::{fabric, Boundary, Fabric, FabricLayout, LoopModel, LoopSpan, Pattern, Stitch, StitchGrid, Yarn};
 pub use necklace::{necklace, Hang, Necklace, NecklaceLayout};
 pub use rope::Rope;
 pub use rope_bridge::{rope_bridge, BridgeLayout, PlankModel, RopeBridge};

@@ -71,6 +71,10 @@ impl Rod {
     /// Rest arc length from the start of the domain to abscissa `u`
     /// (length unit; 8-point Gauss–Legendre on the partial segment).
     pub fn rest_arc_length(&self, u: f64) -> Result<f64> {
+        // The end of a ring's domain is its start again for `locate`.
+        if u == self.domain().1 {
+            return Ok(self.rest_length());
+        }
         let seg = self.knots.locate(u)?;
         let c = &self.cache;
         let before: f64 = c.samples[..c.seg_start[seg]].iter().map(|s| s.w).sum();

@@ -82,6 +82,12 @@ pub struct RodOptions {
     /// keep their physical mass and drag (Σ b_k″ = 0).
     #[serde(default)]
     pub sampling_length: f64,
+    /// A naturally straight rod wound into its initial shape: zero rest
+    /// curvatures and twist (the rest arc length is still the initial
+    /// shape's). A yarn knitted into loops, or closed into a ring (a
+    /// closed curve cannot be a straight rest shape).
+    #[serde(default)]
+    pub straight_rest: bool,
 }
 
 impl Default for RodOptions {
@@ -96,6 +102,7 @@ impl Default for RodOptions {
             poisson_update: false,
             stretch_at_greville: false,
             sampling_length: 0.0,
+            straight_rest: false,
         }
     }
 }

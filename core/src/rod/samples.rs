@@ -226,11 +226,14 @@ impl Cache {
             // (its curvature energy would be 1e-16 of the threshold's): no
             // rest curvature to keep, and a δ_b at round-off level would
             // make the Huber Hessian noise.
-            let delta_bend = if c0 > 1e-8 * delta { delta.min(0.5 * c0) } else { delta };
+            // A naturally straight rest (`RodOptions::straight_rest`) keeps
+            // no rest curvature, so it is regularised as a straight rod.
+            let straight = rod.opts.straight_rest;
+            let delta_bend = if c0 > 1e-8 * delta && !straight { delta.min(0.5 * c0) } else { delta };
             let mut consts = SampleConsts { speed0, delta, delta_bend, ..Default::default() };
             set_stiffness(&mut consts, &p, e, g);
             // An imposed excess link lowers the rest twist uniformly (topology.rs).
-            let rest = [k1, k2, om - rod.link_twist_shift(c.rest_length)];
+            let rest = if straight { [0.0; 3] } else { [k1, k2, om - rod.link_twist_shift(c.rest_length)] };
             set_plastic(&mut consts, &rest, &rod.plastic.get(idx).copied().unwrap_or_default());
             let mu = rho * p.area;
             let rho_i0 = rho * p.i0;

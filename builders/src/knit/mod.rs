@@ -1,0 +1,465 @@
+//! Weft-knit fabrics at the yarn level (SPEC §9.3): jersey, rib, garter,
+//! seed or any knit/purl grid, from a loop length, a yarn and its radius.
+//!
+//! Each yarn is a naturally straight rod (`RodOptions::straight_rest`)
+//! wound along the harmonic loop model of [`loop_model`], through points
+//! at equal arc length (`control_points_per_loop` per stitch). Nothing
+//! ties the loops together: the interlocks are held by yarn–yarn contact,
+//! which the world must detect (`World::add_contact_detector` with the
+//! yarn's radius; Python `Fabric.world()`), so yarn slides through loops.
+//! Edges: the cast-on course is the start of the yarn; the last course is
+//! bound off by distance links between neighbouring heads (`bindoff[i]`, a
+//! chain bind-off, which keeps its loops from running back); the sides are
+//! the yarn turning round (one continuous yarn) or free yarn ends (one yarn
+//! per course, with a tail of half a wale). The periodic boundary is a tube
+//! knitted in the round, one ring per course: no side edges.
+pub mod loop_model;
+pub mod pattern;
+pub mod yarn;
+
+pub use loop_model::LoopModel;
+pub use pattern::{Pattern, Stitch, StitchGrid, MAX_STITCHES};
+pub use yarn::Yarn;
+
+use nalgebra::Vector3;
+use std::f64::consts::{PI, TAU};
+use strandkit_core::constraint::kinds::{Position, RelativeDistance};
+use strandkit_core::error::{positive, size};
+use strandkit_core::rod::RodShape;
+use strandkit_core::spline::KnotKind;
+use strandkit_core::{Assembly, Error, Result, Rod, RodBuilder, RodOptions};
+
+/// Most control points a fabric may have in all.
+pub const MAX_CONTROL_POINTS: usize = 4_000_000;
+
+/// Smallest clearance (distance between yarn surfaces over a diameter,
+/// plus one) the initial path must have.
+pub const MIN_CLEARANCE: f64 = 1.02;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Boundary {
+    /// A flat swatch with free edges.
+    Free,
+    /// A tube knitted in the round (periodic along the course).
+    Periodic,
+    /// A flat swatch with its cast-on sinkers and bound-off heads held
+    /// where they are built (`bottom_edge[i]`, `top_edge[i]`).
+    ClampedEdges,
+}
+
+impl Boundary {
+    pub fn from_name(name: &str) -> Result<Boundary> {
+        Ok(match name {
+            "free" => Boundary::Free,
+            "periodic" => Boundary::Periodic,
+            "clamped_edges" => Boundary::ClampedEdges,
+            _ => return Err(Error::invalid("boundary", name, "\"free\", \"periodic\" or \"clamped_edges\"")),
+        })
+    }
+}
+
+/// Parameters of [`fabric`] (SI units).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Fabric {
+    pub grid: StitchGrid,
+    /// Yarn length per stitch ℓ (m).
+    pub loop_length: f64,
+    pub yarn: Yarn,
+    /// One yarn for the whole swatch (true) or one per course.
+    pub continuous: bool,
+    pub boundary: Boundary,
+    /// Initial (wale spacing, course spacing) in m; None: the loop model's
+    /// default proportions (w : c = 4 : 3) scaled to the loop length.
+    pub spacing: Option<[f64; 2]>,
+    pub control_points_per_loop: usize,
+    /// Bind off the last course (links between neighbouring heads).
+    pub bind_off: bool,
+}
+
+impl Default for Fabric {
+    /// A 10 × 10 plain jersey of 0.1 mm-radius nylon monofilament, loop length 5 mm.
+    fn default() -> Self {
+        Fabric {
+            grid: StitchGrid::new(Pattern::Jersey, 10, 10).expect("a 10 × 10 grid is valid"),
+            loop_length: 5e-3,
+            yarn: Yarn::preset("nylon", 1e-4).expect("a preset yarn is valid"),
+            continuous: true,
+            boundary: Boundary::Free,
+            spacing: None,
+            control_points_per_loop: 12,
+            bind_off: true,
+        }
+    }
+}
+
+/// Where loop (i, j) lies on its yarn: abscissae of its start (the sinker
+/// before it), its head and its end.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoopSpan {
+    pub wale: usize,
+    pub course: usize,
+    /// Index in `FabricLayout::yarns` (= the assembly's rod index).
+    pub rod: usize,
+    pub u_start: f64,
+    pub u_head: f64,
+    pub u_end: f64,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct FabricLayout {
+    /// Assembly rod index of each yarn (one, or one per course).
+    pub yarns: Vec<usize>,
+    /// Loop (i, j) at j·wales + i.
+    pub loops: Vec<LoopSpan>,
+    /// The initial geometry.
+    pub model: LoopModel,
+    /// Mean yarn length per stitch of the built path (m).
+    pub loop_length: f64,
+    /// Smallest centreline distance over 2r in the built path (≥ MIN_CLEARANCE).
+    pub clearance: f64,
+    /// Constraint indices of the bind-off links.
+    pub bind_off: Vec<usize>,
+    /// Constraint indices of the edge clamps (ClampedEdges).
+    pub clamps: Vec<usize>,
+    /// Tube radius (m) for the periodic boundary, else 0.
+    pub tube_radius: f64,
+}
+
+impl Fabric {
+    pub fn validate(&self) -> Result<()> {
+        positive("loop_length", self.loop_length)?;
+        self.yarn.validate()?;
+        if self.control_points_per_loop < 4 {
+            return Err(Error::invalid("control_points_per_loop", self.control_points_per_loop, "at least 4"));
+        }
+        let stitches = self.grid.wales() * self.grid.courses();
+        size("control points (stitches × control_points_per_loop)", stitches.saturating_mul(self.control_points_per_loop), MAX_CONTROL_POINTS)?;
+        if let Some([w, c]) = self.spacing {
+            positive("wale spacing", w)?;
+            positive("course spacing", c)?;
+        }
+        let periodic = self.boundary == Boundary::Periodic;
+        if periodic && self.continuous {
+            return Err(Error::invalid("continuous", true, "false with the periodic boundary (the tube is built one ring per course)"));
+        }
+        if periodic && self.grid.wales() < 3 {
+            return Err(Error::invalid("wales", self.grid.wales(), "at least 3 for a tube"));
+        }
+        // A loop's yarn must at least go round the yarn it holds: four
+        // crossings of depth 2r each, far below any loop that knits.
+        if self.loop_length < 16.0 * self.yarn.radius {
+            return Err(Error::invalid(
+                "loop_length",
+                self.loop_length,
+                format!("at least 16 yarn radii ({:.4e} m) for a yarn of radius {:.4e} m", 16.0 * self.yarn.radius, self.yarn.radius),
+            ));
+        }
+        Ok(())
+    }
+
+    fn periodic(&self) -> bool {
+        self.boundary == Boundary::Periodic
+    }
+
+    /// The loop model with the requested loop length: the default
+    /// proportions scaled, or the given spacings with the loop height solved.
+    pub fn loop_model(&self) -> Result<LoopModel> {
+        self.loop_model_for(self.loop_length)
+    }
+
+    /// The loop model whose path has mean stitch length `l` (m).
+    fn loop_model_for(&self, l: f64) -> Result<LoopModel> {
+        let depth = 1.5 * self.yarn.radius;
+        let length = |m: &LoopModel| m.mean_loop_length(&self.grid, self.periodic());
+        let (model, lo, hi): (Box<dyn Fn(f64) -> LoopModel>, f64, f64) = match self.spacing {
+            // w = 12 k, c = 9 k, h = 0.9 c, a = w/4 (clearance ≈ 1.26 at
+            // k = r, ℓ ≈ 48 r); scaling k moves ℓ monotonically.
+            None => (
+                Box::new(move |k| LoopModel { wale_spacing: 12.0 * k, course_spacing: 9.0 * k, loop_height: 8.1 * k, overhang: 3.0 * k, depth }),
+                1e-3 * l,
+                l,
+            ),
+            Some([w, c]) => (
+                Box::new(move |h| LoopModel { wale_spacing: w, course_spacing: c, loop_height: h, overhang: 0.25 * w, depth }),
+                0.5 * c,
+                10.0 * (c + l),
+            ),
+        };
+        if length(&model(lo)) > l || length(&model(hi)) < l {
+            return Err(Error::invalid(
+                "loop_length",
+                l,
+                format!("a length the loop model reaches with these spacings (from {:.4e} to {:.4e} m)", length(&model(lo)), length(&model(hi))),
+            ));
+        }
+        let (mut a, mut b) = (lo, hi);
+        for _ in 0..60 {
+            let m = 0.5 * (a + b);
+            if length(&model(m)) < l {
+                a = m
+            } else {
+                b = m
+            }
+        }
+        Ok(model(0.5 * (a + b)))
+    }
+}
+
+/// A dense polyline of one yarn with the arc-length marks of its loops.
+struct Path {
+    points: Vec<Vector3<f64>>,
+    /// Per loop on this yarn: (i, j, index of start, head, end) in `points`.
+    loops: Vec<(usize, usize, usize, usize, usize)>,
+}
+
+/// Samples per stitch of the dense path.
+const DENSE: usize = 64;
+/// Loop end index of a ring's last loop: the closing point.
+const WRAP: usize = usize::MAX;
+
+impl Path {
+    fn new() -> Path {
+        Path { points: Vec::new(), loops: Vec::new() }
+    }
+    fn push(&mut self, p: Vector3<f64>) {
+        if self.points.last().is_none_or(|q| (q - p).norm() > 0.0) {
+            self.points.push(p);
+        }
+    }
+    /// Appends course j, left to right or (reversed) right to left.
+    fn course(&mut self, f: &Fabric, m: &LoopModel, j: usize, reversed: bool) {
+        let nw = f.grid.wales();
+        let n = DENSE * nw;
+        let periodic = f.periodic();
+        let last = if periodic { n - 1 } else { n };
+        let base = self.points.len();
+        debug_assert!(!(periodic && reversed), "rings run forwards");
+        for k in 0..=last {
+            let k = if reversed { n - k } else { k };
+            self.points.push(m.point(&f.grid, periodic, j, TAU * k as f64 / DENSE as f64));
+        }
+        for i in 0..nw {
+            let at = |k: usize| if reversed { base + n - k } else { base + k };
+            // A ring's last loop ends where the ring closes (WRAP).
+            let end = if periodic && i + 1 == nw { WRAP } else { at((i + 1) * DENSE) };
+            let (s, e) = if reversed { (end, at(i * DENSE)) } else { (at(i * DENSE), end) };
+            self.loops.push((i, j, s, at(i * DENSE + DENSE / 2), e));
+        }
+    }
+    fn straight(&mut self, to: Vector3<f64>, n: usize) {
+        let from = *self.points.last().expect("a straight piece continues a path");
+        for k in 1..=n {
+            self.push(from + (to - from) * (k as f64 / n as f64));
+        }
+    }
+    /// Half turn from the last point to `to` (same x), bulging by `side` (±1) along x.
+    fn turn(&mut self, to: Vector3<f64>, side: f64, n: usize) {
+        let from = *self.points.last().expect("a turn continues a path");
+        let centre = 0.5 * (from + to);
+        let rho = 0.5 * (to.y - from.y);
+        for k in 1..n {
+            let th = PI * k as f64 / n as f64;
+            let z = from.z + (to.z - from.z) * k as f64 / n as f64;
+            self.push(Vector3::new(centre.x + side * rho * th.sin(), centre.y - rho * th.cos(), z));
+        }
+    }
+    fn arc_lengths(&self) -> Vec<f64> {
+        let mut s = vec![0.0; self.points.len()];
+        for k in 1..self.points.len() {
+            s[k] = s[k - 1] + (self.points[k] - self.points[k - 1]).norm();
+        }
+        s
+    }
+}
+
+/// Builds the fabric (see the module doc).
+pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
+    f.validate()?;
+    let periodic = f.periodic();
+    // The spline through the path cuts its corners a little: solve the
+    // model for a target corrected by the built loops' mean length until
+    // they match (two corrections bring it within 1e-4).
+    let l = f.loop_length;
+    let mut model = f.loop_model_for(l)?;
+    // Refuse a fabric too tight for its yarn before building anything.
+    check_clearance(f, &model)?;
+    let mut built = build_yarns(f, &model)?;
+    // (target, built mean) of the previous try, for a secant step.
+    let mut last: Option<(f64, f64)> = None;
+    let mut target = l;
+    for _ in 0..8 {
+        let mean = mean_loop(&built.0, &built.1)?;
+        if (mean - l).abs() <= 1e-4 * l {
+            break;
+        }
+        let next = match last {
+            Some((t0, m0)) if (mean - m0).abs() > 0.0 => target + (l - mean) * (target - t0) / (mean - m0),
+            _ => target * l / mean,
+        };
+        last = Some((target, mean));
+        target = next;
+        model = f.loop_model_for(target)?;
+        built = build_yarns(f, &model)?;
+    }
+    let (rods, loops) = built;
+    let clearance = check_clearance(f, &model)?;
+    let loop_length = mean_loop(&rods, &loops)?;
+    let (nw, nc) = (f.grid.wales(), f.grid.courses());
+    let mut asm = Assembly::new();
+    let mut yarns = Vec::new();
+    for (y, rod) in rods.into_iter().enumerate() {
+        let label = if f.continuous { "yarn".to_string() } else { format!("course[{y}]") };
+        yarns.push(asm.add_rod(rod, Some(&label)));
+    }
+    let mut bind_off = Vec::new();
+    if f.bind_off {
+        let top = &loops[(nc - 1) * nw..];
+        let pairs = if periodic { nw } else { nw - 1 };
+        for i in 0..pairs {
+            let (a, b) = (&top[i], &top[(i + 1) % nw]);
+            let (ra, rb) = (asm_rod(&asm, a.rod), asm_rod(&asm, b.rod));
+            let distance = (ra.position(a.u_head)? - rb.position(b.u_head)?).norm();
+            asm.link(a.rod, b.rod, RelativeDistance { ua: a.u_head, ub: b.u_head, distance }).label(format!("bindoff[{i}]"));
+            bind_off.push(asm.constraints.len() - 1);
+        }
+    }
+    let mut clamps = Vec::new();
+    if f.boundary == Boundary::ClampedEdges {
+        let mut hold = |asm: &mut Assembly, rod: usize, u: f64, label: String| -> Result<()> {
+            let target = asm_rod(asm, rod).position(u)?;
+            asm.constrain(rod, Position { u, target: [target.x, target.y, target.z, 0.0], axes: [true, true, true, false] }).label(label);
+            clamps.push(asm.constraints.len() - 1);
+            Ok(())
+        };
+        for (i, l) in loops[..nw].iter().enumerate() {
+            hold(&mut asm, l.rod, l.u_start, format!("bottom_edge[{i}]"))?;
+        }
+        let last = &loops[nw - 1];
+        hold(&mut asm, last.rod, last.u_end, format!("bottom_edge[{nw}]"))?;
+        for (i, l) in loops[(nc - 1) * nw..].iter().enumerate() {
+            hold(&mut asm, l.rod, l.u_head, format!("top_edge[{i}]"))?;
+        }
+    }
+    let tube_radius = if periodic { model.tube_radius(&f.grid) } else { 0.0 };
+    Ok((asm, FabricLayout { yarns, loops, model, loop_length, clearance, bind_off, clamps, tube_radius }))
+}
+
+
+/// The yarns along the loop model's path and where their loops lie.
+fn build_yarns(f: &Fabric, model: &LoopModel) -> Result<(Vec<Rod>, Vec<LoopSpan>)> {
+    let periodic = f.periodic();
+    let (nw, nc) = (f.grid.wales(), f.grid.courses());
+    let mut paths = Vec::new();
+    if f.continuous {
+        let mut p = Path::new();
+        for j in 0..nc {
+            let reversed = j % 2 == 1;
+            if j > 0 {
+                let start = model.point(&f.grid, false, j, if reversed { TAU * nw as f64 } else { 0.0 });
+                p.turn(start, if reversed { 1.0 } else { -1.0 }, DENSE / 2);
+            }
+            p.course(f, model, j, reversed);
+        }
+        paths.push(p);
+    } else {
+        for j in 0..nc {
+            let mut p = Path::new();
+            if periodic {
+                p.course(f, model, j, false);
+            } else {
+                // A tail of half a wale before and after the course.
+                let first = model.point(&f.grid, false, j, 0.0);
+                p.push(first - Vector3::new(0.5 * model.wale_spacing, 0.0, 0.0));
+                p.straight(first, DENSE / 4);
+                p.points.pop();
+                p.course(f, model, j, false);
+                let end = *p.points.last().expect("a course has points");
+                p.straight(end + Vector3::new(0.5 * model.wale_spacing, 0.0, 0.0), DENSE / 4);
+            }
+            paths.push(p);
+        }
+    }
+    let opts = RodOptions { straight_rest: true, ..RodOptions::default() };
+    let mut rods = Vec::new();
+    let mut loops = vec![None; nw * nc];
+    for (y, p) in paths.iter().enumerate() {
+        let s = p.arc_lengths();
+        let total = *s.last().expect("a path has points") + if periodic { (p.points[0] - p.points[p.points.len() - 1]).norm() } else { 0.0 };
+        let spacing = f.loop_length / f.control_points_per_loop as f64;
+        let n = ((total / spacing).round() as usize).max(if periodic { 6 } else { 4 });
+        let pts = resample(&p.points, &s, total, n, periodic);
+        let rod = RodBuilder::new(RodShape::ThroughPoints(pts))
+            .knots(if periodic { KnotKind::Periodic } else { KnotKind::Clamped })
+            .with_roll(false)
+            .section(f.yarn.section()?)
+            .material(f.yarn.material()?)
+            .options(opts.clone())
+            .build()?;
+        let scale = rod.rest_length() / total;
+        let u_at = |k: usize| rod.u_at_rest_arc_length((s[k] * scale).min(rod.rest_length()));
+        for &(i, j, a, h, e) in &p.loops {
+            let u_end = if e == WRAP { rod.domain().1 } else { u_at(e)? };
+            loops[j * nw + i] = Some(LoopSpan { wale: i, course: j, rod: y, u_start: u_at(a)?, u_head: u_at(h)?, u_end });
+        }
+        rods.push(rod);
+    }
+    Ok((rods, loops.into_iter().map(|l| l.expect("every stitch lies on a yarn")).collect()))
+}
+
+/// The model's clearance, or an error if the yarns would overlap.
+fn check_clearance(f: &Fabric, model: &LoopModel) -> Result<f64> {
+    let clearance = model.clearance(&f.grid, f.periodic(), f.yarn.radius);
+    if clearance < MIN_CLEARANCE {
+        return Err(Error::invalid(
+            "loop_length",
+            f.loop_length,
+            format!(
+                "a longer loop (or looser spacings): yarns of radius {:.4e} m would overlap in the initial loop model (clearance {clearance:.3} < {MIN_CLEARANCE})",
+                f.yarn.radius
+            ),
+        ));
+    }
+    Ok(clearance)
+}
+
+/// Mean rest arc length of the loops (m).
+fn mean_loop(rods: &[Rod], loops: &[LoopSpan]) -> Result<f64> {
+    Ok(loops.iter().map(|l| loop_arc(&rods[l.rod], l)).sum::<Result<f64>>()? / loops.len() as f64)
+}
+
+/// Rest arc length of a loop (m).
+fn loop_arc(rod: &Rod, l: &LoopSpan) -> Result<f64> {
+    Ok(rod.rest_arc_length(l.u_end)? - rod.rest_arc_length(l.u_start)?)
+}
+
+fn asm_rod(asm: &Assembly, i: usize) -> &Rod {
+    &asm.rods[i].rod
+}
+
+/// `n` points at equal arc length along the polyline (closed: the last
+/// point is not repeated).
+fn resample(points: &[Vector3<f64>], s: &[f64], total: f64, n: usize, closed: bool) -> Vec<Vector3<f64>> {
+    let m = if closed { n } else { n - 1 };
+    let mut out = Vec::with_capacity(n);
+    let mut k = 0;
+    for q in 0..n {
+        let target = total * q as f64 / m as f64;
+        while k + 1 < s.len() && s[k + 1] < target {
+            k += 1;
+        }
+        if k + 1 < s.len() {
+            let f = ((target - s[k]) / (s[k + 1] - s[k])).clamp(0.0, 1.0);
+            out.push(points[k] + (points[k + 1] - points[k]) * f);
+        } else {
+            // Closing segment of a ring (or the very end).
+            let last = points[points.len() - 1];
+            let rest = total - s[s.len() - 1];
+            let f = if rest > 0.0 { ((target - s[s.len() - 1]) / rest).clamp(0.0, 1.0) } else { 0.0 };
+            out.push(last + (points[0] - last) * if closed { f } else { 0.0 });
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests;

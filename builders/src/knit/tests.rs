@@ -1,0 +1,165 @@
+use super::*;
+
+fn small(pattern: Pattern, wales: usize, courses: usize) -> Fabric {
+    Fabric { grid: StitchGrid::new(pattern, wales, courses).unwrap(), ..Fabric::default() }
+}
+
+/// Rest arc length between two abscissae of a rod (m), by Gauss sums on a fine grid.
+fn arc(rod: &Rod, a: f64, b: f64) -> f64 {
+    let n = 400;
+    (0..n)
+        .map(|k| {
+            let (u0, u1) = (a + (b - a) * k as f64 / n as f64, a + (b - a) * (k + 1) as f64 / n as f64);
+            (rod.position(u1).unwrap() - rod.position(u0).unwrap()).norm()
+        })
+        .sum()
+}
+
+#[test]
+fn loops_have_the_requested_length() {
+    for (f, tol) in [
+        (small(Pattern::Jersey, 5, 4), 5e-3),
+        (Fabric { continuous: false, ..small(Pattern::Seed, 5, 4) }, 5e-3),
+        (Fabric { boundary: Boundary::Periodic, continuous: false, ..small(Pattern::Rib1x1, 6, 3) }, 5e-3),
+        (Fabric { spacing: Some([1.6e-3, 1.1e-3]), loop_length: 6e-3, ..small(Pattern::Garter, 4, 4) }, 5e-3),
+    ] {
+        let (asm, lay) = fabric(&f).unwrap();
+        assert!((lay.loop_length - f.loop_length).abs() < 1e-4 * f.loop_length, "built {} vs {}", lay.loop_length, f.loop_length);
+        let mean: f64 = lay.loops.iter().map(|l| arc(&asm.rods[lay.yarns[l.rod]].rod, l.u_start, l.u_end)).sum::<f64>() / lay.loops.len() as f64;
+        assert!((mean - f.loop_length).abs() < tol * f.loop_length, "{:?}: built loops {mean} vs {}", f.grid.rows()[0], f.loop_length);
+        // Naturally straight yarn: the built shape carries elastic energy.
+        assert!(asm.rods.iter().all(|r| r.rod.options().straight_rest));
+    }
+}
+
+/// Smallest distance between yarn centrelines, points closer than 4 radii
+/// along a yarn excluded, over 2r — measured on the built rods.
+fn built_clearance(asm: &Assembly, r: f64) -> f64 {
+    let mut samples: Vec<(usize, f64, Vector3<f64>)> = Vec::new();
+    for (k, a) in asm.rods.iter().enumerate() {
+        let (u0, u1) = a.rod.domain();
+        let n = (a.rod.rest_length() / (0.25 * r)).ceil() as usize;
+        let mut s = 0.0;
+        let mut prev = a.rod.position(u0).unwrap();
+        for q in 0..n {
+            let p = a.rod.position(u0 + (u1 - u0) * q as f64 / n as f64).unwrap();
+            s += (p - prev).norm();
+            prev = p;
+            samples.push((k, s, p));
+        }
+    }
+    let mut best = f64::INFINITY;
+    for (x, a) in samples.iter().enumerate() {
+        for b in &samples[x + 1..] {
+            if a.0 == b.0 && (a.1 - b.1).abs() < 4.0 * r {
+                continue;
+            }
+            best = best.min((a.2 - b.2).norm());
+        }
+    }
+    best / (2.0 * r)
+}
+
+#[test]
+fn yarns_do_not_overlap_as_built() {
+    for f in [small(Pattern::Jersey, 4, 4), Fabric { continuous: false, ..small(Pattern::Rib2x2, 4, 3) }, small(Pattern::Garter, 3, 4)] {
+        let (asm, lay) = fabric(&f).unwrap();
+        let c = built_clearance(&asm, f.yarn.radius);
+        assert!(c >= MIN_CLEARANCE - 0.02, "built clearance {c} (model {})", lay.clearance);
+    }
+}
+
+/// Crossings in the (x, y) projection of two polylines, with z_a − z_b at each.
+fn crossings(a: &[Vector3<f64>], b: &[Vector3<f64>]) -> Vec<f64> {
+    let mut out = Vec::new();
+    for p in a.windows(2) {
+        for q in b.windows(2) {
+            let (d1, d2) = (p[1] - p[0], q[1] - q[0]);
+            let den = d1.x * d2.y - d1.y * d2.x;
+            if den.abs() < 1e-30 {
+                continue;
+            }
+            let w = q[0] - p[0];
+            let (s, t) = ((w.x * d2.y - w.y * d2.x) / den, (w.x * d1.y - w.y * d1.x) / den);
+            if (0.0..1.0).contains(&s) && (0.0..1.0).contains(&t) {
+                out.push((p[0].z + s * d1.z) - (q[0].z + t * d2.z));
+            }
+        }
+    }
+    out
+}
+
+fn polyline(rod: &Rod, a: f64, b: f64) -> Vec<Vector3<f64>> {
+    (0..=200).map(|k| rod.position(a + (b - a) * k as f64 / 200.0).unwrap()).collect()
+}
+
+#[test]
+fn each_loop_is_pulled_through_the_loop_below_on_its_side() {
+    // Seed mixes every neighbour relation: knit over knit, purl over knit, …
+    for pattern in [Pattern::Seed, Pattern::Jersey, Pattern::Rib2x2] {
+        let f = small(pattern, 4, 4);
+        let (asm, lay) = fabric(&f).unwrap();
+        let nw = f.grid.wales();
+        for j in 0..f.grid.courses() - 1 {
+            for i in 0..nw {
+                let (below, above) = (&lay.loops[j * nw + i], &lay.loops[(j + 1) * nw + i]);
+                let rod = |l: &LoopSpan| &asm.rods[lay.yarns[l.rod]].rod;
+                let dz = crossings(&polyline(rod(above), above.u_start, above.u_end), &polyline(rod(below), below.u_start, below.u_end));
+                // Along the loop above: its sinker passes the leg below, its
+                // legs the head below on the stitch's side, its other
+                // sinker the other leg: signs −s, +s, +s, −s.
+                let s = f.grid.get(i, j + 1).sign();
+                let signs: Vec<f64> = dz.iter().map(|d| d.signum()).collect();
+                assert_eq!(signs, vec![-s, s, s, -s], "{pattern:?} loop ({i},{}) over ({i},{j}): dz {dz:?}", j + 1);
+                for d in dz {
+                    assert!(d.abs() > 1.9 * f.yarn.radius, "{pattern:?} ({i},{j}): crossing at |dz| = {d:e}");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn edges_and_tube() {
+    let f = Fabric { boundary: Boundary::ClampedEdges, ..small(Pattern::Jersey, 5, 3) };
+    let (asm, lay) = fabric(&f).unwrap();
+    assert_eq!(lay.bind_off.len(), 4);
+    assert_eq!(lay.clamps.len(), 2 * 5 + 1);
+    assert_eq!(asm.rods.len(), 1);
+    let t = Fabric { boundary: Boundary::Periodic, continuous: false, ..small(Pattern::Jersey, 8, 3) };
+    let (asm, lay) = fabric(&t).unwrap();
+    assert_eq!(asm.rods.len(), 3);
+    assert!(asm.rods.iter().all(|r| r.rod.is_closed()));
+    assert_eq!(lay.bind_off.len(), 8);
+    // The rings' mean radius is the tube's, their loops' depth averaging out.
+    let rod = &asm.rods[1].rod;
+    let (u0, u1) = rod.domain();
+    let mean: f64 = (0..800).map(|k| { let p = rod.position(u0 + (u1 - u0) * k as f64 / 800.0).unwrap(); (p.x * p.x + p.z * p.z).sqrt() }).sum::<f64>() / 800.0;
+    assert!((mean - lay.tube_radius).abs() < 0.02 * lay.tube_radius, "{mean} vs {}", lay.tube_radius);
+}
+
+#[test]
+fn bad_fabrics_are_refused_before_building() {
+    let d = Fabric::default();
+    let cases: Vec<(Fabric, &str)> = vec![
+        (Fabric { loop_length: 1e-3, ..d.clone() }, "loop_length"),
+        (Fabric { loop_length: f64::NAN, ..d.clone() }, "loop_length"),
+        (Fabric { loop_length: -5e-3, ..d.clone() }, "loop_length"),
+        (Fabric { yarn: Yarn { radius: f64::INFINITY, ..d.yarn.clone() }, ..d.clone() }, "radius"),
+        (Fabric { spacing: Some([f64::NAN, 1e-3]), ..d.clone() }, "wale spacing"),
+        (Fabric { spacing: Some([1e-4, 1e-4]), ..d.clone() }, "loop_length"),
+        (Fabric { boundary: Boundary::Periodic, ..d.clone() }, "continuous"),
+        (Fabric { control_points_per_loop: 2, ..d.clone() }, "control_points_per_loop"),
+        (Fabric { control_points_per_loop: usize::MAX, ..d.clone() }, "control points"),
+        (Fabric { boundary: Boundary::Periodic, continuous: false, ..small(Pattern::Jersey, 2, 3) }, "wales"),
+    ];
+    for (f, what) in cases {
+        let e = fabric(&f).unwrap_err().to_string();
+        assert!(e.contains(what), "expected an error naming {what}, got {e}");
+    }
+    // Tight loops for the yarn: the clearance check (not the rough 16 r bound).
+    let tight = Fabric { loop_length: 20.0 * d.yarn.radius, ..d.clone() };
+    let e = fabric(&tight).unwrap_err().to_string();
+    assert!(e.contains("overlap"), "{e}");
+}
+
