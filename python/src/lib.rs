@@ -11,6 +11,7 @@ use strandkit_core::Error;
 
 mod assembly;
 mod builders;
+mod knit;
 mod catalogue;
 mod convert;
 mod events;
@@ -113,6 +114,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     groups::register(m)?;
     assembly::register(m)?;
     builders::register(m)?;
+    knit::register(m)?;
     catalogue::register(m)?;
     quasi::register(m)?;
     io::register(m)?;

@@ -80,6 +80,7 @@ from .recorder import Recorder
 from .trajectory import TrajectoryWriter, write_trajectory
 from . import builders  # noqa: E402  (strandkit.builders: structure builders)
 from . import dna  # noqa: E402  (strandkit.dna: the DNA duplex)
+from . import knit  # noqa: E402  (strandkit.knit: weft-knit fabrics)
 from . import scene  # noqa: E402  (strandkit.scene: scene files)
 from .scene import Scene, load_scene, save_scene, run_scene  # noqa: E402
 from .sweeps import sweep  # noqa: E402

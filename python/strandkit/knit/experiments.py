@@ -1,0 +1,274 @@
+"""Knit experiments (SPEC §9.3): dry relaxation to equilibrium, uniaxial
+stretch along the course or the wale, edge curl.
+
+The fabric is relaxed by overdamped (Brownian, T = 0) dynamics — every
+yarn moves at drag⁻¹ × its net force, a gradient flow of the elastic
+energy under the contacts — with implicit Euler steps whose length adapts
+so that no control point moves more than ``step_fraction`` yarn radii per
+step (a step carrying a yarn farther than the contact margin could pass it
+through another). Friction acts at the contacts as in any step. The drag
+(the world's ``viscosity``) sets the time scale only: the equilibrium does
+not depend on it.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Optional
+
+import numpy as np
+
+from .. import errors
+from . import Fabric
+from .geometry import clearance, curl
+
+__all__ = ["Relaxed", "relax", "Stretched", "stretch"]
+
+
+class _Flow:
+    """Adaptive overdamped steps on a world: dt grows while steps move
+    little, shrinks when one moves too much, quarters when one fails."""
+
+    def __init__(self, world, radius: float, step_fraction: float, dt: float):
+        self.world, self.cap, self.dt = world, step_fraction * radius, dt
+        self.fails = 0
+        world.set_params(dt=dt, overdamped=True)
+
+    def _coords(self):
+        return [r.control_points.copy() for r in self.world.rods()]
+
+    def step(self) -> float:
+        """One step; returns the largest control-point move (m)."""
+        before = self._coords()
+        try:
+            self.world.step()
+        except (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError):
+            # The world is unchanged by a refused step: retry shorter.
+            self.fails += 1
+            if self.dt < 1e-12 * self.cap:
+                raise
+            self.dt *= 0.25
+            self.world.set_params(dt=self.dt)
+            return 0.0
+        move = max(float(np.linalg.norm(a - b, axis=1).max()) for a, b in zip(self._coords(), before))
+        self.dt *= min(2.0, max(0.5, np.sqrt(self.cap / max(move, 1e-300))))
+        self.world.set_params(dt=self.dt)
+        return move
+
+
+@dataclass
+class Relaxed:
+    """Result of :func:`relax`: the world at the end, whether the energy
+    and the stitch dimensions had settled (``converged``), the number of
+    steps, ``history`` (arrays ``step``, ``energy`` J, ``k_c``, ``k_w``),
+    the final ``dimensions`` (see :meth:`Fabric.dimensions`), the smallest
+    yarn ``clearance`` seen at the records (distance/2r), the edge
+    ``curl`` (m) and the wall time (s)."""
+
+    world: object
+    fabric: Fabric
+    converged: bool
+    steps: int
+    history: dict
+    dimensions: dict
+    clearance: float
+    curl: dict
+    wall_time: float
+    fails: int = 0
+
+    def __repr__(self) -> str:
+        d = self.dimensions
+        return (f"Relaxed({'converged' if self.converged else 'NOT converged'} after {self.steps} steps, "
+                f"k_c={d['k_c']:.3f}, k_w={d['k_w']:.3f}, courses/cm={d['courses_per_cm']:.2f}, "
+                f"wales/cm={d['wales_per_cm']:.2f}, clearance={self.clearance:.3f})")
+
+
+def _check(name, x, low=0.0, integer=False):
+    if isinstance(x, bool) or not np.isfinite(x) or x <= low or (integer and int(x) != x):
+        raise errors.InvalidInputError(f"{name}: {'an integer' if integer else 'a finite number'} > {low}, got {x!r}")
+    return int(x) if integer else float(x)
+
+
+def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: float = 2e-4, window: int = 100,
+          step_fraction: float = 0.25, viscosity: float = 1.0, record_every: int = 10, world=None,
+          progress_bar: bool = False) -> Relaxed:
+    """Dry relaxation of ``fabric`` (free of loads) to equilibrium.
+
+    friction: Coulomb μ at yarn–yarn contacts; max_steps: step budget;
+    converged when, over the last ``window`` steps, the elastic energy
+    fell by less than ``tol`` of itself and k_c, k_w moved by less than
+    ``tol``; step_fraction: largest control-point move per step in yarn
+    radii; viscosity: the fluid's (Pa·s), the drag of the gradient flow;
+    world: continue relaxing this world (made by ``fabric.world``)
+    instead of a new one. Records every ``record_every`` steps.
+    """
+    max_steps = _check("max_steps", max_steps, integer=True)
+    window = _check("window", window, integer=True)
+    record_every = _check("record_every", record_every, integer=True)
+    tol, step_fraction = _check("tol", tol), _check("step_fraction", step_fraction)
+    if world is None:
+        world = fabric.world(friction=_check("friction", friction, low=-1e-300), viscosity=_check("viscosity", viscosity))
+    else:
+        world.set_params(viscosity=_check("viscosity", viscosity))
+    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=1e-3 * fabric.yarn_radius)
+    hist = {"step": [], "energy": [], "k_c": [], "k_w": []}
+    least = clearance(world, fabric)
+    t0 = time.perf_counter()
+    converged, k = False, 0
+    bar = None
+    if progress_bar:
+        from .._progress import progress
+        bar = progress(total=max_steps, desc="knit relax")
+    for k in range(1, max_steps + 1):
+        flow.step()
+        if bar is not None:
+            bar.update(1)
+        if k % record_every == 0:
+            d = fabric.dimensions(world)
+            hist["step"].append(k), hist["energy"].append(world.energy()["elastic"])
+            hist["k_c"].append(d["k_c"]), hist["k_w"].append(d["k_w"])
+            if k % (10 * record_every) == 0:
+                least = min(least, clearance(world, fabric))
+            back = window // record_every
+            if len(hist["step"]) > back:
+                e, kc, kw = (np.array(hist[x][-back - 1:]) for x in ("energy", "k_c", "k_w"))
+                if (abs(e[-1] - e[0]) <= tol * abs(e[-1]) and abs(kc[-1] - kc[0]) <= tol * kc[-1]
+                        and abs(kw[-1] - kw[0]) <= tol * kw[-1]):
+                    converged = True
+                    break
+    if bar is not None:
+        bar.close()
+    least = min(least, clearance(world, fabric))
+    return Relaxed(world=world, fabric=fabric, converged=converged, steps=k,
+                   history={key: np.array(v) for key, v in hist.items()}, dimensions=fabric.dimensions(world),
+                   clearance=least, curl=curl(world, fabric), wall_time=time.perf_counter() - t0, fails=flow.fails)
+
+
+@dataclass
+class Stretched:
+    """Result of :func:`stretch`: per increment ``strain`` (grip
+    displacement over the initial grip distance), ``force`` (N, the pulled
+    grips' reaction along the stretch), ``lateral_strain`` (change of the
+    width across the stretch over its initial value, at mid-length),
+    ``loading`` (True while the grips move apart); ``work_loading``,
+    ``work_unloading`` (J, ∫F du on each branch); ``clearance`` (smallest
+    seen)."""
+
+    direction: str
+    strain: np.ndarray
+    force: np.ndarray
+    lateral_strain: np.ndarray
+    loading: np.ndarray
+    work_loading: float
+    work_unloading: float
+    clearance: float
+    world: object = field(repr=False, default=None)
+
+    def __repr__(self) -> str:
+        return (f"Stretched({self.direction}, {len(self.strain)} increments to strain {self.strain.max():.3f}, "
+                f"peak force {self.force.max():.4g} N, work loading {self.work_loading:.4g} J / "
+                f"unloading {self.work_unloading:.4g} J)")
+
+
+def _grips(fabric: Fabric, direction: str):
+    """(held, pulled) lists of (rod, u) and the unit vector of the stretch."""
+    lp = fabric.loops
+    nw, nc = fabric.wales, fabric.courses
+    grid = lp.reshape(nc, nw)
+    if direction == "wale":
+        held = [(int(x["rod"]), float(x["u_start"])) for x in grid[0]]
+        pulled = [(int(x["rod"]), float(x["u_head"])) for x in grid[-1]]
+        axis = np.array([0.0, 1.0, 0.0])
+    elif direction == "course":
+        if fabric.tube_radius > 0:
+            raise errors.InvalidInputError("direction: a tube (periodic boundary) is stretched along the wale only")
+        # A continuous yarn runs right to left along its odd courses.
+        back = lambda j: fabric.continuous and j % 2 == 1  # noqa: E731
+        held = [(int(x["rod"]), float(x["u_end"] if back(j) else x["u_start"])) for j, x in enumerate(grid[:, 0])]
+        pulled = [(int(x["rod"]), float(x["u_start"] if back(j) else x["u_end"])) for j, x in enumerate(grid[:, -1])]
+        axis = np.array([1.0, 0.0, 0.0])
+    else:
+        raise errors.InvalidInputError(f"direction: 'wale' or 'course', got {direction!r}")
+    return held, pulled, axis
+
+
+def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments: int = 10, unload: bool = True,
+            friction: float = 0.0, steps_per_increment: int = 200, tol: float = 1e-3, step_fraction: float = 0.25,
+            viscosity: float = 1.0) -> Stretched:
+    """Uniaxial stretch under displacement control between two clamped
+    bars: along the wale (cast-on sinkers held, bound-off heads pulled) or
+    the course (first and last stitch of every course).
+
+    source: a :class:`Fabric` (stretched as built) or a :class:`Relaxed`
+    (its world continues); strain: largest grip strain; increments: steps
+    of grip displacement up (and down again if ``unload``); each
+    increment relaxes for at most ``steps_per_increment`` steps, stopping
+    once the pulled force changed by less than ``tol`` of itself over 20
+    steps.
+    """
+    strain = _check("strain", strain)
+    increments = _check("increments", increments, integer=True)
+    steps_per_increment = _check("steps_per_increment", steps_per_increment, integer=True)
+    tol, step_fraction = _check("tol", tol), _check("step_fraction", step_fraction)
+    if isinstance(source, Relaxed):
+        fabric, world = source.fabric, source.world
+        world.set_params(viscosity=_check("viscosity", viscosity))
+    elif isinstance(source, Fabric):
+        fabric = source
+        world = fabric.world(friction=_check("friction", friction, low=-1e-300), viscosity=_check("viscosity", viscosity))
+    else:
+        raise errors.InvalidInputError(f"source: a strandkit.knit Fabric or Relaxed, got {type(source).__name__}")
+    from .. import position
+    held, pulled, axis = _grips(fabric, direction)
+    rods = world.rods()
+    hold = lambda pts: [(rods[r], u, tuple(rods[r].position(u))) for r, u in pts]  # noqa: E731
+    held, pulled = hold(held), hold(pulled)
+    if direction == "wale":
+        # The bar holding the bound-off heads replaces the bind-off links
+        # between them (both would hold the same distances).
+        for h in list(world.group("bindoff").constraints if "bindoff" in world.groups else []):
+            world.remove_constraint(h)
+    handles = [world.add_constraint(rod, position(u, target=p), label=f"grip[{i}]") for i, (rod, u, p) in enumerate(held)]
+    pulls = [world.add_constraint(rod, position(u, target=p), label=f"pull[{i}]") for i, (rod, u, p) in enumerate(pulled)]
+    start = np.array([p for _, _, p in pulled])
+    gap = float(np.mean(start @ axis) - np.mean(np.array([p for _, _, p in held]) @ axis))
+    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=1e-3 * fabric.yarn_radius)
+    across = np.array([1.0, 0.0, 0.0]) if direction == "wale" else np.array([0.0, 1.0, 0.0])
+
+    def width():
+        h = fabric.heads(world)
+        mid = h[h.shape[0] // 2] if direction == "wale" else h[:, h.shape[1] // 2]
+        return float(np.ptp(mid @ across))
+
+    def force():
+        # The pulled bar's force on the fabric along the stretch.
+        return float(sum(np.dot(np.asarray(h.reaction().force), axis) for h in pulls))
+
+    w0 = width()
+    levels = list(np.linspace(0.0, strain, increments + 1)[1:])
+    if unload:
+        levels += list(np.linspace(strain, 0.0, increments + 1)[1:])
+    out = {"strain": [0.0], "force": [0.0], "lateral": [0.0], "loading": [True]}
+    least = clearance(world, fabric)
+    for n, e in enumerate(levels):
+        for (rod, u, p), h in zip(pulled, pulls):
+            world.set_constraint(h, position(u, target=tuple(np.asarray(p) + e * gap * axis)))
+        last = None
+        for k in range(steps_per_increment):
+            flow.step()
+            if k % 20 == 19:
+                f = force()
+                if last is not None and abs(f - last) <= tol * max(abs(f), 1e-300):
+                    break
+                last = f
+        out["strain"].append(e), out["force"].append(force()), out["lateral"].append(width() / w0 - 1.0)
+        out["loading"].append(n < increments)
+        least = min(least, clearance(world, fabric))
+    s, f, ld = np.array(out["strain"]), np.array(out["force"]), np.array(out["loading"])
+    trap = lambda x, y: float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)))  # noqa: E731
+    up = slice(0, increments + 1)
+    down = slice(increments, None)
+    return Stretched(direction=direction, strain=s, force=f, lateral_strain=np.array(out["lateral"]), loading=ld,
+                     work_loading=trap(s[up] * gap, f[up]),
+                     work_unloading=-trap(s[down] * gap, f[down]) if unload else float("nan"),
+                     clearance=least, world=world)
