@@ -3,7 +3,7 @@
 from typing import Any, Sequence, final
 
 __version__: str
-__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'Obstacle', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_beads_on_spring', 'build_cable_on_clips', 'build_duplex', 'build_harness', 'build_necklace', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'obstacle_capsule', 'obstacle_mesh_arrays', 'obstacle_mesh_data', 'obstacle_mesh_file', 'obstacle_plane', 'obstacle_sphere', 'read_dcd', 'resistive_force_drag', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
+__all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWriter', 'Event', 'FrameReport', 'Group', 'Inserted', 'LoadHandle', 'Material', 'Obstacle', 'QuasiDynamic', 'Reaction', 'RelaxReport', 'Rod', 'Section', 'StepReport', 'Topology', 'World', '__version__', 'bead_positions', 'build_beads_on_spring', 'build_cable_on_clips', 'build_duplex', 'build_harness', 'build_knit_fabric', 'build_necklace', 'build_rope_bridge', 'constraint_catalogue', 'curve', 'from_control_points', 'helix', 'load_catalogue', 'obstacle_capsule', 'obstacle_mesh_arrays', 'obstacle_mesh_data', 'obstacle_mesh_file', 'obstacle_plane', 'obstacle_sphere', 'read_dcd', 'resistive_force_drag', 'rod_from_json', 'straight', 'through_points', 'tube_mesh', 'write_gltf', 'write_obj', 'write_pdb', 'write_psf', 'write_vtk']
 
 def bead_positions(world):
     """Bead positions of a world (length unit), shape (N, 3): the sample points of every rod in world order (one bead per sample point)."""
@@ -15,6 +15,8 @@ def build_duplex(*, sequence, complement, bp_per_turn, rise, radius, minor_groov
     """A B-DNA duplex (SPEC §9.1); see `strandkit.dna.duplex`."""
 def build_harness(*, branches, radii, junctions, connectors, bend_radius, young_modulus, density, control_points_per_metre):
     """A wiring harness (SPEC §9.5); see `strandkit.builders.harness`."""
+def build_knit_fabric(*, pattern, rows=None, wales, courses, loop_length, yarn, yarn_radius, bending_stiffness=None, continuous, boundary, spacing=None, control_points_per_loop, bind_off):
+    """Weft-knit fabric (SPEC §9.3); see `strandkit.knit.fabric`."""
 def build_necklace(*, n_beads, bead_mass, bead_radius, string=None, length, closed, hang, peg, supports, friction, peg_friction, knotted, control_points):
     """Bead necklace (SPEC §9.4); see `strandkit.builders.necklace`."""
 def build_rope_bridge(*, span, n_planks, plank_mass, sag, width, handrail_height, rope=None, plank_depth, plank_thickness, plank_young, plank_model, plank_break_force=None, rope_control_points=None):

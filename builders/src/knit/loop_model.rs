@@ -109,7 +109,9 @@ impl LoopModel {
     /// radius: pairs of stitches within two courses and one wale of each
     /// other, points of one yarn closer than 2 diameters along it excluded.
     pub fn clearance(&self, grid: &StitchGrid, periodic: bool, radius: f64) -> f64 {
-        const N: usize = 32;
+        // Dense enough for the steep sinker ramps between knit and purl
+        // neighbours (±π/16 of a stitch): 32 samples missed them.
+        const N: usize = 128;
         let (nw, nc) = (grid.wales(), grid.courses());
         let pts: Vec<Vec<Vector3<f64>>> = (0..nc)
             .map(|j| (0..N * nw).map(|k| self.point(grid, periodic, j, TAU * (k as f64 + 0.5) / N as f64)).collect())

@@ -32,9 +32,12 @@ use strandkit_core::{Assembly, Error, Result, Rod, RodBuilder, RodOptions};
 /// Most control points a fabric may have in all.
 pub const MAX_CONTROL_POINTS: usize = 4_000_000;
 
-/// Smallest clearance (distance between yarn surfaces over a diameter,
-/// plus one) the initial path must have.
-pub const MIN_CLEARANCE: f64 = 1.02;
+/// Smallest clearance (centreline distance over the yarn diameter) the
+/// initial path must have. Below 1 the yarns start inside each other: by
+/// at most a tenth of a diameter, where a seed stitch's sinker turns from
+/// front to back between neighbours (the loop model's seed reaches 0.91
+/// at ℓ = 50 r), which the first contact solve pushes apart.
+pub const MIN_CLEARANCE: f64 = 0.9;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Boundary {
@@ -283,7 +286,8 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
     let mut model = f.loop_model_for(l)?;
     // Refuse a fabric too tight for its yarn before building anything.
     check_clearance(f, &model)?;
-    let mut built = build_yarns(f, &model)?;
+    let mut built = build_yarns(f, &model, None)?;
+    let counts: Vec<usize> = built.0.iter().map(|r| r.n_ctrl()).collect();
     // (target, built mean) of the previous try, for a secant step.
     let mut last: Option<(f64, f64)> = None;
     let mut target = l;
@@ -299,7 +303,7 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
         last = Some((target, mean));
         target = next;
         model = f.loop_model_for(target)?;
-        built = build_yarns(f, &model)?;
+        built = build_yarns(f, &model, Some(&counts))?;
     }
     let (rods, loops) = built;
     let clearance = check_clearance(f, &model)?;
@@ -346,7 +350,7 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
 
 
 /// The yarns along the loop model's path and where their loops lie.
-fn build_yarns(f: &Fabric, model: &LoopModel) -> Result<(Vec<Rod>, Vec<LoopSpan>)> {
+fn build_yarns(f: &Fabric, model: &LoopModel, counts: Option<&[usize]>) -> Result<(Vec<Rod>, Vec<LoopSpan>)> {
     let periodic = f.periodic();
     let (nw, nc) = (f.grid.wales(), f.grid.courses());
     let mut paths = Vec::new();
@@ -386,7 +390,8 @@ fn build_yarns(f: &Fabric, model: &LoopModel) -> Result<(Vec<Rod>, Vec<LoopSpan>
         let s = p.arc_lengths();
         let total = *s.last().expect("a path has points") + if periodic { (p.points[0] - p.points[p.points.len() - 1]).norm() } else { 0.0 };
         let spacing = f.loop_length / f.control_points_per_loop as f64;
-        let n = ((total / spacing).round() as usize).max(if periodic { 6 } else { 4 });
+        // Kept across the length iterations, so the built length varies smoothly.
+        let n = counts.map_or_else(|| ((total / spacing).round() as usize).max(if periodic { 6 } else { 4 }), |c| c[y]);
         let pts = resample(&p.points, &s, total, n, periodic);
         let rod = RodBuilder::new(RodShape::ThroughPoints(pts))
             .knots(if periodic { KnotKind::Periodic } else { KnotKind::Clamped })

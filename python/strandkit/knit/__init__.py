@@ -62,7 +62,9 @@ class Fabric:
     rods), ``u_start``, ``u_head``, ``u_end`` (abscissae of the sinker
     before it, its head, its end); ``model``: the loop model's initial
     wale_spacing, course_spacing, loop_height, overhang and depth (m);
-    ``clearance``: smallest centreline distance over 2r as built."""
+    ``clearance``: smallest centreline distance over 2r as built;
+    ``loop_length``: the built yarn length per stitch (m, within 1e-4 of
+    the one asked for)."""
 
     assembly: object
     rows: tuple
@@ -94,7 +96,7 @@ class Fabric:
 
     def __repr__(self) -> str:
         return (f"Fabric({self.pattern} {self.wales} × {self.courses} stitches, "
-                f"loop_length={self.loop_length * 1e3:.4g} mm, {self.yarn} yarn r={self.yarn_radius * 1e3:.4g} mm, "
+                f"loop_length={self.params.get('loop_length', self.loop_length) * 1e3:.4g} mm, {self.yarn} yarn r={self.yarn_radius * 1e3:.4g} mm, "
                 f"{'continuous' if self.continuous else 'one yarn per course'}, {self.boundary})")
 
     def world(self, *, friction: float = 0.3, margin: Optional[float] = None, **params):

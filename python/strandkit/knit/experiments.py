@@ -193,18 +193,19 @@ def _grips(fabric: Fabric, direction: str):
 
 
 def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments: int = 10, unload: bool = True,
-            friction: float = 0.0, steps_per_increment: int = 200, tol: float = 1e-3, step_fraction: float = 0.25,
-            viscosity: float = 1.0) -> Stretched:
+            friction: float = 0.0, settle_steps: int = 300, steps_per_increment: int = 200, tol: float = 1e-3,
+            step_fraction: float = 0.25, viscosity: float = 1.0) -> Stretched:
     """Uniaxial stretch under displacement control between two clamped
     bars: along the wale (cast-on sinkers held, bound-off heads pulled) or
     the course (first and last stitch of every course).
 
     source: a :class:`Fabric` (stretched as built) or a :class:`Relaxed`
-    (its world continues); strain: largest grip strain; increments: steps
-    of grip displacement up (and down again if ``unload``); each
-    increment relaxes for at most ``steps_per_increment`` steps, stopping
-    once the pulled force changed by less than ``tol`` of itself over 20
-    steps.
+    (its world continues); the bars grip where the yarn is, then the
+    fabric settles between them for ``settle_steps`` (the rest state
+    between bars); strain: largest grip strain; increments: steps of grip
+    displacement up (and down again if ``unload``); each increment relaxes
+    for at most ``steps_per_increment`` steps, stopping once the pulled
+    force changed by less than ``tol`` of itself over 20 steps.
     """
     strain = _check("strain", strain)
     increments = _check("increments", increments, integer=True)
@@ -233,6 +234,8 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     start = np.array([p for _, _, p in pulled])
     gap = float(np.mean(start @ axis) - np.mean(np.array([p for _, _, p in held]) @ axis))
     flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=1e-3 * fabric.yarn_radius)
+    for _ in range(int(settle_steps)):
+        flow.step()
     across = np.array([1.0, 0.0, 0.0]) if direction == "wale" else np.array([0.0, 1.0, 0.0])
 
     def width():

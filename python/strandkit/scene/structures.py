@@ -20,6 +20,7 @@ BUILDERS = {
     "cable_on_clips": ("strandkit.builders", "cable_on_clips", "si"),
     "harness": ("strandkit.builders", "harness", "si"),
     "dna.duplex": ("strandkit.dna", "duplex", "molecular"),
+    "knit.fabric": ("strandkit.knit", "fabric", "si"),
 }
 
 KINDS = ("builder", "assembly", "assembly_file")
