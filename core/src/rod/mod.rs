@@ -479,6 +479,21 @@ impl Rod {
         Ok((self.knots.segment_ctrl(seg), self.knots.basis(seg, u)))
     }
 
+    /// The coordinates at u and their first two u-derivatives from one
+    /// basis evaluation (the closest-point iterations need all three).
+    pub fn eval_012(&self, u: f64) -> Result<[[f64; 4]; 3]> {
+        let (ctrl, b) = self.basis_at(u)?;
+        let mut out = [[0.0; 4]; 3];
+        for (k, &i) in ctrl.iter().enumerate() {
+            for (d, o) in out.iter_mut().enumerate() {
+                for (a, x) in o.iter_mut().enumerate().take(self.dofs) {
+                    *x += b[d][k] * self.q[i * self.dofs + a];
+                }
+            }
+        }
+        Ok(out)
+    }
+
     /// The `deriv`-th u-derivative of the generalised coordinates at u
     /// (x, y, z[, θ]).
     pub fn eval(&self, u: f64, deriv: usize) -> Result<[f64; 4]> {

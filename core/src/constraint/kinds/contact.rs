@@ -81,8 +81,8 @@ pub fn closest_points_within(a: &Rod, b: &Rod, mut ua: f64, mut ub: f64, wa: (f6
     let v3 = |d: [f64; 4]| Vector3::new(d[0], d[1], d[2]);
     let at = |rod: &Rod, u: f64| if rod.is_closed() { rod.knots().wrap(u) } else { u };
     let newton = |rod: &Rod, u: f64, w: (f64, f64), target: Vector3<f64>| -> Result<f64> {
-        let d = v3(rod.eval(at(rod, u), 0)?) - target;
-        let (r1, r2) = (v3(rod.eval(at(rod, u), 1)?), v3(rod.eval(at(rod, u), 2)?));
+        let [r0, r1, r2] = rod.eval_012(at(rod, u))?;
+        let (d, r1, r2) = (v3(r0) - target, v3(r1), v3(r2));
         let h = r1.dot(&r1) + d.dot(&r2);
         Ok(if h > 0.0 { (u - d.dot(&r1) / h).clamp(w.0, w.1) } else { u })
     };
