@@ -24,6 +24,7 @@ OUTPUTS = {
     "dna_unzip.py": ["dna_unzip.csv", "dna_unzip.dcd", "dna_unzip.pdb", "dna_unzip.png", "dna_unzip.psf"],
     "knit_jersey.py": ["knit_jersey.glb", "knit_jersey.png", "knit_jersey.vtk", "knit_jersey_stretch.png"],
     "knit_patterns.py": ["knit_patterns.png"],
+    "knit_sweep.py": ["knit_sweep", "knit_sweep.png"],
     "necklace.py": ["necklace.dcd", "necklace.pdb", "necklace.png", "necklace.psf", "necklace_energy.png"],
     "rope_bridge.py": ["rope_bridge.dcd", "rope_bridge.pdb", "rope_bridge.png", "rope_bridge.psf", "rope_bridge_walk.png"],
     "pendulum.py": ["pendulum.csv", "pendulum.dcd", "pendulum.pdb", "pendulum.png", "pendulum.psf", "pendulum_tip.png"],

@@ -21,6 +21,7 @@ SMALL = {  # builder → (arguments, world): scenes of a few milliseconds a step
     "cable_on_clips": ({}, {"gravity": [0, -9.81, 0], "dt": 3e-3}),
     "harness": ({}, {"gravity": [0, -9.81, 0], "dt": 3e-3}),
     "dna.duplex": ({"sequence": "GATTACAGC"}, {"dt": 0.01, "viscosity": 1.0}),
+    "knit.fabric": ({"wales": 3, "courses": 3}, {"dt": 1e-8, "overdamped": True, "viscosity": 1.0}),
 }
 
 

@@ -83,6 +83,13 @@ class Relaxed:
                 f"wales/cm={d['wales_per_cm']:.2f}, clearance={self.clearance:.3f})")
 
 
+def _first_dt(fabric: Fabric, viscosity: float) -> float:
+    """The first step (s): 100 × η r⁴/B, the overdamped relaxation time of a
+    bend one radius long, so that a stiffer or a scaled fabric takes the
+    same steps through the same shapes (the flow's steps adapt from here)."""
+    return 100.0 * viscosity * fabric.yarn_radius ** 4 / fabric.bending_stiffness
+
+
 def _check(name, x, low=0.0, integer=False):
     if isinstance(x, bool) or not np.isfinite(x) or x <= low or (integer and int(x) != x):
         raise errors.InvalidInputError(f"{name}: {'an integer' if integer else 'a finite number'} > {low}, got {x!r}")
@@ -110,7 +117,7 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
         world = fabric.world(friction=_check("friction", friction, low=-1e-300), viscosity=_check("viscosity", viscosity))
     else:
         world.set_params(viscosity=_check("viscosity", viscosity))
-    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=1e-3 * fabric.yarn_radius)
+    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=_first_dt(fabric, world.params["viscosity"]))
     hist = {"step": [], "energy": [], "k_c": [], "k_w": []}
     least = clearance(world, fabric)
     t0 = time.perf_counter()
@@ -233,7 +240,7 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     pulls = [world.add_constraint(rod, position(u, target=p), label=f"pull[{i}]") for i, (rod, u, p) in enumerate(pulled)]
     start = np.array([p for _, _, p in pulled])
     gap = float(np.mean(start @ axis) - np.mean(np.array([p for _, _, p in held]) @ axis))
-    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=1e-3 * fabric.yarn_radius)
+    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=_first_dt(fabric, world.params["viscosity"]))
     for _ in range(int(settle_steps)):
         flow.step()
     across = np.array([1.0, 0.0, 0.0]) if direction == "wale" else np.array([0.0, 1.0, 0.0])
