@@ -22,17 +22,7 @@ import numpy as np
 import strandkit as sk
 from _common import Checks, output_dir
 from strandkit.knit import experiments as ex
-from strandkit.knit.geometry import yarn_points
-
-
-def draw(ax, world, fabric, title):
-    for p in yarn_points(world, fabric):
-        ax.scatter(p[:, 0] * 1e3, p[:, 1] * 1e3, c=p[:, 2] * 1e3, s=1.5, cmap="coolwarm", vmin=-0.6, vmax=0.6)
-        ax.plot(p[:, 0] * 1e3, p[:, 1] * 1e3, color="0.3", lw=0.3)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x along the course [mm]")
-    ax.set_ylabel("y along the wale [mm]")
-    ax.set_title(title)
+from strandkit.knit.plots import draw_front
 
 
 def main():
@@ -56,7 +46,7 @@ def main():
     sk.write_vtk(relaxed.world, str(out / "knit_jersey.vtk"))
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 6))
-    draw(axes[0], relaxed.world, fabric, f"relaxed ({relaxed.steps} steps): k_c = {relaxed.dimensions['k_c']:.2f}, "
+    draw_front(axes[0], relaxed.world, fabric, title=f"relaxed ({relaxed.steps} steps): k_c = {relaxed.dimensions['k_c']:.2f}, "
                                          f"k_w = {relaxed.dimensions['k_w']:.2f}")
     s = ex.stretch(relaxed, direction="wale", strain=0.1, increments=2, settle_steps=100, steps_per_increment=150)
     print(s)
@@ -64,7 +54,7 @@ def main():
     checks.true("the stretched fabric pulls the bars back", s.force[top] > 0, f"{s.force[top]:.4g} N at strain {s.strain[top]:.2f}")
     print(f"lateral strain at strain {s.strain[top]:.2f}: {s.lateral_strain[top]:.4f}")
     checks.true("no yarn inside another while stretched (clearance > 0.75)", s.clearance > 0.75, f"{s.clearance:.3f}")
-    draw(axes[1], s.world, fabric, "back to zero strain after the stretch")
+    draw_front(axes[1], s.world, fabric, title="back to zero strain after the stretch")
     fig.tight_layout()
     fig.savefig(out / "knit_jersey.png", dpi=110)
 

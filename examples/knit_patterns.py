@@ -17,7 +17,7 @@ import numpy as np
 import strandkit as sk
 from _common import Checks, output_dir
 from strandkit.knit import experiments as ex
-from strandkit.knit.geometry import yarn_points
+from strandkit.knit.plots import draw_front
 
 
 def main():
@@ -36,13 +36,8 @@ def main():
         checks.true(f"{pattern}: elastic energy falls", bool(np.all(np.diff(e) <= 1e-12 * e[0]) and e[-1] < e[0]),
                     f"{e[0]:.4e} → {e[-1]:.4e} J")
         checks.true(f"{pattern}: no yarn inside another (clearance > 0.75)", r.clearance > 0.75, f"{r.clearance:.3f}")
-        for p in yarn_points(r.world, fabric):
-            ax.scatter(p[:, 0] * 1e3, p[:, 1] * 1e3, c=p[:, 2] * 1e3, s=1.2, cmap="coolwarm", vmin=-0.6, vmax=0.6)
-            ax.plot(p[:, 0] * 1e3, p[:, 1] * 1e3, color="0.3", lw=0.3)
-        ax.set_aspect("equal")
-        ax.set_title(f"{pattern}: {' '.join(fabric.rows[0][:4])}… / {' '.join(fabric.rows[1][:4])}…")
-        ax.set_xlabel("x [mm]")
-    axes[0].set_ylabel("y [mm]")
+        draw_front(ax, r.world, fabric, point_size=1.2,
+                   title=f"{pattern}: {' '.join(fabric.rows[0][:4])}… / {' '.join(fabric.rows[1][:4])}…")
     fig.tight_layout()
     fig.savefig(out / "knit_patterns.png", dpi=100)
     checks.finish()

@@ -14,8 +14,6 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
-from typing import Optional
-
 import numpy as np
 
 from .. import errors
@@ -236,7 +234,8 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
         # between them (both would hold the same distances).
         for h in list(world.group("bindoff").constraints if "bindoff" in world.groups else []):
             world.remove_constraint(h)
-    handles = [world.add_constraint(rod, position(u, target=p), label=f"grip[{i}]") for i, (rod, u, p) in enumerate(held)]
+    for i, (rod, u, p) in enumerate(held):
+        world.add_constraint(rod, position(u, target=p), label=f"grip[{i}]")
     pulls = [world.add_constraint(rod, position(u, target=p), label=f"pull[{i}]") for i, (rod, u, p) in enumerate(pulled)]
     start = np.array([p for _, _, p in pulled])
     gap = float(np.mean(start @ axis) - np.mean(np.array([p for _, _, p in held]) @ axis))
