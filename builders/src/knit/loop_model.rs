@@ -113,20 +113,29 @@ impl LoopModel {
         // neighbours (±π/16 of a stitch): 32 samples missed them.
         const N: usize = 128;
         let (nw, nc) = (grid.wales(), grid.courses());
-        let pts: Vec<Vec<Vector3<f64>>> = (0..nc)
-            .map(|j| (0..N * nw).map(|k| self.point(grid, periodic, j, TAU * (k as f64 + 0.5) / N as f64)).collect())
-            .collect();
+        let course = |j: usize| -> Vec<Vector3<f64>> {
+            (0..N * nw).map(|k| self.point(grid, periodic, j, TAU * (k as f64 + 0.5) / N as f64)).collect()
+        };
         // Arc length between neighbouring samples, for the along-yarn exclusion.
         let step = self.mean_loop_length(grid, periodic) / N as f64;
         let skip = ((4.0 * radius / step).ceil() as usize).max(1);
         let n = N * nw;
         let mut best = f64::INFINITY;
+        // Three courses at a time: memory stays O(wales), not O(stitches).
+        let mut window: std::collections::VecDeque<Vec<Vector3<f64>>> = (0..3.min(nc)).map(course).collect();
         for j in 0..nc {
-            for jj in j..(j + 3).min(nc) {
+            for (dj, other) in window.iter().enumerate() {
+                let jj = j + dj;
                 for i in 0..nw {
                     for di in [-1i64, 0, 1] {
                         let ii = i as i64 + di;
-                        let ii = if periodic { ii.rem_euclid(nw as i64) } else if ii < 0 || ii >= nw as i64 { continue } else { ii } as usize;
+                        let ii = if periodic {
+                            ii.rem_euclid(nw as i64) as usize
+                        } else if ii < 0 || ii >= nw as i64 {
+                            continue;
+                        } else {
+                            ii as usize
+                        };
                         for ka in i * N..(i + 1) * N {
                             for kb in ii * N..(ii + 1) * N {
                                 if jj == j {
@@ -136,11 +145,15 @@ impl LoopModel {
                                         continue;
                                     }
                                 }
-                                best = best.min((pts[j][ka] - pts[jj][kb]).norm());
+                                best = best.min((window[0][ka] - other[kb]).norm());
                             }
                         }
                     }
                 }
+            }
+            window.pop_front();
+            if j + 3 < nc {
+                window.push_back(course(j + 3));
             }
         }
         best / (2.0 * radius)

@@ -52,6 +52,9 @@ impl Yarn {
 
     pub fn validate(&self) -> Result<()> {
         positive("yarn radius", self.radius)?;
+        if self.radius > 0.05 {
+            return Err(Error::invalid("yarn radius", self.radius, "at most 0.05 m (a rope, not a yarn, past that)"));
+        }
         positive("yarn density", self.density)?;
         positive("yarn young", self.young)?;
         if let Some(b) = self.bending_stiffness {

@@ -77,7 +77,7 @@ impl Rod {
         }
         let seg = self.knots.locate(u)?;
         let c = &self.cache;
-        let before: f64 = c.samples[..c.seg_start[seg]].iter().map(|s| s.w).sum();
+        let before = c.seg_arc[seg];
         let (u0, _) = self.knots.segment_interval(seg);
         let (x, w) = gauss_legendre(8)?;
         let ctrl = c.seg_ctrl[seg];

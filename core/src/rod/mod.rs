@@ -83,8 +83,8 @@ pub struct RodOptions {
     #[serde(default)]
     pub sampling_length: f64,
     /// A naturally straight rod wound into its initial shape: zero rest
-    /// curvatures and twist (the rest arc length is still the initial
-    /// shape's). A yarn knitted into loops, or closed into a ring (a
+    /// curvatures and twist (an imposed excess link still shifts the rest
+    /// twist; the rest arc length is still the initial shape's). A yarn knitted into loops, or closed into a ring (a
     /// closed curve cannot be a straight rest shape).
     #[serde(default)]
     pub straight_rest: bool,

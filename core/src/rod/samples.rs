@@ -107,6 +107,9 @@ pub(crate) struct Cache {
     pub seg_ctrl: Vec<[usize; 4]>,
     /// First sample of each segment; segment s owns samples[seg_start[s]..seg_start[s+1]].
     pub seg_start: Vec<usize>,
+    /// Rest arc length from the start of the domain to the start of each
+    /// segment (length unit): `Rod::rest_arc_length` in O(1).
+    pub seg_arc: Vec<f64>,
     /// Stretch-only samples (Greville collocation; empty otherwise), and
     /// the first of each segment as `seg_start`.
     pub stretch: Vec<StretchSample>,
@@ -233,7 +236,8 @@ impl Cache {
             let mut consts = SampleConsts { speed0, delta, delta_bend, ..Default::default() };
             set_stiffness(&mut consts, &p, e, g);
             // An imposed excess link lowers the rest twist uniformly (topology.rs).
-            let rest = if straight { [0.0; 3] } else { [k1, k2, om - rod.link_twist_shift(c.rest_length)] };
+            let shift = rod.link_twist_shift(c.rest_length);
+            let rest = if straight { [0.0, 0.0, -shift] } else { [k1, k2, om - shift] };
             set_plastic(&mut consts, &rest, &rod.plastic.get(idx).copied().unwrap_or_default());
             let mu = rho * p.area;
             let rho_i0 = rho * p.i0;
@@ -278,6 +282,13 @@ impl Cache {
                 )));
             }
         }
+        c.seg_arc = (0..nseg)
+            .scan(0.0, |acc, s| {
+                let start = *acc;
+                *acc += c.samples[c.seg_start[s]..c.seg_start[s + 1]].iter().map(|x| x.w).sum::<f64>();
+                Some(start)
+            })
+            .collect();
         c.seg_bb_chol = c.seg_bb.iter().map(crate::force::thermal::cholesky4).collect();
         c.seg_stretch_start = vec![0; nseg + 1];
         if rod.opts.stretch_at_greville {

@@ -124,15 +124,20 @@ class Fabric:
 
     def dimensions(self, world, *, margin: int = 1) -> dict:
         """Stitch dimensions now, from the heads of loops at least
-        ``margin`` stitches from every edge: ``wale_spacing`` w and
+        ``margin`` stitches from every edge (less on a swatch too small to
+        leave two heads each way): ``wale_spacing`` w and
         ``course_spacing`` c (m, mean distances between neighbouring
         heads, measured in space so a curled swatch is measured along
         itself), ``wales_per_cm``, ``courses_per_cm``, ``stitch_density``
         (stitches/cm²), and Munden's ``k_w`` = w⁻¹·l, ``k_c``, ``k_s`` (l in
         cm, as Munden's constants)."""
+        from ..errors import InvalidInputError
+        if isinstance(margin, bool) or not isinstance(margin, (int, np.integer)) or margin < 0:
+            raise InvalidInputError(f"margin: a number of stitches ≥ 0, got {margin!r}")
         h = self.heads(world)
         nc, nw = self.courses, self.wales
-        m = int(margin)
+        # At most the margin that leaves two heads each way to measure.
+        m = int(min(margin, (nc - 2) // 2, (nw - 2) // 2 if self.tube_radius == 0 else margin))
         rows = slice(m, max(nc - m, m + 1))
         cols = slice(m, max(nw - m, m + 1))
         if self.tube_radius > 0:
@@ -193,12 +198,18 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
     if continuous is None:
         continuous = boundary != "periodic"
     if spacing is not None:
-        spacing = [float(x) for x in spacing]
+        try:
+            spacing = [float(x) for x in spacing]
+        except (TypeError, ValueError):
+            raise InvalidInputError(f"spacing: (wale spacing, course spacing) in m, got {spacing!r}") from None
         if len(spacing) != 2:
             raise InvalidInputError(f"spacing: give (wale spacing, course spacing) in m, got {len(spacing)} values")
     for k, v in (("wales", wales), ("courses", courses), ("control_points_per_loop", control_points_per_loop)):
-        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
-            raise InvalidInputError(f"{k}: a non-negative integer, got {v!r}")
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or not 0 <= v <= 10 ** 9:
+            raise InvalidInputError(f"{k}: an integer from 0 to 1e9, got {v!r}")
+    for k, v in (("loop_length", loop_length), ("yarn_radius", yarn_radius)):
+        if isinstance(v, bool) or not isinstance(v, (int, float, np.floating, np.integer)):
+            raise InvalidInputError(f"{k}: a length in m, got {v!r}")
     asm, d = _native.build_knit_fabric(
         pattern=name or "jersey", rows=rows, wales=int(wales), courses=int(courses), loop_length=float(loop_length),
         yarn=str(yarn), yarn_radius=float(yarn_radius),

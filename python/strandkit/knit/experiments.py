@@ -4,11 +4,14 @@ stretch along the course or the wale, edge curl.
 The fabric is relaxed by overdamped (Brownian, T = 0) dynamics — every
 yarn moves at drag⁻¹ × its net force, a gradient flow of the elastic
 energy under the contacts — with implicit Euler steps whose length adapts
-so that no control point moves more than ``step_fraction`` yarn radii per
-step (a step carrying a yarn farther than the contact margin could pass it
-through another). Friction acts at the contacts as in any step. The drag
-(the world's ``viscosity``) sets the time scale only: the equilibrium does
-not depend on it.
+after each step towards moving the farthest control point by
+``step_fraction`` yarn radii (a step carrying a yarn farther than the
+contact margin could pass it through another; the control is a posteriori:
+single steps were measured to reach 4× the aim, about one radius, twice
+the default margin). Friction acts at the contacts as in any step. The
+drag (the world's ``viscosity``) sets the time scale only: the equilibrium
+does not depend on it, and the first step, 100 ηr⁴/B, makes the flow's
+steps the same for every yarn stiffness and scale (``examples/knit_sweep.py``).
 """
 from __future__ import annotations
 
@@ -28,7 +31,7 @@ class _Flow:
     little, shrinks when one moves too much, quarters when one fails."""
 
     def __init__(self, world, radius: float, step_fraction: float, dt: float):
-        self.world, self.cap, self.dt = world, step_fraction * radius, dt
+        self.world, self.cap, self.dt, self.first = world, step_fraction * radius, dt, dt
         self.fails = 0
         world.set_params(dt=dt, overdamped=True)
 
@@ -43,7 +46,7 @@ class _Flow:
         except (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError):
             # The world is unchanged by a refused step: retry shorter.
             self.fails += 1
-            if self.dt < 1e-12 * self.cap:
+            if self.dt < 1e-12 * self.first:
                 raise
             self.dt *= 0.25
             self.world.set_params(dt=self.dt)
@@ -61,7 +64,8 @@ class Relaxed:
     steps, ``history`` (arrays ``step``, ``energy`` J, ``k_c``, ``k_w``),
     the final ``dimensions`` (see :meth:`Fabric.dimensions`), the smallest
     yarn ``clearance`` seen at the records (distance/2r), the edge
-    ``curl`` (m) and the wall time (s)."""
+    ``curl`` (m; None for a tube or a swatch under 3 × 3) and the wall
+    time (s)."""
 
     world: object
     fabric: Fabric
@@ -89,8 +93,13 @@ def _first_dt(fabric: Fabric, viscosity: float) -> float:
 
 
 def _check(name, x, low=0.0, integer=False):
-    if isinstance(x, bool) or not np.isfinite(x) or x <= low or (integer and int(x) != x):
-        raise errors.InvalidInputError(f"{name}: {'an integer' if integer else 'a finite number'} > {low}, got {x!r}")
+    """x as a float (or int) > low, else InvalidInputError naming it."""
+    try:
+        ok = not isinstance(x, bool) and np.isfinite(x) and x > low and (not integer or int(x) == x)
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise errors.InvalidInputError(f"{name}: {'an integer' if integer else 'a finite number'} > {low:g}, got {x!r}")
     return int(x) if integer else float(x)
 
 
@@ -144,9 +153,11 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
     if bar is not None:
         bar.close()
     least = min(least, clearance(world, fabric))
+    flat = fabric.tube_radius == 0 and fabric.courses >= 3 and fabric.wales >= 3
     return Relaxed(world=world, fabric=fabric, converged=converged, steps=k,
                    history={key: np.array(v) for key, v in hist.items()}, dimensions=fabric.dimensions(world),
-                   clearance=least, curl=curl(world, fabric), wall_time=time.perf_counter() - t0, fails=flow.fails)
+                   clearance=least, curl=curl(world, fabric) if flat else None,
+                   wall_time=time.perf_counter() - t0, fails=flow.fails)
 
 
 @dataclass
@@ -204,26 +215,36 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     bars: along the wale (cast-on sinkers held, bound-off heads pulled) or
     the course (first and last stitch of every course).
 
-    source: a :class:`Fabric` (stretched as built) or a :class:`Relaxed`
-    (its world continues); the bars grip where the yarn is, then the
+    source: a :class:`Fabric` (stretched as built, ``friction`` at its
+    contacts) or a :class:`Relaxed` (a copy of its world continues, with
+    its contact settings); the bars grip where the yarn is, then the
     fabric settles between them for ``settle_steps`` (the rest state
     between bars); strain: largest grip strain; increments: steps of grip
-    displacement up (and down again if ``unload``); each increment relaxes
-    for at most ``steps_per_increment`` steps, stopping once the pulled
-    force changed by less than ``tol`` of itself over 20 steps.
+    displacement up (and down again if ``unload``), the bar moving by at
+    most the step cap per step; each increment relaxes for at most
+    ``steps_per_increment`` steps, stopping once the pulled force changed
+    by less than ``tol`` of itself over 20 steps. The first point is the
+    force after settling (the bars' pull at zero strain).
     """
     strain = _check("strain", strain)
+    if strain > 10.0:
+        raise errors.InvalidInputError(f"strain: at most 10 (a knit is not stretched 11×), got {strain!r}")
     increments = _check("increments", increments, integer=True)
     steps_per_increment = _check("steps_per_increment", steps_per_increment, integer=True)
+    settle_steps = _check("settle_steps", settle_steps, low=-1, integer=True)
     tol, step_fraction = _check("tol", tol), _check("step_fraction", step_fraction)
     if isinstance(source, Relaxed):
-        fabric, world = source.fabric, source.world
+        # A copy: the relaxed world stays as it was (stretch adds bars).
+        fabric, world = source.fabric, source.world.copy()
         world.set_params(viscosity=_check("viscosity", viscosity))
     elif isinstance(source, Fabric):
         fabric = source
         world = fabric.world(friction=_check("friction", friction, low=-1e-300), viscosity=_check("viscosity", viscosity))
     else:
         raise errors.InvalidInputError(f"source: a strandkit.knit Fabric or Relaxed, got {type(source).__name__}")
+    if fabric.boundary == "clamped_edges":
+        raise errors.InvalidInputError("source: a fabric with boundary='clamped_edges' is held already; stretch adds its "
+                                       "own bars to a 'free' one")
     from .. import position
     held, pulled, axis = _grips(fabric, direction)
     rods = world.rods()
@@ -257,19 +278,30 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     levels = list(np.linspace(0.0, strain, increments + 1)[1:])
     if unload:
         levels += list(np.linspace(strain, 0.0, increments + 1)[1:])
-    out = {"strain": [0.0], "force": [0.0], "lateral": [0.0], "loading": [True]}
+    out = {"strain": [0.0], "force": [force()], "lateral": [0.0], "loading": [True]}
     least = clearance(world, fabric)
-    for n, e in enumerate(levels):
+    previous = 0.0
+
+    def place(e):
         for (rod, u, p), h in zip(pulled, pulls):
             world.set_constraint(h, position(u, target=tuple(np.asarray(p) + e * gap * axis)))
+
+    for n, e in enumerate(levels):
+        # The bar moves by at most the step cap per step.
+        moves = max(1, int(np.ceil(abs(e - previous) * abs(gap) / flow.cap)))
         last = None
-        for k in range(steps_per_increment):
+        for k in range(max(steps_per_increment, moves)):
+            if k < moves:
+                place(previous + (e - previous) * (k + 1) / moves)
             flow.step()
+            if k < moves:
+                continue
             if k % 20 == 19:
                 f = force()
                 if last is not None and abs(f - last) <= tol * max(abs(f), 1e-300):
                     break
                 last = f
+        previous = e
         out["strain"].append(e), out["force"].append(force()), out["lateral"].append(width() / w0 - 1.0)
         out["loading"].append(n < increments)
         least = min(least, clearance(world, fabric))

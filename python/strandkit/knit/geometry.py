@@ -25,15 +25,19 @@ def clearance(world, fabric, *, exclude: float = 4.0) -> float:
     (the centreline of one inside the other). A cell hash keeps it
     O(points)."""
     r = fabric.yarn_radius
-    pts, yarn, s = [], [], []
+    ring = fabric.tube_radius > 0
+    pts, yarn, s, total = [], [], [], []
     for k, p in enumerate(yarn_points(world, fabric)):
         arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
-        pts.append(p), yarn.append(np.full(len(p), k)), s.append(arc)
-    p, yarn, s = np.concatenate(pts), np.concatenate(yarn), np.concatenate(s)
+        # A ring's length includes its closing segment (its last point
+        # neighbours its first along the yarn).
+        length = arc[-1] + (np.linalg.norm(p[0] - p[-1]) if ring else np.inf)
+        pts.append(p), yarn.append(np.full(len(p), k)), s.append(arc), total.append(np.full(len(p), length))
+    p, yarn, s, total = (np.concatenate(x) for x in (pts, yarn, s, total))
     cell = 2.0 * r
     key = np.floor(p / cell).astype(np.int64)
     order = np.lexsort(key.T[::-1])
-    key, p, yarn, s = key[order], p[order], yarn[order], s[order]
+    key, p, yarn, s, total = key[order], p[order], yarn[order], s[order], total[order]
     # Group points by cell; compare each cell with its 13 "forward" neighbours and itself.
     uniq, start, counts = np.unique(key, axis=0, return_index=True, return_counts=True)
     index = {tuple(k): (a, a + c) for k, a, c in zip(uniq.tolist(), start.tolist(), counts.tolist())}
@@ -46,7 +50,9 @@ def clearance(world, fabric, *, exclude: float = 4.0) -> float:
                 continue
             c, d = nb
             dist = np.linalg.norm(p[a:b, None] - p[None, c:d], axis=2)
-            same = (yarn[a:b, None] == yarn[None, c:d]) & (np.abs(s[a:b, None] - s[None, c:d]) < exclude * r)
+            gap = np.abs(s[a:b, None] - s[None, c:d])
+            gap = np.minimum(gap, total[a:b, None] - gap)
+            same = (yarn[a:b, None] == yarn[None, c:d]) & (gap < exclude * r)
             dist[same] = np.inf
             best = min(best, float(dist.min()))
     return best / (2.0 * r)
@@ -58,8 +64,12 @@ def curl(world, fabric) -> dict:
     the interior (m; + is towards the technical face, +z). Plain jersey
     curls its sides to the back (left, right < 0) and its top and bottom
     to the front (> 0)."""
+    from ..errors import InvalidInputError
     h = fabric.heads(world)
     nc, nw = h.shape[:2]
-    inner = h[1:-1, 1:-1, 2].mean() if nc > 2 and nw > 2 else h[..., 2].mean()
+    if nc < 3 or nw < 3 or fabric.tube_radius > 0:
+        raise InvalidInputError(f"curl: a flat swatch of at least 3 × 3 stitches (edges and an interior), got {nw} × {nc}"
+                                f"{' (a tube)' if fabric.tube_radius > 0 else ''}")
+    inner = h[1:-1, 1:-1, 2].mean()
     return {"bottom": float(h[0, 1:-1, 2].mean() - inner), "top": float(h[-1, 1:-1, 2].mean() - inner),
             "left": float(h[1:-1, 0, 2].mean() - inner), "right": float(h[1:-1, -1, 2].mean() - inner)}
