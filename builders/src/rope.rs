@@ -5,9 +5,8 @@
 //! exactly these three numbers: r = 2√(EI/EA), E = EA/(πr²), ρ = μ/(πr²).
 use nalgebra::Vector3;
 use strandkit_core::error::{positive, size};
-use strandkit_core::energy::Strains;
 use strandkit_core::spline::KnotKind;
-use strandkit_core::{Error, Material, Result, Rod, RodBuilder, Section};
+use strandkit_core::{Error, Material, Result, Rod, RodBuilder, RodOptions, Section};
 
 /// Largest number of control points a builder gives one rope.
 pub const MAX_ROPE_CONTROL_POINTS: usize = 100_000;
@@ -92,21 +91,16 @@ impl Rope {
     /// A closed rope (a ring) of rest length `length` with `n` control
     /// points, built on the closed curve `shape(σ)` (σ ∈ [0, length],
     /// shape(0) = shape(length)). Straight at rest — a rope tied into a
-    /// loop, not a bent ring: the curvature of the built shape is cancelled
-    /// by the rod's rest-strain offsets (the same mechanism that stores
-    /// plastic curvature, SPEC §6).
+    /// loop, not a bent ring (`RodOptions::straight_rest`).
     pub fn ring(&self, what: &str, length: f64, n: usize, shape: impl Fn(f64) -> Vector3<f64> + Send + Sync + 'static) -> Result<Rod> {
         let (section, material) = self.section_and_material(what, length, n, 6)?;
-        let mut rod = RodBuilder::curve(length, shape)
+        RodBuilder::curve(length, shape)
             .control_points(n)
             .knots(KnotKind::Periodic)
             .with_roll(false)
             .section(section)
             .material(material)
-            .build()?;
-        let bent = rod.strains();
-        let offsets: Vec<Strains> = bent.iter().map(|s| Strains { eps: 0.0, kappa1: -s.kappa1, kappa2: -s.kappa2, omega: 0.0 }).collect();
-        rod.set_plastic_offsets(&offsets)?;
-        Ok(rod)
+            .options(RodOptions { straight_rest: true, ..RodOptions::default() })
+            .build()
     }
 }

@@ -137,7 +137,8 @@ class Fabric:
         h = self.heads(world)
         nc, nw = self.courses, self.wales
         # At most the margin that leaves two heads each way to measure.
-        m = int(min(margin, (nc - 2) // 2, (nw - 2) // 2 if self.tube_radius == 0 else margin))
+        limit = (nc - 2) // 2 if self.tube_radius > 0 else (min(nc, nw) - 2) // 2  # a ring has no side edges
+        m = min(int(margin), limit)
         rows = slice(m, max(nc - m, m + 1))
         cols = slice(m, max(nw - m, m + 1))
         if self.tube_radius > 0:
