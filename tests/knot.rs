@@ -93,8 +93,11 @@ fn overhand_knot_tightens_with_force_without_interpenetration() {
     println!("tied: Δ = {delta0:.4} m, closest approach {:.3} diameters", closest0 / (2.0 * R));
 
     let f0 = 400.0 * b; // N: F R²/B ≈ ½ for R = 3.5 cm
-    let steps = 200;
-    let mut rows: Vec<(f64, f64, f64)> = Vec::new(); // F (N), Δ (m), Δ 50 steps before the end
+    // Steps of 5 ms: at 10 ms the closest approach in the tighter levels
+    // depended on rounding (0.80–0.95 diameters under relative force
+    // changes of 1e-12); at 5 ms it stays within 0.93–0.96.
+    let steps = 400;
+    let mut rows: Vec<(f64, f64, f64)> = Vec::new(); // F (N), Δ (m), Δ 0.5 s before the end
     let mut closest = f64::INFINITY;
     let mut worst_at = (0, 0);
     for level in 0..4 {
@@ -106,21 +109,21 @@ fn overhand_knot_tightens_with_force_without_interpenetration() {
         // step, so that the motion over a step stays within the margin.
         let fine = if level == 0 { 250 } else { 0 };
         for k in 0..fine + steps {
-            w.params.dt = if k < fine { 2e-3 } else { 1e-2 };
+            w.params.dt = if k < fine { 2e-3 } else { 5e-3 };
             w.step().unwrap();
             let (delta, gap) = measure(w.rod(h).unwrap());
             if gap < closest {
                 worst_at = (level, k);
             }
             closest = closest.min(gap);
-            if k == fine + steps - 51 {
+            if k == fine + steps - 101 {
                 before = delta;
             }
         }
         let (delta, _) = measure(w.rod(h).unwrap());
         let loop_r = delta / (2.0 * std::f64::consts::PI);
         println!(
-            "F = {f:.4} N: Δ = {delta:.5} m (moved {:+.2e} over the last 50 steps), F R²/B = {:.3}, F Δ²/B = {:.2}, √(h/R) = {:.3}, {} contacts",
+            "F = {f:.4} N: Δ = {delta:.5} m (moved {:+.2e} over the last 0.5 s), F R²/B = {:.3}, F Δ²/B = {:.2}, √(h/R) = {:.3}, {} contacts",
             (delta - before) / delta,
             f * loop_r * loop_r / b,
             f * delta * delta / b,
@@ -130,7 +133,7 @@ fn overhand_knot_tightens_with_force_without_interpenetration() {
         rows.push((f, delta, before));
     }
     println!("closest approach over every step: {:.4} diameters (force level {}, step {})", closest / (2.0 * R), worst_at.0, worst_at.1);
-    // Settled at each force (Δ still within 0.5 % over the last 50 steps).
+    // Settled at each force (Δ still within 0.5 % over the last 0.5 s).
     for &(f, d, before) in &rows {
         assert!(((d - before) / d).abs() < 5e-3, "not settled at F = {f}: Δ {before} → {d}");
     }
@@ -140,7 +143,7 @@ fn overhand_knot_tightens_with_force_without_interpenetration() {
     }
     // No pull-through, and the surfaces never overlap by more than 10 % of
     // the diameter: the spline sags between contact rows, most just after
-    // a force step (measured 7.9 %).
+    // a force step (measured 4–7 % under rounding-level perturbations).
     assert!(closest > 0.9 * 2.0 * R, "closest approach {closest} for a diameter {}", 2.0 * R);
     // Loose-knot scaling Δ ∝ F^(−1/2), raised by the braid: the fitted
     // exponent within 20 % of −½, the prefactor F R²/B above the loose

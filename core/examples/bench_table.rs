@@ -236,7 +236,8 @@ fn breakdown(n: usize, reps: usize) -> [f64; 7] {
     // (3') for comparison, the pivoting band LU (the fallback, and the path of
     // systems with constraint rows).
     sys.assemble(&layout, &rods, &[], &ext, &[], &[], &[], k, false).unwrap();
-    let band = sys.band.clone();
+    sys.matrix.finish();
+    let band = sys.matrix.band().clone();
     let mut ldlt = BandLdlt::new();
     let mut ldlt_ok = true;
     let t_factor = time_median(reps, || ldlt_ok &= ldlt.factor(&band).is_ok());

@@ -1,5 +1,6 @@
 //! Linear algebra kernels: the band LU of the KKT system (SPEC §5).
 pub mod band;
+pub mod csc;
 pub mod sparse;
 pub mod synthetic;
 

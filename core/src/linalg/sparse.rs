@@ -20,14 +20,14 @@
 //! `||A|| ||x|| / ||b||` exceeds `1/ε` (faer's sparse LU does not report
 //! numerically zero pivots itself).
 //!
-//! The sparsity pattern (symmetrised, diagonal always present) is compared
-//! with the previous one while the values are written into their slots; the
-//! symbolic factorisation (ordering, elimination tree, supernodes) is redone
-//! only when a nonzero appears outside the stored pattern, the shape changes,
-//! or more than a quarter of the stored slots have become zero.
+//! The matrix comes as a [`CscAssembly`] (symmetric pattern, diagonal
+//! always present); the symbolic factorisation (ordering, elimination tree,
+//! supernodes) is redone only when that pattern changes (its generation).
+//! A band matrix is read into one first (its nonzeros).
 
 use crate::error::{Error, Result};
 use crate::linalg::band::BandMatrix;
+use crate::linalg::csc::CscAssembly;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
 use faer::sparse::linalg::cholesky::{
@@ -84,8 +84,8 @@ pub struct SparseLu {
     method: SparseMethod,
     // Pattern: CSC, rows sorted, symmetric, diagonal always present.
     n: usize,
-    kl: usize,
-    ku: usize,
+    /// The [`CscAssembly::generation`] of the pattern held.
+    generation: u64,
     pattern_valid: bool,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
@@ -109,6 +109,13 @@ pub struct SparseLu {
     /// so that its regularisation thresholds do not depend on the scaling.
     dscale: Vec<f64>,
     sval: Vec<f64>,
+    /// A band matrix's entries, for [`SparseLu::factor`].
+    from_band: CscAssembly,
+    /// Per slot of the assembly: in the factorised pattern.
+    in_pattern: Vec<bool>,
+    /// The assembly's slot of each factorised entry.
+    slots: Vec<usize>,
+    work_next: Vec<usize>,
     scratch: Option<MemBuffer>,
     scratch_req: Option<StackReq>,
     /// Buffers of the solve and its refinement (right-hand side, residual,
@@ -161,11 +168,31 @@ impl SparseLu {
     /// Errors: `InvalidInput` for a NaN or infinite entry; `Singular` when the
     /// matrix is structurally singular or its condition estimate exceeds 1/ε.
     pub fn factor(&mut self, a: &BandMatrix) -> Result<()> {
-        self.active = None;
-        let changed = self.load(a)?;
-        if changed {
-            self.rebuild_pattern(a)?;
+        // Every nonzero of the band, column by column (the assembly keeps
+        // the union of the positions seen at this size). A fallback path:
+        // the systems that start sparse are assembled as CSC.
+        let mut c = std::mem::take(&mut self.from_band);
+        c.begin(a.n());
+        for j in 0..a.n() {
+            let (i0, col) = a.column(j);
+            for (r, &v) in col.iter().enumerate() {
+                if v != 0.0 {
+                    c.add(i0 + r, j, v);
+                }
+            }
         }
+        c.finish();
+        let out = self.factor_csc(&c);
+        self.from_band = c;
+        out
+    }
+
+    /// Factor the matrix assembled in `a` (its whole stored pattern; the
+    /// symbolic step is redone when the pattern changed). Errors as
+    /// [`SparseLu::factor`].
+    pub fn factor_csc(&mut self, a: &CscAssembly) -> Result<()> {
+        self.active = None;
+        self.load(a)?;
         let n = self.n;
         if n == 0 {
             self.active = Some(SparseFactor::Lu);
@@ -255,106 +282,78 @@ impl SparseLu {
         self.probe_residual
     }
 
-    /// Writes the values of `a` into the stored slots, reading every band entry
-    /// once (the pass is memory-bound: one read of the band, like the band
-    /// LU's copy). Returns `true` when the pattern must be rebuilt (the rebuild
-    /// rewrites every value).
-    fn load(&mut self, a: &BandMatrix) -> Result<bool> {
-        let (n, kl, ku) = (a.n(), a.kl(), a.ku());
-        if !self.pattern_valid || n != self.n || kl != self.kl || ku != self.ku {
-            return Ok(true);
+    /// The values of `a` on the factorised pattern: the union of the
+    /// slots of `a` that have held a nonzero (and the diagonal) since its
+    /// pattern last changed. Structural zeros stay out: they change the
+    /// fill-reducing ordering (with them, the regularised LDLᵀ of a rope
+    /// bridge failed its probe), and entries that vanish on symmetric
+    /// configurations (x–z couplings of a planar rope) come back when it
+    /// moves, so a slot once in stays in — the symbolic step is redone only
+    /// when a nonzero appears outside. One pass over `a`'s entries.
+    fn load(&mut self, a: &CscAssembly) -> Result<()> {
+        let (ptr, idx, val) = a.csc();
+        if let Some(p) = val.iter().position(|v| !v.is_finite()) {
+            let j = ptr.partition_point(|&q| q <= p) - 1;
+            return Err(non_finite(idx[p], j, val[p]));
         }
-        for j in 0..n {
-            let (p0, p1) = (self.col_ptr[j], self.col_ptr[j + 1]);
-            let (i0, col) = a.column(j);
-            // Gather the pattern's slots (the pattern is sorted, in band),
-            // then check by count that no nonzero lies outside it: the
-            // count is a branch-free pass over the column.
-            let mut inside = 0usize;
-            for p in p0..p1 {
-                // A symmetrised slot can lie outside a lopsided band: zero.
-                let v = self.row_idx[p].checked_sub(i0).and_then(|r| col.get(r)).copied().unwrap_or(0.0);
-                if !v.is_finite() {
-                    return Err(non_finite(self.row_idx[p], j, v));
-                }
-                inside += usize::from(v != 0.0);
-                self.val[p] = v;
-            }
-            let all = col.iter().fold(0usize, |c, &v| c + usize::from(v != 0.0));
-            if all != inside {
-                return Ok(true);
-            }
+        let fresh = !self.pattern_valid || a.n() != self.n || a.generation() != self.generation;
+        if fresh {
+            self.in_pattern.clear();
+            self.in_pattern.resize(val.len(), false);
         }
-        // Slots that are zero now stay in the pattern: the pattern is the
-        // union of every nonzero seen on this shape (entries that vanish
-        // on symmetric configurations, e.g. x–z couplings of a planar
-        // rope, come back when it moves), so it is rebuilt only when an
-        // entry appears outside it.
-        Ok(false)
-    }
-
-    /// New pattern from `a`: symmetrised nonzeros plus the diagonal.
-    fn rebuild_pattern(&mut self, a: &BandMatrix) -> Result<()> {
-        let (n, kl, ku) = (a.n(), a.kl(), a.ku());
-        let w = kl.max(ku);
-        // The previous pattern of the same shape stays in (see `load`).
-        let same = self.pattern_valid && n == self.n && kl == self.kl && ku == self.ku;
-        let mut seen = vec![false; if same { n * (2 * w + 1) } else { 0 }];
-        if same {
-            for j in 0..n {
-                for p in self.col_ptr[j]..self.col_ptr[j + 1] {
-                    let i = self.row_idx[p];
-                    seen[j * (2 * w + 1) + (i + w - j)] = true;
+        let grown = fresh || val.iter().zip(&self.in_pattern).any(|(&v, &inside)| v != 0.0 && !inside);
+        if grown {
+            self.n = a.n();
+            self.generation = a.generation();
+            let mirror = a.mirror();
+            for (p, &v) in val.iter().enumerate() {
+                if v != 0.0 {
+                    self.in_pattern[p] = true;
+                    self.in_pattern[mirror[p]] = true;
                 }
             }
+            // The CSC's slots in order: columns stay sorted.
+            self.col_ptr.clear();
+            self.row_idx.clear();
+            self.slots.clear();
+            self.col_ptr.push(0);
+            for j in 0..self.n {
+                for p in ptr[j]..ptr[j + 1] {
+                    if self.in_pattern[p] || idx[p] == j {
+                        self.in_pattern[p] = true;
+                        self.row_idx.push(idx[p]);
+                        self.slots.push(p);
+                    }
+                }
+                self.col_ptr.push(self.row_idx.len());
+            }
+            // Mirror slots: walking the columns in order, row i's entries
+            // come in increasing column order.
+            let nnz = self.row_idx.len();
+            self.mirror.clear();
+            self.mirror.resize(nnz, 0);
+            self.work_next.clear();
+            self.work_next.extend_from_slice(&self.col_ptr[..self.n]);
+            for j in 0..self.n {
+                for q in self.col_ptr[j]..self.col_ptr[j + 1] {
+                    let i = self.row_idx[q];
+                    self.mirror[q] = self.work_next[i];
+                    self.work_next[i] += 1;
+                }
+            }
+            self.pattern_valid = true;
+            self.ldlt_rejected = false;
+            self.ldlt_trusted = false;
+            self.sym_lu = None;
+            // faer's numeric LU keeps the previous factor's column pointers:
+            // a factor of another size must start from a fresh one.
+            self.num_lu = NumericLu::new();
+            self.sym_ldlt = None;
+            self.scratch = None;
+            self.scratch_req = None;
         }
-        let was = |i: usize, j: usize| same && seen[j * (2 * w + 1) + (i + w - j)];
-        self.n = n;
-        self.kl = kl;
-        self.ku = ku;
-        self.col_ptr.clear();
-        self.row_idx.clear();
         self.val.clear();
-        self.col_ptr.push(0);
-        for j in 0..n {
-            for i in j.saturating_sub(w)..=(j + w).min(n - 1) {
-                let v = a.get(i, j);
-                if !v.is_finite() {
-                    self.pattern_valid = false;
-                    return Err(non_finite(i, j, v));
-                }
-                if i == j || v != 0.0 || a.get(j, i) != 0.0 || was(i, j) {
-                    self.row_idx.push(i);
-                    self.val.push(v);
-                }
-            }
-            self.col_ptr.push(self.row_idx.len());
-        }
-        // Mirror slots: walk columns in order; row i's entries appear in increasing column order.
-        let nnz = self.row_idx.len();
-        self.mirror.clear();
-        self.mirror.resize(nnz, 0);
-        let mut next: Vec<usize> = self.col_ptr[..n].to_vec(); // next unmatched slot per column
-        for j in 0..n {
-            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
-                let i = self.row_idx[p];
-                // Slot (j, i) in column i: rows of column i are visited in increasing order of j.
-                let q = next[i];
-                debug_assert_eq!(self.row_idx[q], j);
-                next[i] += 1;
-                self.mirror[p] = q;
-            }
-        }
-        self.pattern_valid = true;
-        self.ldlt_rejected = false;
-        self.ldlt_trusted = false;
-        self.sym_lu = None;
-        // faer's numeric LU keeps the previous factor's column pointers:
-        // a factor of another size must start from a fresh one.
-        self.num_lu = NumericLu::new();
-        self.sym_ldlt = None;
-        self.scratch = None;
-        self.scratch_req = None;
+        self.val.extend(self.slots.iter().map(|&p| val[p]));
         Ok(())
     }
 

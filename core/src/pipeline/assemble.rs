@@ -226,8 +226,9 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
     // A pair detected again keeps its place in the active set (and its
     // force): the active-set rounds re-assemble, and each assembly detects.
     // A pair taken out as dependent (see `solve::block_dependent_contact`) stays out.
+    let carry = Carry::new(&previous);
     for p in contacts.pairs.iter_mut().filter(|p| !super::solve::is_blocked(rod_arena, &ws.blocked, p)) {
-        if let Some(old) = previous.iter().find(|o| o.active && o.rods == p.rods && same_place(rod_arena, o, p)) {
+        if let Some(old) = carry.find(rod_arena, &previous, p) {
             p.active = true;
             p.force = old.force;
             if let (Some(f), Some(of)) = (&mut p.friction, &old.friction) {
@@ -272,16 +273,23 @@ pub(crate) const CONTACT_SLACK: f64 = 5e-3;
 /// of both rods' radii for a rod–rod (or self) row, of the rod's own
 /// against an obstacle's tangent plane; none with friction or outside an
 /// implicit Euler step (`on`).
-pub(crate) fn contact_slack(on: bool, p: &crate::contact::ContactPair, a: &Rod, b: &Rod) -> f64 {
+/// `radii`: the two rods' largest bounding radii ([`largest_radius`]).
+pub(crate) fn contact_slack(on: bool, p: &crate::contact::ContactPair, radii: [f64; 2]) -> f64 {
     if !on || p.friction.is_some() {
         return 0.0;
     }
-    let radius = |r: &Rod| r.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max);
     let reach = match p.kind {
-        crate::constraint::ConstraintKind::Contact(_) => radius(a) + radius(b),
-        _ => radius(a),
+        crate::constraint::ConstraintKind::Contact(_) => radii[0] + radii[1],
+        _ => radii[0],
     };
     CONTACT_SLACK * reach
+}
+
+/// A rod's largest bounding radius (kept per assembly in
+/// `Workspace::radii`: a yarn has thousands of sections and a fabric
+/// thousands of contacts).
+pub(crate) fn largest_radius(r: &Rod) -> f64 {
+    r.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max)
 }
 
 /// Two contact rows at the same place (abscissae within half a parameter
@@ -303,6 +311,48 @@ pub(crate) fn same_place(rods: &Arena<Rod>, a: &crate::contact::ContactPair, b: 
         (Contact(x), Contact(y)) => apart(0, x.ua, y.ua) + apart(1, x.ub, y.ub) < 0.5,
         (Plane(x), Plane(y)) => apart(0, x.u, y.u) < 0.5 && nalgebra::Vector3::from(x.normal).dot(&nalgebra::Vector3::from(y.normal)) > 0.5,
         (x, y) => x == y,
+    }
+}
+
+/// The previous assembly's active pairs sorted by rods and abscissa on the
+/// first rod: a new pair's match (the first in the previous order at the
+/// same place) is sought among those within `same_place`'s half unit, not
+/// among all (a fabric has thousands of pairs, all on one yarn).
+struct Carry {
+    order: Vec<(crate::handles::RodHandle, crate::handles::RodHandle, f64, usize)>,
+}
+
+/// A pair's abscissa on its first rod.
+fn first_u(p: &crate::contact::ContactPair) -> f64 {
+    match &p.kind {
+        crate::constraint::ConstraintKind::Contact(x) => x.ua,
+        crate::constraint::ConstraintKind::Plane(x) => x.u,
+        _ => 0.0,
+    }
+}
+
+impl Carry {
+    fn new(previous: &[crate::contact::ContactPair]) -> Carry {
+        let mut order: Vec<_> = previous.iter().enumerate().filter(|(_, p)| p.active).map(|(i, p)| (p.rods[0], p.rods[1], first_u(p), i)).collect();
+        order.sort_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)).then(a.2.total_cmp(&b.2)));
+        Carry { order }
+    }
+
+    fn find<'a>(&self, rods: &Arena<Rod>, previous: &'a [crate::contact::ContactPair], p: &crate::contact::ContactPair) -> Option<&'a crate::contact::ContactPair> {
+        let u = first_u(p);
+        // A ring's abscissae are compared around its period.
+        let period = rods.get(p.rods[0].into()).filter(|r| r.is_closed()).map(|r| r.n_ctrl() as f64);
+        let mut best: Option<usize> = None;
+        for shift in [0.0, 1.0, -1.0] {
+            let Some(t) = period.map(|t| t * shift).or((shift == 0.0).then_some(0.0)) else { continue };
+            let lo = self.order.partition_point(|e| (e.0, e.1) < (p.rods[0], p.rods[1]) || (e.0, e.1) == (p.rods[0], p.rods[1]) && e.2 < u + t - 0.5);
+            for e in self.order[lo..].iter().take_while(|e| (e.0, e.1) == (p.rods[0], p.rods[1]) && e.2 <= u + t + 0.5) {
+                if best.is_none_or(|b| e.3 < b) && same_place(rods, &previous[e.3], p) {
+                    best = Some(e.3);
+                }
+            }
+        }
+        best.map(|i| &previous[i])
     }
 }
 
@@ -388,6 +438,8 @@ fn gather_and_assemble(
         }
     }
     ws.contact_slack = matches!(regime, Regime::Dynamic { .. });
+    ws.radii.clear();
+    ws.radii.extend(rods.iter().map(|r| largest_radius(r)));
     let mut crefs: Vec<ConstraintRef<'_>> = recycle(std::mem::take(&mut ws.con_refs));
     for (_, c) in constraints.iter() {
         let (a, b) = (position_of(pos, c.rod)?, position_of(pos, c.other.unwrap_or(c.rod))?);
@@ -396,7 +448,7 @@ fn gather_and_assemble(
     for &i in &ws.contact_ids {
         let p = &contacts.pairs[i];
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
-        let slack = contact_slack(ws.contact_slack, p, rods[a], rods[b]);
+        let slack = contact_slack(ws.contact_slack, p, [ws.radii[a], ws.radii[b]]);
         crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: 0.0, lambda: std::slice::from_ref(&p.force), slack });
     }
     for &i in &ws.stick_ids {
@@ -413,6 +465,7 @@ fn gather_and_assemble(
         k.momentum = 0.0;
     }
     ws.sys.record_forces = matches!(regime, Regime::Trapezoidal { first: true, .. });
+    ws.sys.linear_solver = params.linear_solver;
     let mut energy = ws.sys.assemble(&ws.layout, rods, &ws.drags, &ws.ext, &crefs, &ws.masses, &ws.field_k, k, params.parallel);
     if energy.is_ok() && regime.bead_unknowns() {
         let static_beads: Vec<BeadRef> = beads
@@ -423,5 +476,73 @@ fn gather_and_assemble(
         energy = energy.and_then(|e| ws.sys.assemble_beads(&ws.layout, rods, crefs.len(), &static_beads, k).map(|_| e));
     }
     ws.con_refs = recycle(crefs);
+    ws.sys.matrix.finish();
     energy
+}
+
+#[cfg(test)]
+mod storage_tests {
+    use super::*;
+    use crate::constraint::kinds::{Position, RelativeDistance};
+    use crate::{ConstraintKind, RodContacts, IntegrationParameters, LinearSolver, Material, RodBuilder, Section, World};
+    use nalgebra::Vector3;
+
+    /// Two rods pressed across each other with friction, tied by distance
+    /// links, one carrying a sliding bead: every kind of entry the assembly
+    /// writes (segment blocks, bead masses and abscissae, constraint,
+    /// contact and stick rows). Assembled in band and in sparse storage
+    /// from the same state, the matrices agree entry by entry, exactly
+    /// (the same sums in the same order), as do the right-hand sides.
+    #[test]
+    fn band_and_sparse_storage_assemble_the_same_matrix() {
+        let rod = |a: Vector3<f64>, b: Vector3<f64>| {
+            RodBuilder::straight(a, b)
+                .control_points(12)
+                .with_roll(true)
+                .section(Section::circle(0.01).unwrap())
+                .material(Material::new("nylon", 3e9, 0.4, 1150.0).unwrap())
+                .build()
+                .unwrap()
+        };
+        let mut w = World::new(IntegrationParameters { dt: 2e-3, gravity: [0.0, 0.0, -9.81], ..Default::default() });
+        let a = w.add_rod(rod(Vector3::new(-0.5, 0.0, 0.0), Vector3::new(0.5, 0.0, 0.0)));
+        let b = w.add_rod(rod(Vector3::new(0.0, -0.5, 0.021), Vector3::new(0.0, 0.5, 0.021)));
+        for h in [a, b] {
+            let (u0, u1) = w.rod(h).unwrap().domain();
+            for u in [u0, u1] {
+                let p = w.rod(h).unwrap().position(u).unwrap();
+                w.add_constraint(h, ConstraintKind::Position(Position { u, axes: [true; 4], target: [p.x, p.y, p.z, 0.0] }), 0.0).unwrap();
+            }
+        }
+        let (u0, u1) = w.rod(a).unwrap().domain();
+        let (ua, ub) = (u0 + 0.2 * (u1 - u0), u0 + 0.3 * (u1 - u0));
+        let distance = (w.rod(a).unwrap().position(ua).unwrap() - w.rod(b).unwrap().position(ub).unwrap()).norm();
+        w.add_link(a, b, ConstraintKind::RelativeDistance(RelativeDistance { ua, ub, distance }), 0.0).unwrap();
+        w.add_bead(a, u0 + 0.7 * (u1 - u0), 0.01, 0.0, 0.0).unwrap();
+        w.add_load(crate::Load::PointForce(crate::force::PointForce { rod: b, u: 0.5 * (u0 + u1), force: [0.0, 0.0, -20.0] })).unwrap();
+        w.add_contact_detector(RodContacts::new(0.005, false, true).unwrap().with_friction(0.3).unwrap()).unwrap();
+        for _ in 0..20 {
+            w.step().unwrap();
+        }
+        let mid = |h| w.rod(h).unwrap().position(0.5 * (u0 + u1)).unwrap();
+        assert!(w.contacts().active().count() > 0, "the rods touch: {} pairs, mid z {} {}", w.contacts().pairs.len(), mid(a).z, mid(b).z);
+        let snapshot = w.to_json().unwrap();
+        for regime in [Regime::Dynamic { h: 2e-3 }, Regime::Statics { bead_unknowns: true }] {
+            let mut got = Vec::new();
+            for solver in [LinearSolver::Band, LinearSolver::Sparse] {
+                let mut w = World::from_json(&snapshot).unwrap();
+                w.params.linear_solver = solver;
+                assemble(&mut w, regime).unwrap();
+                let m = &w.ws.sys.matrix;
+                let n = m.n();
+                let dense: Vec<f64> = (0..n * n).map(|k| m.get(k / n, k % n)).collect();
+                got.push((m.storage(), dense, w.ws.sys.rhs.clone(), w.ws.layout.n_rows));
+            }
+            let (band, sparse) = (&got[0], &got[1]);
+            assert_eq!((band.0, sparse.0), (crate::system::matrix::Storage::Band, crate::system::matrix::Storage::Sparse));
+            assert!(band.3 > 4, "constraint and contact rows assembled ({})", band.3);
+            assert_eq!(band.1, sparse.1, "{regime:?}: matrices differ");
+            assert_eq!(band.2, sparse.2, "{regime:?}: right-hand sides differ");
+        }
+    }
 }

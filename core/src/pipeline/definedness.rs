@@ -126,7 +126,7 @@ pub(crate) fn check_statically_defined(world: &World, at_equilibrium: bool) -> R
         DMatrix::from_row_iterator(lq.len(), k, lq.iter().flatten().copied())
     };
     let eig = (lq.transpose() * &lq).symmetric_eigen();
-    let kscale = (0..layout.n).map(|g| world.ws.sys.band.get(g, g).abs()).fold(0.0, f64::max);
+    let kscale = (0..layout.n).map(|g| world.ws.sys.matrix.diag(g).abs()).fold(0.0, f64::max);
     let n = layout.n;
     let (mut x, mut y) = (vec![0.0; n], vec![0.0; n]);
     // A mode is held when the constraints see it. With modes of unit norm
@@ -153,7 +153,7 @@ pub(crate) fn check_statically_defined(world: &World, at_equilibrium: bool) -> R
             }
             a[*r].iter_mut().zip(coef).for_each(|(s, k)| *s += c * k);
         }
-        world.ws.sys.band.matvec(&x, &mut y);
+        world.ws.sys.matrix.matvec(&x, &mut y);
         // Only coordinate rows: the multiplier rows of y are L x ≈ 0.
         // The second derivative of the potential Π along the rigid motion:
         // xᵀKx plus ∂Π/∂q · q'' (q'' = ω × ṗ, the screw motion's;

@@ -64,12 +64,18 @@ pub(crate) fn solve(world: &mut World) -> Result<Solved> {
 /// share coordinates, so the culprits are among them.
 fn involved(world: &World, unknown: &Unknown, out: &mut Vec<crate::handles::ConstraintHandle>) {
     let ws = &world.ws;
-    let (layout, a) = (&ws.layout, &ws.sys.band);
-    let n = layout.n;
-    let bw = layout.bandwidth;
+    let (layout, a) = (&ws.layout, &ws.sys.matrix);
     let is_coord = |g: usize| layout.cp_index.iter().zip(&layout.dofs).any(|(cps, &d)| cps.iter().any(|&s| g >= s && g < s + d));
     let rows_of = |c: usize| layout.row_index[c]..layout.row_index[c] + layout.row_count[c];
-    let columns = |i: usize| (i.saturating_sub(bw)..(i + bw + 1).min(n)).filter(move |&j| a.get(i, j) != 0.0);
+    let columns = |i: usize| {
+        let mut js = Vec::new();
+        a.for_row(i, |j, v| {
+            if v != 0.0 {
+                js.push(j)
+            }
+        });
+        js.into_iter()
+    };
     let mut cols: Vec<usize> = match unknown {
         Unknown::Multiplier { constraint, .. } => match ws.con_ids.iter().position(|&h| crate::handles::ConstraintHandle::from(h) == *constraint) {
             Some(c) => rows_of(c).flat_map(columns).filter(|&j| is_coord(j)).collect(),
@@ -116,6 +122,11 @@ pub(crate) fn assemble_and_solve(world: &mut World, regime: Regime) -> Result<(f
 }
 
 /// Position of rod `h` in the layout of the last assembly (None: not in it).
+/// A rod's largest bounding radius as the last assembly measured it.
+fn radius(ws: &crate::system::Workspace, r: usize) -> f64 {
+    ws.radii.get(r).copied().unwrap_or(0.0)
+}
+
 fn layout_position(ws: &crate::system::Workspace, h: crate::handles::RodHandle) -> Option<usize> {
     crate::world::position_of(&ws.rod_pos, h).ok()
 }
@@ -147,7 +158,7 @@ fn check_blocked(world: &World) -> Result<()> {
         p.kind.linearize(&[a, b], &mut rows[..1])?;
         let moved = row_change(ws, &rows[0], [ra, rb]);
         // Deeper by more than a millionth of the rods' reach.
-        let reach = a.sections().iter().chain(b.sections()).map(|s| s.bounding_radius()).fold(0.0, f64::max);
+        let reach = radius(ws, ra).max(radius(ws, rb));
         if moved < -1e-6 * reach.max(f64::MIN_POSITIVE) {
             bad.push(i);
         }
@@ -281,7 +292,7 @@ fn update_active_set(world: &mut World) -> Result<bool> {
         p.kind.linearize(&[a, b], &mut rows[..1])?;
         let (Some(ra), Some(rb)) = (pos(p.rods[0]), pos(p.rods[1])) else { continue };
         // Deeper than the penetration a row may hold (see `assemble::CONTACT_SLACK`).
-        let held = rows[0].rhs.clamp(0.0, super::assemble::contact_slack(ws.contact_slack, p, a, b));
+        let held = rows[0].rhs.clamp(0.0, super::assemble::contact_slack(ws.contact_slack, p, [radius(ws, ra), radius(ws, rb)]));
         if -rows[0].rhs + row_change(ws, &rows[0], [ra, rb]) < -held {
             p.active = true;
             changed = true;

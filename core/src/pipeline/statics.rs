@@ -500,8 +500,8 @@ fn unstable_directions(world: &World) -> Option<usize> {
 /// the multiplier rows).
 fn stability(world: &World) -> Option<(usize, Option<Vec<f64>>)> {
     use crate::linalg::band::{BandLdlt, BandMatrix};
-    let (a, layout) = (&world.ws.sys.band, &world.ws.layout);
-    let (n, bw) = (a.n(), a.kl().max(a.ku()));
+    let (a, layout) = (&world.ws.sys.matrix, &world.ws.layout);
+    let n = a.n();
     let mut is_row = vec![false; n];
     for (c, &r0) in layout.row_index.iter().enumerate() {
         is_row[r0..r0 + layout.row_count[c]].iter_mut().for_each(|x| *x = true);
@@ -515,12 +515,21 @@ fn stability(world: &World) -> Option<(usize, Option<Vec<f64>>)> {
         }
     }
     let is_row = &is_row;
-    let cols = |g: usize| (g.saturating_sub(bw)..(g + bw + 1).min(n)).filter(move |&j| j != g && !is_row[j] && a.get(g, j) != 0.0);
-    let diag_max = (0..n).filter(|&g| !is_row[g]).map(|g| a.get(g, g).abs()).fold(0.0f64, f64::max);
+    // Row g's nonzero entries on other coordinates.
+    let cols = |g: usize| {
+        let mut e = Vec::new();
+        a.for_row(g, |j, v| {
+            if j != g && !is_row[j] && v != 0.0 {
+                e.push((j, v));
+            }
+        });
+        e
+    };
+    let diag_max = (0..n).filter(|&g| !is_row[g]).map(|g| a.diag(g).abs()).fold(0.0f64, f64::max);
     // Width: the coordinate block's, and each row's span of coordinates.
     let mut width = 0;
     for g in 0..n {
-        let span: Vec<usize> = cols(g).map(|j| pos[j]).collect();
+        let span: Vec<usize> = cols(g).iter().map(|&(j, _)| pos[j]).collect();
         if is_row[g] {
             if let (Some(lo), Some(hi)) = (span.iter().min(), span.iter().max()) {
                 width = width.max(hi - lo);
@@ -531,18 +540,18 @@ fn stability(world: &World) -> Option<(usize, Option<Vec<f64>>)> {
     }
     let mut p = BandMatrix::new(m, width, width);
     for g in (0..n).filter(|&g| !is_row[g]) {
-        p.set(pos[g], pos[g], a.get(g, g));
-        for j in cols(g) {
-            p.set(pos[g], pos[j], a.get(g, j));
+        p.set(pos[g], pos[g], a.diag(g));
+        for (j, v) in cols(g) {
+            p.set(pos[g], pos[j], v);
         }
     }
     for g in (0..n).filter(|&g| is_row[g]) {
-        let l: Vec<(usize, f64)> = cols(g).map(|j| (pos[j], a.get(g, j))).collect();
+        let l: Vec<(usize, f64)> = cols(g).into_iter().map(|(j, v)| (pos[j], v)).collect();
         let norm2: f64 = l.iter().map(|e| e.1 * e.1).sum();
         if norm2 == 0.0 {
             continue;
         }
-        let c = -a.get(g, g); // the row's compliance (scaled), ≥ 0
+        let c = -a.diag(g); // the row's compliance (scaled), ≥ 0
         let rho = if c > 0.0 { 1.0 / c } else { 1e4 * diag_max / norm2 };
         for &(i, x) in &l {
             for &(j, y) in &l {

@@ -10,7 +10,8 @@
 use super::layout::Layout;
 use crate::constraint::{ConstraintKind, Row, SlidingBlocks};
 use crate::error::{Error, Result};
-use crate::linalg::band::{solve_refined, BandLdlt, BandLu, BandMatrix};
+use super::matrix::{KktMatrix, Storage};
+use crate::linalg::band::{solve_refined, BandLdlt, BandLu};
 use crate::linalg::sparse::{prefer_sparse, SparseLu};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -149,6 +150,17 @@ fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4],
     }
 }
 
+/// The storage an assembly uses: sparse where the sparse factorisation
+/// comes first in the chain (a wide band, or asked for), band otherwise.
+pub fn storage_for(layout: &Layout, solver: LinearSolver) -> Storage {
+    let wide = solver == LinearSolver::Sparse || solver == LinearSolver::Auto && prefer_sparse(layout.n, layout.bandwidth);
+    if wide && layout.n <= crate::linalg::csc::MAX_ORDER {
+        Storage::Sparse
+    } else {
+        Storage::Band
+    }
+}
+
 /// Largest relative residual accepted from the LDLᵀ path (after one step of
 /// refinement) before falling back to the LU: an SPD solve lands at ~1e-17,
 /// as the pivoting LU does; far above means A was not symmetric, or too
@@ -157,7 +169,10 @@ const LDLT_MAX_RESIDUAL: f64 = 1e-14;
 
 #[derive(Clone, Debug, Default)]
 pub struct KktSystem {
-    pub band: BandMatrix,
+    /// The assembled matrix, in band or sparse storage ([`storage_for`]).
+    pub matrix: KktMatrix,
+    /// The solver preference the next assembly picks its storage for.
+    pub linear_solver: LinearSolver,
     pub lu: BandLu,
     /// Symmetric factorisation tried first when there are no multiplier rows.
     pub ldlt: BandLdlt,
@@ -224,7 +239,7 @@ impl KktSystem {
             .iter()
             .enumerate()
             .fold(0.0f64, |m, (i, r)| m.max((k.mass * r.mass() + k.drag * drag_of(i) * r.rest_length()) / r.n_ctrl() as f64));
-        self.band.reshape(layout.n, bw, bw);
+        self.matrix.reset(layout.n, bw, storage_for(layout, self.linear_solver));
         self.rhs.clear();
         self.rhs.resize(layout.n, 0.0);
         for (r, rod) in rods.iter().enumerate() {
@@ -302,7 +317,7 @@ impl KktSystem {
                     for l in 0..4 {
                         for c in 0..3 {
                             if p[(a, c)] != 0.0 {
-                                self.band.add(gi, layout.cp_index[pm.rod][ctrl[l]] + c, k.mass * pm.mass * b[0][kk] * b[0][l] * p[(a, c)]);
+                                self.matrix.add(gi, layout.cp_index[pm.rod][ctrl[l]] + c, k.mass * pm.mass * b[0][kk] * b[0][l] * p[(a, c)]);
                             }
                         }
                     }
@@ -311,7 +326,7 @@ impl KktSystem {
         }
         // Stiffness −∂F/∂q of the force fields (harmonic traps), rod-local entries.
         for &(r, i, j, v) in field_stiffness {
-            self.band.add(layout.dof(r, i), layout.dof(r, j), k.stiffness * v);
+            self.matrix.add(layout.dof(r, i), layout.dof(r, j), k.stiffness * v);
         }
         for (c, cr) in cons.iter().enumerate() {
             let nr = cr.kind.n_rows();
@@ -323,23 +338,23 @@ impl KktSystem {
                 let mut sb = SlidingBlocks::default();
                 cr.kind.sliding_blocks(&pair, cr.lambda, k.drag, &mut sb)?;
                 for e in 0..cr.kind.n_extra() {
-                    self.band.add(gx + e, gx + e, sb.diag[e]);
+                    self.matrix.add(gx + e, gx + e, sb.diag[e]);
                     self.rhs[gx + e] = sb.rhs[e];
                 }
                 for &(w, local, v) in sb.coupling.entries() {
                     let gj = layout.dof(cr.rods[w as usize], local);
-                    self.band.add(gj, gx, v);
-                    self.band.add(gx, gj, v);
+                    self.matrix.add(gj, gx, v);
+                    self.matrix.add(gx, gj, v);
                 }
             }
             for (i, row) in self.rows[..nr].iter().enumerate() {
                 let gi = layout.row_index[c] + i;
                 for &(w, local, v) in row.entries() {
                     let gj = if w == 2 { gx + local } else { layout.dof(cr.rods[w as usize], local) };
-                    self.band.add(gi, gj, v);
-                    self.band.add(gj, gi, v);
+                    self.matrix.add(gi, gj, v);
+                    self.matrix.add(gj, gi, v);
                 }
-                self.band.add(gi, gi, -cr.compliance);
+                self.matrix.add(gi, gi, -cr.compliance);
                 self.rhs[gi] = row.rhs - row.rhs.clamp(0.0, cr.slack);
             }
         }
@@ -379,7 +394,7 @@ impl KktSystem {
         }
         let drag = drag.map(|dr| rod.seg_drag(dr, s));
         add_inertia(blk, d, k, &cache.seg_mass[s], &cache.seg_inertia[s], drag.as_ref());
-        self.band.add_sym_block(&idx[..nl], &blk.hess, 16);
+        self.matrix.add_sym_block(&idx[..nl], &blk.hess, 16);
     }
 
     /// Levenberg–Marquardt damping: A_ii += λ max(|A_ii|, floor) on the
@@ -398,10 +413,11 @@ impl KktSystem {
                 is_row[i] = true;
             }
         }
-        let dmax = (0..n).filter(|&i| !is_row[i]).map(|i| self.band.get(i, i).abs()).fold(0.0, f64::max);
+        self.matrix.finish();
+        let dmax = (0..n).filter(|&i| !is_row[i]).map(|i| self.matrix.diag(i).abs()).fold(0.0, f64::max);
         for i in (0..n).filter(|&i| !is_row[i]) {
-            let a = self.band.get(i, i).abs().max(1e-9 * dmax);
-            self.band.add(i, i, lambda * a);
+            let a = self.matrix.diag(i).abs().max(1e-9 * dmax);
+            self.matrix.add_diag(i, lambda * a);
         }
     }
 
@@ -410,7 +426,6 @@ impl KktSystem {
     /// multipliers act (coordinate rows), and −c(q) + C y (multiplier
     /// rows). `scaled`: the band holds D A D (after a solve), undone here.
     pub fn residual_less_rows(&self, layout: &Layout, z: &[f64], scaled: bool) -> Vec<f64> {
-        let (n, bw) = (layout.n, layout.bandwidth);
         let mut r = self.rhs.clone();
         let d = |i: usize| if scaled { self.scale[i] } else { 1.0 };
         for (c, &r0) in layout.row_index.iter().enumerate() {
@@ -418,12 +433,11 @@ impl KktSystem {
                 if z[j] == 0.0 {
                     continue;
                 }
-                for i in j.saturating_sub(bw)..(j + bw + 1).min(n) {
-                    let a = self.band.get(i, j);
+                self.matrix.for_column(j, |i, a| {
                     if a != 0.0 {
                         r[i] -= a / (d(i) * d(j)) * z[j];
                     }
-                }
+                });
             }
         }
         r
@@ -467,13 +481,13 @@ impl KktSystem {
             let f = b.load;
             let dot = |v: [f64; 4]| f[0] * v[0] + f[1] * v[1] + f[2] * v[2];
             let speed2 = d1[0] * d1[0] + d1[1] * d1[1] + d1[2] * d1[2];
-            self.band.add(g, g, -dot(d2) + k.mass * b.mass * speed2);
+            self.matrix.add(g, g, -dot(d2) + k.mass * b.mass * speed2);
             self.rhs[g] = dot(d1);
             for kk in 0..4 {
                 for a in 0..3 {
                     let gj = layout.cp_index[b.rod][ctrl[kk]] + a;
-                    self.band.add(gj, g, -f[a] * bs[1][kk]);
-                    self.band.add(g, gj, -f[a] * bs[1][kk]);
+                    self.matrix.add(gj, g, -f[a] * bs[1][kk]);
+                    self.matrix.add(g, gj, -f[a] * bs[1][kk]);
                 }
             }
         }
@@ -482,10 +496,9 @@ impl KktSystem {
 
     /// Entries stored by the last factorisation, fill included.
     pub fn factor_entries(&self) -> usize {
-        if self.used == Factorisation::Sparse {
-            self.sparse.factor_nnz().unwrap_or(0)
-        } else {
-            self.band.n() * (2 * self.band.kl() + self.band.ku() + 1)
+        match (self.used, self.matrix.as_band()) {
+            (Factorisation::Sparse, _) | (_, None) => self.sparse.factor_nnz().unwrap_or(0),
+            (_, Some(b)) => b.n() * (2 * b.kl() + b.ku() + 1),
         }
     }
 
@@ -507,7 +520,7 @@ impl KktSystem {
         }
         self.diag_min = f64::INFINITY;
         for i in 0..n {
-            let a = self.band.get(i, i).abs();
+            let a = self.matrix.diag(i).abs();
             if !is_row[i] && a > 0.0 {
                 self.scale[i] = 1.0 / a.sqrt();
                 self.diag_min = self.diag_min.min(a);
@@ -517,19 +530,19 @@ impl KktSystem {
             // Row i read as column i (contiguous): the assembly writes every
             // constraint entry with its transpose, so the KKT matrix is
             // symmetric (the LDLᵀ path relies on it too).
-            let (i0, col) = self.band.column(i);
             let mut m = 0.0f64;
-            for (&a, (&row, &s)) in col.iter().zip(is_row[i0..].iter().zip(&self.scale[i0..])) {
-                if !row {
-                    m = m.max((a * s).abs());
+            let scale = &self.scale;
+            self.matrix.for_column(i, |r, a| {
+                if !is_row[r] {
+                    m = m.max((a * scale[r]).abs());
                 }
-            }
+            });
             if m > 0.0 {
                 self.scale[i] = 1.0 / m;
             }
         }
         self.is_row = is_row;
-        self.band.scale_symmetric(&self.scale);
+        self.matrix.scale_symmetric(&self.scale);
         for (b, d) in self.rhs.iter_mut().zip(&self.scale) {
             *b *= d;
         }
@@ -606,6 +619,7 @@ impl KktSystem {
         if self.rhs.iter().all(|b| b.abs() < f64::MIN_POSITIVE.sqrt()) {
             self.rhs.iter_mut().for_each(|b| *b = 0.0);
         }
+        self.matrix.finish();
         self.equilibrate(layout);
         self.sol.resize(self.rhs.len(), 0.0);
         let (chain, len) = self.chain(layout, solver);
@@ -647,19 +661,25 @@ impl KktSystem {
     fn attempt(&mut self, f: Factorisation, layout: &Layout, describe: &impl Fn(usize) -> crate::error::Unknown) -> Result<f64> {
         let res = match f {
             Factorisation::BandLdlt => {
-                self.ldlt.factor_quasi_definite(&self.band, &self.is_row).map_err(|d| Error::singular(format!("band LDLᵀ declined: {d:?}")))?;
-                let res = solve_refined(&self.band, &self.ldlt, &self.rhs, &mut self.sol, &mut self.work, 1)?;
+                let band = self.matrix.band();
+                self.ldlt.factor_quasi_definite(band, &self.is_row).map_err(|d| Error::singular(format!("band LDLᵀ declined: {d:?}")))?;
+                let res = solve_refined(band, &self.ldlt, &self.rhs, &mut self.sol, &mut self.work, 1)?;
                 if !(res <= LDLT_MAX_RESIDUAL) {
                     return Err(Error::singular(format!("band LDLᵀ residual {res:.3e}")));
                 }
                 res
             }
             Factorisation::BandLu => {
-                self.lu.factor(&self.band).map_err(|e| name_unknown(e, describe))?;
-                solve_refined(&self.band, &self.lu, &self.rhs, &mut self.sol, &mut self.work, 1)?
+                let band = self.matrix.band();
+                self.lu.factor(band).map_err(|e| name_unknown(e, describe))?;
+                solve_refined(band, &self.lu, &self.rhs, &mut self.sol, &mut self.work, 1)?
             }
             Factorisation::Sparse => {
-                self.sparse.factor(&self.band).map_err(|e| name_unknown(e, describe))?;
+                match self.matrix.as_csc() {
+                    Some(c) => self.sparse.factor_csc(c),
+                    None => self.sparse.factor(self.matrix.band()),
+                }
+                .map_err(|e| name_unknown(e, describe))?;
                 self.sol.copy_from_slice(&self.rhs);
                 self.sparse.solve_refined_in_place(&mut self.sol)?
             }
@@ -671,7 +691,7 @@ impl KktSystem {
             // With moderate entries a non-finite solution is a singular
             // system that slipped past the pivot checks.
             let big = |v: f64| !(v.abs() < 1e100);
-            if !self.rhs.iter().any(|&b| big(b)) && !(0..layout.n).any(|i| big(self.band.get(i, i))) {
+            if !self.rhs.iter().any(|&b| big(b)) && !(0..layout.n).any(|i| big(self.matrix.diag(i))) {
                 return Err(Error::Singular {
                     unknown: Some(unknown),
                     constraints: Vec::new(),
@@ -690,16 +710,15 @@ impl KktSystem {
         // Each constraint row must hold on its own scale: contradictory
         // dependent rows are "solved" with huge multipliers and a violated
         // row, which the global relative residual hides.
-        let bw = layout.bandwidth;
-        let n = layout.n;
         for (c, &r0) in layout.row_index.iter().enumerate() {
             for i in r0..r0 + layout.row_count[c] {
                 let (mut acc, mut mag) = (-self.rhs[i], self.rhs[i].abs());
-                for j in i.saturating_sub(bw)..(i + bw + 1).min(n) {
-                    let t = self.band.get(i, j) * self.sol[j];
+                let sol = &self.sol;
+                self.matrix.for_row(i, |j, a| {
+                    let t = a * sol[j];
                     acc += t;
                     mag += t.abs();
-                }
+                });
                 if acc.abs() > 1e-6 * mag.max(1e-300) && acc.abs() > 1e-12 {
                     let unknown = describe(i);
                     let constraints = match unknown {

@@ -2,6 +2,7 @@
 //! unknowns, their layout in the band, assembly and the factorisation chain.
 pub mod kkt;
 pub mod layout;
+pub mod matrix;
 pub mod ordering;
 pub mod workspace;
 

@@ -52,6 +52,8 @@ pub struct Workspace {
     /// The last assembly let contact rows hold a slight penetration
     /// (`assemble::CONTACT_SLACK`: implicit Euler steps).
     pub(crate) contact_slack: bool,
+    /// Largest bounding radius of each rod, in layout order (per assembly).
+    pub(crate) radii: Vec<f64>,
     /// Sliders that left their rod in the last solve.
     pub(crate) left: Vec<Index>,
     /// Averaged break measures of this step, written back after the
