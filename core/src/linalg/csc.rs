@@ -57,9 +57,9 @@ pub struct CscAssembly {
 pub const MAX_ORDER: usize = u32::MAX as usize;
 
 impl CscAssembly {
-    /// Starts an assembly of an `n × n` matrix (all values zero). The
-    /// caller keeps `n ≤ MAX_ORDER` (a layout of that size is refused
-    /// before allocation).
+    /// Starts an assembly of an `n × n` matrix (all values zero), `n ≤
+    /// MAX_ORDER` (`system::kkt::storage_for` keeps larger systems in band
+    /// storage).
     pub fn begin(&mut self, n: usize) {
         debug_assert!(n <= MAX_ORDER);
         self.same = self.n == n && self.col_ptr.len() == n + 1;
