@@ -57,7 +57,8 @@ pub struct CscAssembly {
 pub const MAX_ORDER: usize = u32::MAX as usize;
 
 impl CscAssembly {
-    /// Starts an assembly of an `n × n` matrix (all values zero), `n ≤
+    /// Starts an assembly of an `n × n` matrix (the additions are summed
+    /// from zero at `finish`), `n ≤
     /// MAX_ORDER` (`system::kkt::storage_for` keeps larger systems in band
     /// storage).
     pub fn begin(&mut self, n: usize) {
@@ -92,6 +93,9 @@ impl CscAssembly {
             }
             self.same = false;
             self.diverged_at = k;
+            // Slots past k are stale from here on, even if this assembly
+            // is never finished.
+            self.mapped = self.mapped.min(k);
             self.pos.truncate(k);
             self.add_val.truncate(k);
         }
@@ -112,7 +116,7 @@ impl CscAssembly {
     }
 
     /// Ends the assembly: the values are summed into the pattern (rebuilt
-    /// if this assembly added other positions than the last one).
+    /// when a position is not in it). Additions after it are not counted.
     pub fn finish(&mut self) {
         if self.finished {
             return;
@@ -227,6 +231,8 @@ impl CscAssembly {
         self.diag.clear();
         self.diag.extend((0..n).map(|j| find(&self.col_ptr, &self.row_idx, j, j)));
         let nnz = self.row_idx.len();
+        // Slots are u32 (a pattern of 4e9 entries would not fit in memory).
+        debug_assert!(nnz <= u32::MAX as usize);
         self.mirror.clear();
         self.mirror.resize(nnz, 0);
         // Row i's entries appear in increasing column order when the
@@ -269,6 +275,7 @@ impl CscAssembly {
     }
     #[inline]
     pub fn diag(&self, i: usize) -> f64 {
+        debug_assert!(self.finished);
         self.val[self.diag[i]]
     }
     /// `A[i][i] += v` after the assembly (damping).
@@ -280,16 +287,19 @@ impl CscAssembly {
     /// Column j's rows and values.
     #[inline]
     pub fn column(&self, j: usize) -> (&[usize], &[f64]) {
+        debug_assert!(self.finished);
         let (a, b) = (self.col_ptr[j], self.col_ptr[j + 1]);
         (&self.row_idx[a..b], &self.val[a..b])
     }
     /// Row i's entries (j, A[i][j]), through the transposes of column i.
     pub fn row(&self, i: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        debug_assert!(self.finished);
         (self.col_ptr[i]..self.col_ptr[i + 1]).map(move |p| (self.row_idx[p], self.val[self.mirror[p]]))
     }
 
     /// A ← D A D.
     pub fn scale_symmetric(&mut self, d: &[f64]) {
+        debug_assert!(self.finished);
         for j in 0..self.n {
             let dj = d[j];
             for p in self.col_ptr[j]..self.col_ptr[j + 1] {
@@ -301,6 +311,7 @@ impl CscAssembly {
     /// y = A x.
     pub fn matvec(&self, x: &[f64], y: &mut [f64]) {
         assert!(x.len() == self.n && y.len() == self.n, "CscAssembly::matvec: length mismatch");
+        debug_assert!(self.finished);
         y.fill(0.0);
         for (j, &xj) in x.iter().enumerate() {
             if xj != 0.0 {
@@ -314,18 +325,6 @@ impl CscAssembly {
     /// Largest |a_ij| (NaN ignored, as `BandMatrix::max_abs`).
     pub fn max_abs(&self) -> f64 {
         self.val.iter().fold(0.0, |m, v| m.max(v.abs()))
-    }
-
-    /// The widest distance |i − j| of a stored entry.
-    pub fn bandwidth(&self) -> usize {
-        (0..self.n).fold(0, |w, j| {
-            let (a, b) = (self.col_ptr[j], self.col_ptr[j + 1]);
-            if a == b {
-                w
-            } else {
-                w.max(j.saturating_sub(self.row_idx[a])).max(self.row_idx[b - 1].saturating_sub(j))
-            }
-        })
     }
 }
 
@@ -418,6 +417,29 @@ mod tests {
         check(&m, &dense(11, &adds));
     }
 
+    /// An assembly abandoned after a change of positions (an error before
+    /// `finish`) leaves no stale slot for the next one.
+    #[test]
+    fn an_unfinished_assembly_leaves_no_stale_slots() {
+        let mut m = CscAssembly::default();
+        let first = [(0, 0, 1.0), (1, 2, 2.0), (3, 1, 3.0), (2, 2, 4.0)];
+        let run = |m: &mut CscAssembly, adds: &[(usize, usize, f64)], finish: bool| {
+            m.begin(4);
+            for &(i, j, v) in adds {
+                m.add(i, j, v);
+            }
+            if finish {
+                m.finish();
+            }
+        };
+        run(&mut m, &first, true);
+        // Differs at the second addition, then stops (no finish).
+        run(&mut m, &[(0, 0, 1.0), (3, 3, 5.0), (0, 3, 6.0), (1, 1, 7.0)], false);
+        // The first positions again: every value where it belongs.
+        run(&mut m, &first, true);
+        check(&m, &dense(4, &first));
+    }
+
     #[test]
     fn symmetric_block_scaling_and_matvec() {
         let mut m = CscAssembly::default();
@@ -446,7 +468,6 @@ mod tests {
         m.scale_symmetric(&d);
         assert_eq!(m.get(4, 2), 5.0 * 3.0 * 0.5);
         assert_eq!(m.get(5, 0), 7.0);
-        assert_eq!(m.bandwidth(), 5);
         m.add_diag(3, 2.0);
         assert_eq!(m.diag(3), 2.0);
     }

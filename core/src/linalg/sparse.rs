@@ -77,8 +77,8 @@ pub enum SparseFactor {
 }
 
 /// Sparse LU (or LDLᵀ with sign-based dynamic regularisation + iterative refinement) of a KKT matrix
-/// given in band storage, for wide-band structures (2-D fabrics). Reuses the symbolic factorisation
-/// while the sparsity pattern is unchanged; values are written into precomputed slots.
+/// assembled as a [`CscAssembly`] (or given in band storage), for wide-band structures (2-D
+/// fabrics). Reuses the symbolic factorisation while the factorised pattern is unchanged.
 #[derive(Default)]
 pub struct SparseLu {
     method: SparseMethod,
@@ -162,8 +162,9 @@ impl SparseLu {
         }
     }
 
-    /// Factor the matrix held in `a` (entries with |a_ij| == 0 inside the band are skipped; the pattern is
-    /// the set of structurally nonzero entries; if the pattern differs from the previous call, redo the symbolic step).
+    /// Factor the band matrix `a` (its nonzeros, read into a [`CscAssembly`]
+    /// that keeps the union of the positions seen at this size; see
+    /// [`SparseLu::factor_csc`]).
     ///
     /// Errors: `InvalidInput` for a NaN or infinite entry; `Singular` when the
     /// matrix is structurally singular or its condition estimate exceeds 1/ε.
@@ -187,9 +188,9 @@ impl SparseLu {
         out
     }
 
-    /// Factor the matrix assembled in `a` (its whole stored pattern; the
-    /// symbolic step is redone when the pattern changed). Errors as
-    /// [`SparseLu::factor`].
+    /// Factor the matrix assembled in `a` (on the union of its slots that
+    /// have held a nonzero, see `load`; the symbolic step is redone when
+    /// that grows or `a`'s pattern changes). Errors as [`SparseLu::factor`].
     pub fn factor_csc(&mut self, a: &CscAssembly) -> Result<()> {
         self.active = None;
         self.load(a)?;

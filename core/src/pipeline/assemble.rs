@@ -91,20 +91,20 @@ fn place(
     for (_, c) in constraints.iter() {
         let (a, b) = (position_of(pos, c.rod)?, position_of(pos, c.other.unwrap_or(c.rod))?);
         let t = c.kind.touched(&[rods[a], rods[b]])?;
-        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: c.kind.n_rows(), n_extra: c.kind.n_extra(), touched: t.items, len: t.len });
+        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: c.kind.n_rows(), n_extra: c.kind.n_extra(), touched: t.items, held: t.held, len: t.len });
     }
     ws.stick_ids.clear();
     for (i, p) in contacts.active() {
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
         let t = p.kind.touched(&[rods[a], rods[b]])?;
-        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 1, n_extra: 0, touched: t.items, len: t.len });
+        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 1, n_extra: 0, touched: t.items, held: t.held, len: t.len });
         ws.contact_ids.push(i);
     }
     for (i, p) in contacts.active() {
         if let Some(k) = p.friction.as_ref().and_then(|f| f.rows.as_ref()) {
             let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
             let t = k.touched(&[rods[a], rods[b]])?;
-            ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 2, n_extra: 0, touched: t.items, len: t.len });
+            ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 2, n_extra: 0, touched: t.items, held: t.held, len: t.len });
             ws.stick_ids.push(i);
         }
     }
@@ -116,7 +116,7 @@ fn place(
             for (t, c) in touched.iter_mut().zip(ctrl) {
                 *t = (0, c);
             }
-            ws.slots.push(ConstraintSlot { rods: [r, r], n_rows: 0, n_extra: 1, touched, len: 4 });
+            ws.slots.push(ConstraintSlot { rods: [r, r], n_rows: 0, n_extra: 1, touched, held: [true; MAX_TOUCHED], len: 4 });
         }
     }
     // The layout (algorithms 9–10) changes only with the topology: rods
@@ -226,7 +226,7 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
     // A pair detected again keeps its place in the active set (and its
     // force): the active-set rounds re-assemble, and each assembly detects.
     // A pair taken out as dependent (see `solve::block_dependent_contact`) stays out.
-    let carry = Carry::new(&previous);
+    let carry = Carry::new(&previous, std::mem::take(&mut ws.carry));
     for p in contacts.pairs.iter_mut().filter(|p| !super::solve::is_blocked(rod_arena, &ws.blocked, p)) {
         if let Some(old) = carry.find(rod_arena, &previous, p) {
             p.active = true;
@@ -236,6 +236,7 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
             }
         }
     }
+    ws.carry = carry.order;
     // Friction: the anchor of the step and the stick rows of active pairs.
     for p in contacts.pairs.iter_mut() {
         if let (Some(f), Some(a), Some(b)) = (&mut p.friction, rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
@@ -318,9 +319,12 @@ pub(crate) fn same_place(rods: &Arena<Rod>, a: &crate::contact::ContactPair, b: 
 /// first rod: a new pair's match (the first in the previous order at the
 /// same place) is sought among those within `same_place`'s half unit, not
 /// among all (a fabric has thousands of pairs, all on one yarn).
-struct Carry {
-    order: Vec<(crate::handles::RodHandle, crate::handles::RodHandle, f64, usize)>,
+pub(crate) struct Carry {
+    order: Vec<CarryEntry>,
 }
+
+/// (rods, abscissa on the first rod, index in the previous pairs).
+pub(crate) type CarryEntry = (crate::handles::RodHandle, crate::handles::RodHandle, f64, usize);
 
 /// A pair's abscissa on its first rod.
 fn first_u(p: &crate::contact::ContactPair) -> f64 {
@@ -332,21 +336,28 @@ fn first_u(p: &crate::contact::ContactPair) -> f64 {
 }
 
 impl Carry {
-    fn new(previous: &[crate::contact::ContactPair]) -> Carry {
-        let mut order: Vec<_> = previous.iter().enumerate().filter(|(_, p)| p.active).map(|(i, p)| (p.rods[0], p.rods[1], first_u(p), i)).collect();
+    /// `order`: a buffer to reuse (the workspace's).
+    fn new(previous: &[crate::contact::ContactPair], mut order: Vec<CarryEntry>) -> Carry {
+        order.clear();
+        // A non-finite abscissa would break the sorted search: such a pair
+        // matches nothing (same_place cannot hold for it either).
+        order.extend(previous.iter().enumerate().filter(|(_, p)| p.active && first_u(p).is_finite()).map(|(i, p)| (p.rods[0], p.rods[1], first_u(p), i)));
         order.sort_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)).then(a.2.total_cmp(&b.2)));
         Carry { order }
     }
 
     fn find<'a>(&self, rods: &Arena<Rod>, previous: &'a [crate::contact::ContactPair], p: &crate::contact::ContactPair) -> Option<&'a crate::contact::ContactPair> {
         let u = first_u(p);
+        // same_place decides; the window only has to contain its matches
+        // (a hair wider than its half unit, for rounding at the edge).
+        let half = 0.5 + 1e-9;
         // A ring's abscissae are compared around its period.
         let period = rods.get(p.rods[0].into()).filter(|r| r.is_closed()).map(|r| r.n_ctrl() as f64);
         let mut best: Option<usize> = None;
         for shift in [0.0, 1.0, -1.0] {
             let Some(t) = period.map(|t| t * shift).or((shift == 0.0).then_some(0.0)) else { continue };
-            let lo = self.order.partition_point(|e| (e.0, e.1) < (p.rods[0], p.rods[1]) || (e.0, e.1) == (p.rods[0], p.rods[1]) && e.2 < u + t - 0.5);
-            for e in self.order[lo..].iter().take_while(|e| (e.0, e.1) == (p.rods[0], p.rods[1]) && e.2 <= u + t + 0.5) {
+            let lo = self.order.partition_point(|e| (e.0, e.1) < (p.rods[0], p.rods[1]) || (e.0, e.1) == (p.rods[0], p.rods[1]) && e.2 < u + t - half);
+            for e in self.order[lo..].iter().take_while(|e| (e.0, e.1) == (p.rods[0], p.rods[1]) && e.2 <= u + t + half) {
                 if best.is_none_or(|b| e.3 < b) && same_place(rods, &previous[e.3], p) {
                     best = Some(e.3);
                 }

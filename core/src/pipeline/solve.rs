@@ -121,12 +121,12 @@ pub(crate) fn assemble_and_solve(world: &mut World, regime: Regime) -> Result<(f
     }
 }
 
-/// Position of rod `h` in the layout of the last assembly (None: not in it).
 /// A rod's largest bounding radius as the last assembly measured it.
 fn radius(ws: &crate::system::Workspace, r: usize) -> f64 {
     ws.radii.get(r).copied().unwrap_or(0.0)
 }
 
+/// Position of rod `h` in the layout of the last assembly (None: not in it).
 fn layout_position(ws: &crate::system::Workspace, h: crate::handles::RodHandle) -> Option<usize> {
     crate::world::position_of(&ws.rod_pos, h).ok()
 }

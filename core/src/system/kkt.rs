@@ -5,7 +5,7 @@
 //!
 //! (implicit Euler: c_m = 1/h², c_d = c_v = 1/h; statics: c_m = c_d = c_v = 0,
 //! with relax's Levenberg–Marquardt damping added to the diagonal). Segment blocks are
-//! scattered into the band (they overlap: summed); all buffers are reused
+//! scattered into the matrix (they overlap: summed); all buffers are reused
 //! across steps.
 use super::layout::Layout;
 use crate::constraint::{ConstraintKind, Row, SlidingBlocks};
@@ -362,7 +362,7 @@ impl KktSystem {
     }
 
     /// One segment's block into the right-hand side (−c_f ∂U/∂q) and the
-    /// band (c_k K + c_m M + c_d D).
+    /// matrix (c_k K + c_m M + c_d D).
     #[allow(clippy::too_many_arguments)]
     fn scatter_segment(&mut self, layout: &Layout, r: usize, rod: &Rod, s: usize, blk: &mut SegBlock, k: Coefficients, drag: Option<&Drag>) {
         let d = rod.dofs;
@@ -424,7 +424,7 @@ impl KktSystem {
     /// b − A ŷ, where ŷ is `z` on the multiplier rows and zero elsewhere:
     /// the generalised forces left once the constraint forces of `z`'s
     /// multipliers act (coordinate rows), and −c(q) + C y (multiplier
-    /// rows). `scaled`: the band holds D A D (after a solve), undone here.
+    /// rows). `scaled`: the matrix holds D A D (after a solve), undone here.
     pub fn residual_less_rows(&self, layout: &Layout, z: &[f64], scaled: bool) -> Vec<f64> {
         let mut r = self.rhs.clone();
         let d = |i: usize| if scaled { self.scale[i] } else { 1.0 };
@@ -450,7 +450,7 @@ impl KktSystem {
 
     /// Solves for the right-hand side now in `rhs` with the factors (and
     /// equilibration) of the last successful solve: a second right-hand
-    /// side on that matrix, even after `band` was assembled anew (so
+    /// side on that matrix, even after `matrix` was assembled anew (so
     /// without refinement).
     pub fn resolve(&mut self) -> Result<()> {
         self.sol.clear();
@@ -662,7 +662,13 @@ impl KktSystem {
         let res = match f {
             Factorisation::BandLdlt => {
                 let band = self.matrix.band();
-                self.ldlt.factor_quasi_definite(band, &self.is_row).map_err(|d| Error::singular(format!("band LDLᵀ declined: {d:?}")))?;
+                self.ldlt.factor_quasi_definite(band, &self.is_row).map_err(|d| {
+                    let at = match d {
+                        crate::linalg::LdltDecline::Pivot { row, .. } => format!(" at {}", describe(row)),
+                        _ => String::new(),
+                    };
+                    Error::singular(format!("band LDLᵀ declined: {d:?}{at}"))
+                })?;
                 let res = solve_refined(band, &self.ldlt, &self.rhs, &mut self.sol, &mut self.work, 1)?;
                 if !(res <= LDLT_MAX_RESIDUAL) {
                     return Err(Error::singular(format!("band LDLᵀ residual {res:.3e}")));

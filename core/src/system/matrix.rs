@@ -94,6 +94,7 @@ impl KktMatrix {
 
     /// `A[i][i] += v` after the assembly.
     pub fn add_diag(&mut self, i: usize, v: f64) {
+        self.band_filled = false;
         match self.storage {
             Storage::Band => self.band.add(i, i, v),
             Storage::Sparse => self.csc.add_diag(i, v),
@@ -147,13 +148,16 @@ impl KktMatrix {
     /// the sparse entries once per assembly in sparse storage).
     pub fn band(&mut self) -> &BandMatrix {
         if self.storage == Storage::Sparse && !self.band_filled {
-            let n = self.csc.n();
-            let w = self.bandwidth.max(self.csc.bandwidth());
+            // The layout's width (its size is what the caller checked); the
+            // pattern may keep zeros of earlier assemblies beyond it.
+            let (n, w) = (self.csc.n(), self.bandwidth);
             self.band.reshape(n, w, w);
             for j in 0..n {
                 let (rows, vals) = self.csc.column(j);
                 for (&i, &v) in rows.iter().zip(vals) {
-                    self.band.set(i, j, v);
+                    if v != 0.0 && self.band.in_band(i, j) {
+                        self.band.set(i, j, v);
+                    }
                 }
             }
             self.band_filled = true;

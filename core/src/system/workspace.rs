@@ -54,6 +54,8 @@ pub struct Workspace {
     pub(crate) contact_slack: bool,
     /// Largest bounding radius of each rod, in layout order (per assembly).
     pub(crate) radii: Vec<f64>,
+    /// The contact carry-over's buffer (`pipeline::assemble::Carry`).
+    pub(crate) carry: Vec<(crate::handles::RodHandle, crate::handles::RodHandle, f64, usize)>,
     /// Sliders that left their rod in the last solve.
     pub(crate) left: Vec<Index>,
     /// Averaged break measures of this step, written back after the
