@@ -92,7 +92,7 @@ fn main() {
         let t = median_step(&mut w, 200);
         // What the timed steps used (the first steps may differ).
         let rep = w.step().expect("step");
-        println!("{:17} {:3}  {:11}  {:>11}  {:9.4}  {:5.0}×   (n {}, 4 beads, {:?})", "beads on spring", 31, rep.n_multipliers, "0.7", t * 1e3, 0.7e-3 / t, rep.n_unknowns, rep.factorisation);
+        println!("{:17} {:3}  {:11}  {:>11}  {:9.4}  {:5.0}×   (n {}, 4 beads, half-bandwidth {}, {:?})", "beads on spring", 31, rep.n_multipliers, "0.7", t * 1e3, 0.7e-3 / t, rep.n_unknowns, rep.bandwidth, rep.factorisation);
     }
     // Cable on a door (18 control points, 4 clips, a connector; dt 3 ms),
     // and the harness (the thesis' harness had 40 control points and 42–87
