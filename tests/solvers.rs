@@ -143,4 +143,3 @@ fn ldlt_matches_lu_on_cantilever(n: usize) {
     let (tq, tv) = if n <= 20 { (1e-12, 1e-9) } else { (1e-8, 1e-5) };
     assert!(q < tq && v < tv && l < tv, "{n} control points");
 }
-

@@ -8,9 +8,9 @@
 //! scattered into the matrix (they overlap: summed); all buffers are reused
 //! across steps.
 use super::layout::Layout;
+use super::matrix::{KktMatrix, Storage};
 use crate::constraint::{ConstraintKind, Row, SlidingBlocks};
 use crate::error::{Error, Result};
-use super::matrix::{KktMatrix, Storage};
 use crate::linalg::band::{solve_refined, BandLdlt, BandLu};
 use crate::linalg::sparse::{prefer_sparse, SparseLu};
 use nalgebra::Vector3;

@@ -174,12 +174,4 @@ impl KktMatrix {
     pub fn as_csc(&self) -> Option<&CscAssembly> {
         (self.storage == Storage::Sparse).then_some(&self.csc)
     }
-
-    /// Entries stored (band: the whole band).
-    pub fn stored(&self) -> usize {
-        match self.storage {
-            Storage::Band => self.band.n() * (self.band.kl() + self.band.ku() + 1),
-            Storage::Sparse => self.csc.nnz(),
-        }
-    }
 }
