@@ -230,23 +230,9 @@ impl CscAssembly {
         self.slot.extend(self.pos.iter().map(|&(j, i)| find(&self.col_ptr, &self.row_idx, i as usize, j as usize) as u32));
         self.diag.clear();
         self.diag.extend((0..n).map(|j| find(&self.col_ptr, &self.row_idx, j, j)));
-        let nnz = self.row_idx.len();
         // Slots are u32 (a pattern of 4e9 entries would not fit in memory).
-        debug_assert!(nnz <= u32::MAX as usize);
-        self.mirror.clear();
-        self.mirror.resize(nnz, 0);
-        // Row i's entries appear in increasing column order when the
-        // columns are walked in order: the next unmatched slot of column i.
-        self.bucket_ptr.clear();
-        self.bucket_ptr.extend_from_slice(&self.col_ptr[..n]);
-        for j in 0..n {
-            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
-                let i = self.row_idx[p];
-                let q = self.bucket_ptr[i];
-                self.bucket_ptr[i] += 1;
-                self.mirror[p] = q;
-            }
-        }
+        debug_assert!(self.row_idx.len() <= u32::MAX as usize);
+        mirror_slots(&self.col_ptr, &self.row_idx, &mut self.bucket_ptr, &mut self.mirror);
         self.mapped = self.pos.len();
     }
 
@@ -325,6 +311,25 @@ impl CscAssembly {
     /// Largest |a_ij| (NaN ignored, as `BandMatrix::max_abs`).
     pub fn max_abs(&self) -> f64 {
         self.val.iter().fold(0.0, |m, v| m.max(v.abs()))
+    }
+}
+
+/// `mirror[p]`: the slot of the transpose of slot p, for a CSC pattern
+/// with a symmetric structure and sorted columns (`next`: scratch). Walking
+/// the columns in order, row i's entries come in increasing column order:
+/// each is the next unmatched slot of column i.
+pub(crate) fn mirror_slots(col_ptr: &[usize], row_idx: &[usize], next: &mut Vec<usize>, mirror: &mut Vec<usize>) {
+    let n = col_ptr.len() - 1;
+    mirror.clear();
+    mirror.resize(row_idx.len(), 0);
+    next.clear();
+    next.extend_from_slice(&col_ptr[..n]);
+    for j in 0..n {
+        for p in col_ptr[j]..col_ptr[j + 1] {
+            let i = row_idx[p];
+            mirror[p] = next[i];
+            next[i] += 1;
+        }
     }
 }
 

@@ -21,9 +21,10 @@
 //! numerically zero pivots itself).
 //!
 //! The matrix comes as a [`CscAssembly`] (symmetric pattern, diagonal
-//! always present); the symbolic factorisation (ordering, elimination tree,
-//! supernodes) is redone only when that pattern changes (its generation).
-//! A band matrix is read into one first (its nonzeros).
+//! always present) and is factorised on the union of its slots that have
+//! held a nonzero; the symbolic factorisation (ordering, elimination tree,
+//! supernodes) is redone only when that union grows or the assembly's
+//! pattern changes. A band matrix is read into one first (its nonzeros).
 
 use crate::error::{Error, Result};
 use crate::linalg::band::BandMatrix;
@@ -328,20 +329,7 @@ impl SparseLu {
                 }
                 self.col_ptr.push(self.row_idx.len());
             }
-            // Mirror slots: walking the columns in order, row i's entries
-            // come in increasing column order.
-            let nnz = self.row_idx.len();
-            self.mirror.clear();
-            self.mirror.resize(nnz, 0);
-            self.work_next.clear();
-            self.work_next.extend_from_slice(&self.col_ptr[..self.n]);
-            for j in 0..self.n {
-                for q in self.col_ptr[j]..self.col_ptr[j + 1] {
-                    let i = self.row_idx[q];
-                    self.mirror[q] = self.work_next[i];
-                    self.work_next[i] += 1;
-                }
-            }
+            crate::linalg::csc::mirror_slots(&self.col_ptr, &self.row_idx, &mut self.work_next, &mut self.mirror);
             self.pattern_valid = true;
             self.ldlt_rejected = false;
             self.ldlt_trusted = false;
