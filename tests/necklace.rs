@@ -160,21 +160,25 @@ fn knotted_beads_hang_on_the_funicular_polygon() {
 /// stays on the string and no two come closer than 2r (chord ≥ 2r − 0.1 mm
 /// along the curved string), the string's length stays within 0.2 % (its
 /// elastic stretch), and the energy falls (implicit damping, inelastic bead
-/// contacts). It does not fall strictly: up to 3e-4 J comes back over a
-/// stretch of steps (measured 1.8e-4 J, 0.6 % of the 0.03 J released), so
-/// that is the bound asserted. The source is the post-step separation of
-/// beads the string's deformation pushed together (they are moved apart
-/// along the string, up its slope near the bottom): with knotted beads the
-/// energy never rises, with one bead it rises by 7.6e-6 J at most.
-/// With beads far smaller than their spacing (r = 0.1 mm) the rise is
-/// below 1e-4 J (measured 4.5e-5 J): beads carry their own momentum and
-/// meet the string's bends as inelastic impulses; with the explicit
-/// centripetal force they had before, one step gave back 1.1e-3 J.
+/// contacts).
+///
+/// Energy never grows, with two limits stated:
+/// - beads that do not touch (r = 0.1 mm): the largest rise above an
+///   earlier low is 2.5e-10 J of the 0.03 J released (asserted < 1e-8 J;
+///   it was 4.5e-5 J before implicit steps left compression's negative
+///   transverse stiffness out of their matrix, `stretch::leave_out_compression`);
+/// - trains of touching beads (the default): up to 1.03e-4 J comes back
+///   over a stretch of steps (0.3 % of the energy released; 1.8e-4 J
+///   before), asserted < 1.5e-4 J. It grows with the train (3 beads
+///   2.3e-7 J, 6 beads 1.9e-5 J, 10 beads 2.5e-4 J): the pools' contact
+///   forces move the beads along the string, but their part across it is
+///   not passed to the string (a train pressed round the bottom bend leans
+///   on nothing), so the pair of forces is not workless. Not fixed yet.
 #[test]
 fn a_swinging_necklace_keeps_its_beads_apart_its_length_and_its_energy() {
-    let small = swing(&Necklace { friction: 0.0, bead_radius: 1e-4, ..Default::default() });
+    let (small, _) = swing(&Necklace { friction: 0.0, bead_radius: 1e-4, ..Default::default() });
     println!("beads of 0.1 mm: rebound {small:.3e} J");
-    assert!(small < 1e-4, "small beads: energy rose by {small} J above an earlier low");
+    assert!(small < 1e-8, "small beads: energy rose by {small} J above an earlier low");
     let p = Necklace { friction: 0.0, ..Default::default() };
     let (asm, lay) = necklace(&p).unwrap();
     let dt = 8e-4;
@@ -213,24 +217,50 @@ fn a_swinging_necklace_keeps_its_beads_apart_its_length_and_its_energy() {
     assert!(min_gap > 2.0 * p.bead_radius - 1e-4, "beads overlap: {min_gap}");
     assert!(worst_len < 2e-3, "string length changed by {worst_len}");
     assert!(e_prev < e0 - 0.02, "the necklace settles lower: {e0} → {e_prev}");
-    assert!(rebound < 3e-4, "energy rose by {rebound} J above an earlier low");
+    assert!(rebound < 1.5e-4, "energy rose by {rebound} J above an earlier low");
+}
+
+/// A few heavy beads on the thesis' 16-point string: two, three and five
+/// beads of 2 g on the open string held at two points, and two and three on
+/// the loop over the peg, swing for 10 s at 0.8 ms. Before, each of these
+/// was refused as diverged (the open string with 2, 3, 5 beads at steps
+/// 330, 1 and 11, the loop with 2 beads at step 290 without the guard's
+/// help): the string's spline carries compressions of ±0.5 % at its
+/// quadrature points, their negative transverse stiffness outweighed the
+/// string's own mass over h², and a step leapt along it (one step put 930 J
+/// into the string). Implicit steps now leave that term out of their
+/// matrix (the force keeps it). Also the open string started 1.4 %
+/// strained (control points placed on the circle); it is now fitted to it
+/// and starts unstrained. Measured, largest rise above an earlier low:
+/// open string 5.5e-9, 5.8e-8, 2.1e-6 J with 2, 3, 5 beads; loop 1.8e-8,
+/// 2.3e-7 J with 2, 3 — at most 2.6e-4 of the energy released (asserted
+/// < 5e-4; the five beads form a train, see the test above).
+#[test]
+fn a_few_heavy_beads_swing_without_creating_energy() {
+    let two = Hang::TwoPoints([-0.15, 0.0, 0.0], [0.15, 0.0, 0.0]);
+    for (n_beads, closed, hang) in [(2, false, two), (3, false, two), (5, false, two), (2, true, Hang::Peg([0.0; 3])), (3, true, Hang::Peg([0.0; 3]))] {
+        let (rebound, released) = swing(&Necklace { friction: 0.0, n_beads, closed, hang, ..Default::default() });
+        println!("{n_beads} beads, closed {closed}: rebound {rebound:.3e} J of {released:.3e} J released");
+        assert!(rebound < 5e-4 * released, "{n_beads} beads (closed {closed}): energy rose by {rebound} J above an earlier low");
+    }
 }
 
 /// The largest rise of the total energy above an earlier low over 10 s of
-/// swinging at the thesis' step.
-fn swing(p: &Necklace) -> f64 {
+/// swinging at the thesis' step, and the energy released (first minus last).
+fn swing(p: &Necklace) -> (f64, f64) {
     let (asm, _) = necklace(p).unwrap();
     let dt = 8e-4;
     let mut w = world(dt);
     w.insert(&asm).unwrap();
-    let (mut e_min, mut rebound) = (w.energy().unwrap().total(), 0.0f64);
+    let e0 = w.energy().unwrap().total();
+    let (mut e_min, mut rebound, mut e) = (e0, 0.0f64, e0);
     for _ in 0..(10.0 / dt).round() as usize {
         w.step().unwrap();
-        let e = w.energy().unwrap().total();
+        e = w.energy().unwrap().total();
         e_min = e_min.min(e);
         rebound = rebound.max(e - e_min);
     }
-    rebound
+    (rebound, e0 - e)
 }
 
 /// Bad parameters are refused with an error naming the argument.

@@ -145,7 +145,7 @@ pub fn necklace(p: &Necklace) -> Result<(Assembly, NecklaceLayout)> {
         }
         (false, Hang::TwoPoints(a, b)) => {
             let c = CircleArc::hanging(Vector3::from(a), Vector3::from(b), p.length)?;
-            (p.string.rod("string", p.length, p.control_points, |s| c.at_arc_length(s))?, (0.0, p.length, false))
+            (p.string.open_curve("string", p.length, p.control_points, move |s| c.at_arc_length(s))?, (0.0, p.length, false))
         }
         (false, Hang::Peg(_)) => unreachable!("refused by validate"),
     };

@@ -36,7 +36,13 @@ pub(crate) enum Regime {
 impl Regime {
     pub fn coefficients(self) -> Coefficients {
         match self {
-            Regime::Dynamic { h } | Regime::Bdf2 { h2: h, .. } => Coefficients { mass: 1.0 / (h * h), drag: 1.0 / h, momentum: 1.0 / h, stiffness: 1.0, force: 1.0 },
+            // Implicit Euler is one linear solve per step: its matrix must
+            // stay positive where the rod is compressed (`step_stiffness`).
+            // The Newton iterations of the other schemes and statics keep
+            // the exact Hessian (the same solution either way; quadratic
+            // convergence and the stability test need it exact).
+            Regime::Dynamic { h } => Coefficients { mass: 1.0 / (h * h), drag: 1.0 / h, momentum: 1.0 / h, stiffness: 1.0, force: 1.0, step_stiffness: true },
+            Regime::Bdf2 { h2: h, .. } => Coefficients { mass: 1.0 / (h * h), drag: 1.0 / h, momentum: 1.0 / h, stiffness: 1.0, force: 1.0, step_stiffness: false },
             // 2M (ΔX − hV)/h² + D ΔX/h = ½ (f_n + f(q_n + ΔX)), the drag
             // on the mean velocity ΔX/h; ∂/∂ΔX of the right side is −K/2.
             Regime::Trapezoidal { h, first } => Coefficients {
@@ -45,8 +51,9 @@ impl Regime {
                 momentum: 2.0 / h,
                 stiffness: 0.5,
                 force: if first { 1.0 } else { 0.5 },
+                step_stiffness: false,
             },
-            Regime::Statics { .. } => Coefficients { mass: 0.0, drag: 0.0, momentum: 0.0, stiffness: 1.0, force: 1.0 },
+            Regime::Statics { .. } => Coefficients { mass: 0.0, drag: 0.0, momentum: 0.0, stiffness: 1.0, force: 1.0, step_stiffness: false },
         }
     }
     /// Time the forces are evaluated at: the end of an implicit Euler

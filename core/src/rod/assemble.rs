@@ -9,6 +9,7 @@
 use super::samples::local_state;
 use super::Rod;
 use crate::energy::invariants::{Mat11, TH, TH1};
+use crate::energy::stretch::leave_out_compression;
 use crate::energy::{density_into, energy_density, ActiveSlots, EnergyTerms, FrameModel, FrameState, LocalEnergy};
 
 /// The terms of a Greville stretch sample.
@@ -36,6 +37,16 @@ impl Default for SegBlock {
 pub enum Need {
     Gradient,
     Hessian,
+    /// The matrix of a linearised implicit step: the Hessian without the
+    /// negative transverse stretch stiffness of compressed samples
+    /// ([`crate::energy::stretch::leave_out_compression`]).
+    StepHessian,
+}
+
+impl Need {
+    fn hessian(self) -> bool {
+        self != Need::Gradient
+    }
 }
 
 impl Rod {
@@ -145,7 +156,7 @@ impl Rod {
                     out.grad[k * 4 + 3] += w * (b[0][k] * g[TH] + b[1][k] * g[TH1]);
                 }
             }
-            if need == Need::Hessian {
+            if need.hessian() {
                 acc.add_sample(&e.hess, b, w, np, th, th1);
             }
         };
@@ -153,6 +164,9 @@ impl Rod {
             let ls = local_state(&self.q, dofs, ctrl, &s.basis);
             let state = self.frame_state(c.seg_start[seg] + i);
             density_into(&ls, &s.consts, state, self.opts.terms, self.opts.model, true, e);
+            if need == Need::StepHessian && self.opts.terms.stretch {
+                leave_out_compression(&ls.r1, &s.consts, &mut e.hess);
+            }
             add(out, e, &s.basis, s.w, np, th, th1);
         }
         // Greville stretch samples (empty unless `stretch_at_greville`): r' only.
@@ -160,9 +174,12 @@ impl Rod {
         for s in stretch {
             let ls = local_state(&self.q, dofs, ctrl, &s.basis);
             density_into(&ls, &s.consts, &FrameState::None, STRETCH_ONLY, FrameModel::Frenet, true, e);
+            if need == Need::StepHessian {
+                leave_out_compression(&ls.r1, &s.consts, &mut e.hess);
+            }
             add(out, e, &s.basis, s.w, 1, false, false);
         }
-        if need == Need::Hessian {
+        if need.hessian() {
             acc.write_upper(out, dofs);
         }
     }

@@ -81,6 +81,10 @@ pub struct Coefficients {
     pub momentum: f64,
     pub stiffness: f64,
     pub force: f64,
+    /// The stiffness leaves out compression's negative transverse stretch
+    /// term (a linearised implicit step; see
+    /// [`crate::rod::assemble::Need::StepHessian`]).
+    pub step_stiffness: bool,
 }
 
 /// A constraint as the system sees it.
@@ -290,7 +294,8 @@ impl KktSystem {
                     first = 0;
                 }
             }
-            assemble_ranges(rods, &ranges, &mut blocks[..filled], Need::Hessian, parallel);
+            let need = if k.step_stiffness { Need::StepHessian } else { Need::Hessian };
+            assemble_ranges(rods, &ranges, &mut blocks[..filled], need, parallel);
             for g in &ranges {
                 for (s, blk) in (g.first..).zip(blocks[g.offset..g.offset + g.len].iter_mut()) {
                     energy += blk.energy;
@@ -782,7 +787,7 @@ mod tests {
         assert!(drag.axial < 0.0);
         let (d, n) = (rod.dofs, rod.coords().len());
         let mut full = vec![vec![0.0; n]; n];
-        let k = Coefficients { mass: 0.0, drag: 1.0, momentum: 0.0, stiffness: 1.0, force: 1.0 };
+        let k = Coefficients { mass: 0.0, drag: 1.0, momentum: 0.0, stiffness: 1.0, force: 1.0, step_stiffness: false };
         for s in 0..rod.n_segments() {
             let mut blk = SegBlock::default();
             let sd = rod.seg_drag(&drag, s);
