@@ -40,11 +40,13 @@ pub fn strain(q: &Vec5, c: &SampleConsts) -> f64 {
 #[inline(always)]
 pub fn leave_out_compression(r1: &Vector3<f64>, c: &SampleConsts, hess: &mut Mat11) {
     let a = r1.norm_squared();
-    let s = a.sqrt();
-    let e = s / c.speed0 - 1.0 - c.eps_p;
-    if !(e < 0.0) {
+    // ε < 0 ⟺ |r′| < l0 (1 + ε_p): tested without the root (most samples).
+    let rest = c.speed0 * (1.0 + c.eps_p);
+    if !(a < rest * rest) {
         return;
     }
+    let s = a.sqrt();
+    let e = s / c.speed0 - 1.0 - c.eps_p;
     // W_a = EA e dε/da, dε/da = 1/(2 s l0).
     let wa = c.ea * e * 0.5 / (s * c.speed0);
     // `hess` is stored whole (symmetric).
