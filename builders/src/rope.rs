@@ -95,15 +95,7 @@ impl Rope {
     /// string on 16 points hanging in a loop started 1.4 % strained,
     /// 0.03 J released in the first steps).
     pub fn open_curve(&self, what: &str, length: f64, n: usize, shape: impl Fn(f64) -> Vector3<f64> + Send + Sync + 'static) -> Result<Rod> {
-        let (section, material) = self.section_and_material(what, length, n, 4)?;
-        RodBuilder::curve(length, shape)
-            .control_points(n)
-            .knots(KnotKind::Clamped)
-            .with_roll(false)
-            .section(section)
-            .material(material)
-            .options(RodOptions { straight_rest: true, ..RodOptions::default() })
-            .build()
+        self.wound(what, length, n, KnotKind::Clamped, 4, shape)
     }
 
     /// A closed rope (a ring) of rest length `length` with `n` control
@@ -111,10 +103,16 @@ impl Rope {
     /// shape(0) = shape(length)). Straight at rest — a rope tied into a
     /// loop, not a bent ring (`RodOptions::straight_rest`).
     pub fn ring(&self, what: &str, length: f64, n: usize, shape: impl Fn(f64) -> Vector3<f64> + Send + Sync + 'static) -> Result<Rod> {
-        let (section, material) = self.section_and_material(what, length, n, 6)?;
+        self.wound(what, length, n, KnotKind::Periodic, 6, shape)
+    }
+
+    /// A naturally straight rope wound along `shape` (fitted with `knots`,
+    /// at least `min_n` control points), its rest length the fitted curve's.
+    fn wound(&self, what: &str, length: f64, n: usize, knots: KnotKind, min_n: usize, shape: impl Fn(f64) -> Vector3<f64> + Send + Sync + 'static) -> Result<Rod> {
+        let (section, material) = self.section_and_material(what, length, n, min_n)?;
         RodBuilder::curve(length, shape)
             .control_points(n)
-            .knots(KnotKind::Periodic)
+            .knots(knots)
             .with_roll(false)
             .section(section)
             .material(material)
