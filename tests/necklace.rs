@@ -162,18 +162,19 @@ fn knotted_beads_hang_on_the_funicular_polygon() {
 /// elastic stretch), and the energy falls (implicit damping, inelastic bead
 /// contacts).
 ///
-/// Energy never grows, with two limits stated:
-/// - beads that do not touch (r = 0.1 mm): the largest rise above an
-///   earlier low is 2.5e-10 J of the 0.03 J released (asserted < 1e-8 J;
-///   it was 4.5e-5 J before implicit steps left compression's negative
-///   transverse stiffness out of their matrix, `stretch::leave_out_compression`);
-/// - trains of touching beads (the default): up to 1.03e-4 J comes back
-///   over a stretch of steps (0.3 % of the energy released; 1.8e-4 J
-///   before), asserted < 1.5e-4 J. It grows with the train (3 beads
-///   2.3e-7 J, 6 beads 1.9e-5 J, 10 beads 2.5e-4 J): the pools' contact
-///   forces move the beads along the string, but their part across it is
-///   not passed to the string (a train pressed round the bottom bend leans
-///   on nothing), so the pair of forces is not workless. Not fixed yet.
+/// The largest rise of the energy above an earlier low, measured:
+/// - beads that do not touch (r = 0.1 mm): 2.5e-10 J of the 0.03 J
+///   released (asserted < 1e-8 J; it was 4.5e-5 J before implicit steps
+///   left compression's negative transverse stiffness out of their matrix,
+///   `stretch::leave_out_compression`, which also damps a little);
+/// - trains of touching beads (the default): 1.03e-4 J over a stretch of
+///   steps (0.3 % of the energy released; 1.8e-4 J before), asserted
+///   < 1.5e-4 J. It depends on the trains (3 beads 2.3e-7 J, 6 beads
+///   1.9e-5 J, 10 beads 2.5e-4 J): the pools' contact forces move the
+///   beads along the string, but their part across it is not passed to
+///   the string (a train pressed round the bottom bend leans on nothing),
+///   so the pair of forces is not workless. So the energy does not yet
+///   strictly fall with touching beads.
 #[test]
 fn a_swinging_necklace_keeps_its_beads_apart_its_length_and_its_energy() {
     let (small, _) = swing(&Necklace { friction: 0.0, bead_radius: 1e-4, ..Default::default() });
@@ -222,16 +223,18 @@ fn a_swinging_necklace_keeps_its_beads_apart_its_length_and_its_energy() {
 
 /// A few heavy beads on the thesis' 16-point string: two, three and five
 /// beads of 2 g on the open string held at two points, and two and three on
-/// the loop over the peg, swing for 10 s at 0.8 ms. Before, each of these
-/// was refused as diverged (the open string with 2, 3, 5 beads at steps
-/// 330, 1 and 11, the loop with 2 beads at step 290 without the guard's
-/// help): the string's spline carries compressions of ±0.5 % at its
+/// the loop over the peg, swing for 10 s at 0.8 ms. Before, four of the
+/// five were refused as diverged (the open string with 2, 3, 5 beads at
+/// steps 330, 1 and 11, the loop with 2 beads at step 290; the loop with 3
+/// ran through): the string's spline carries compressions of ±0.5 % at its
 /// quadrature points, their negative transverse stiffness outweighed the
 /// string's own mass over h², and a step leapt along it (one step put 930 J
 /// into the string). Implicit steps now leave that term out of their
-/// matrix (the force keeps it). Also the open string started 1.4 %
-/// strained (control points placed on the circle); it is now fitted to it
-/// and starts unstrained. Measured, largest rise above an earlier low:
+/// matrix (the force keeps it); the loop case, whose builder did not
+/// change, shows that this is what fixed it. Also the open string started
+/// compressed by up to 1.4 % (control points placed on the circle, the
+/// spline cutting inside it); it is now fitted to the circle and starts
+/// without stretch. Measured, largest rise above an earlier low:
 /// open string 5.5e-9, 5.8e-8, 2.1e-6 J with 2, 3, 5 beads; loop 1.8e-8,
 /// 2.3e-7 J with 2, 3 — at most 2.6e-4 of the energy released (asserted
 /// < 5e-4; the five beads form a train, see the test above).

@@ -192,7 +192,7 @@ fn breakdown(n: usize, reps: usize) -> [f64; 7] {
     let order: Vec<(usize, usize)> = (0..rod.n_ctrl()).map(|i| (0, i)).collect();
     let layout = Layout::build(&[(rod.n_ctrl(), rod.dofs(), segs.as_slice())], &order, &[]);
     let ext = vec![vec![0.0; rod.coords().len()]];
-    let k = Coefficients { mass: 1e6, drag: 1e3, momentum: 1e3, stiffness: 1.0, force: 1.0, step_stiffness: true };
+    let k = Coefficients { mass: 1e6, drag: 1e3, momentum: 1e3, stiffness: 1.0, force: 1.0, step_stiffness: false };
     let mut blocks: Vec<SegBlock> = Vec::new();
     // (1) segment kernels: energy, gradient, Hessian of every segment.
     let t_kernel = time_median(reps, || rod.assemble(&mut blocks, Need::Hessian, false));
