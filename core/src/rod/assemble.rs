@@ -160,11 +160,12 @@ impl Rod {
                 acc.add_sample(&e.hess, b, w, np, th, th1);
             }
         };
+        let step = need == Need::StepHessian;
         for (i, s) in c.samples[c.seg_start[seg]..c.seg_start[seg + 1]].iter().enumerate() {
             let ls = local_state(&self.q, dofs, ctrl, &s.basis);
             let state = self.frame_state(c.seg_start[seg] + i);
             density_into(&ls, &s.consts, state, self.opts.terms, self.opts.model, true, e);
-            if need == Need::StepHessian && self.opts.terms.stretch {
+            if step && self.opts.terms.stretch {
                 leave_out_compression(&ls.r1, &s.consts, &mut e.hess);
             }
             add(out, e, &s.basis, s.w, np, th, th1);
@@ -174,7 +175,7 @@ impl Rod {
         for s in stretch {
             let ls = local_state(&self.q, dofs, ctrl, &s.basis);
             density_into(&ls, &s.consts, &FrameState::None, STRETCH_ONLY, FrameModel::Frenet, true, e);
-            if need == Need::StepHessian {
+            if step {
                 leave_out_compression(&ls.r1, &s.consts, &mut e.hess);
             }
             add(out, e, &s.basis, s.w, 1, false, false);

@@ -277,6 +277,7 @@ impl KktSystem {
         let parallel = parallel && total >= PAR_MIN_SEGMENTS;
         let batch = if parallel { PAR_BATCH } else { SEQ_BATCH };
         blocks.resize(batch.min(total), SegBlock::default());
+        let need = if k.step_stiffness { Need::StepHessian } else { Need::Hessian };
         let (mut r, mut first) = (0, 0);
         while r < rods.len() {
             ranges.clear();
@@ -294,7 +295,6 @@ impl KktSystem {
                     first = 0;
                 }
             }
-            let need = if k.step_stiffness { Need::StepHessian } else { Need::Hessian };
             assemble_ranges(rods, &ranges, &mut blocks[..filled], need, parallel);
             for g in &ranges {
                 for (s, blk) in (g.first..).zip(blocks[g.offset..g.offset + g.len].iter_mut()) {
