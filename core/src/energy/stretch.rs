@@ -7,19 +7,16 @@ use nalgebra::Vector3;
 /// Adds F_s's derivatives with respect to the invariants; returns W_s.
 #[inline(always)]
 pub fn add(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
-    let (e, de, is) = elastic_strain(q[QA].sqrt(), c);
-    // d²ε/da² = −1/(4 l0 s³)
+    let a = q[QA];
+    let s = a.sqrt();
+    // Two reciprocals instead of four divisions (this runs at every sample).
+    let (il0, is) = (1.0 / c.speed0, 1.0 / s);
+    let e = s * il0 - 1.0 - c.eps_p;
+    // dε/da = 1/(2 s l0), d²ε/da² = −1/(4 l0 s³)
+    let de = 0.5 * is * il0;
     fq[QA] += c.ea * e * de;
     fqq[(QA, QA)] += c.ea * (de * de - 0.5 * e * de * is * is);
     0.5 * c.ea * e * e
-}
-
-/// At |r′| = s: the elastic strain ε − ε_p, dε/da = 1/(2 s l0) and 1/s
-/// (two reciprocals instead of four divisions: this runs at every sample).
-#[inline(always)]
-fn elastic_strain(s: f64, c: &SampleConsts) -> (f64, f64, f64) {
-    let (il0, is) = (1.0 / c.speed0, 1.0 / s);
-    (s * il0 - 1.0 - c.eps_p, 0.5 * is * il0, is)
 }
 
 /// Engineering stretch strain ε = |r'|/|r0'| − 1.
@@ -50,9 +47,10 @@ pub fn leave_out_compression(r1: &Vector3<f64>, c: &SampleConsts, hess: &mut Mat
     if !(rest > 0.0 && a < rest * rest) {
         return;
     }
-    let (e, de, _) = elastic_strain(a.sqrt(), c);
-    // W_a = EA (ε − ε_p) dε/da.
-    let wa = c.ea * e * de;
+    let s = a.sqrt();
+    let e = s / c.speed0 - 1.0 - c.eps_p;
+    // W_a = EA e dε/da, dε/da = 1/(2 s l0).
+    let wa = c.ea * e * 0.5 / (s * c.speed0);
     // `hess` is stored whole (symmetric).
     for i in 0..3 {
         for j in 0..3 {
