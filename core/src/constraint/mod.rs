@@ -216,10 +216,13 @@ impl Row {
     }
 }
 
-/// Control points a constraint touches: (side, control point).
+/// Control points a constraint touches: (side, control point), and
+/// whether the curve passes through them with weight (`held`: a nonzero
+/// basis value at the abscissa — at a clamped end only the last point).
 #[derive(Clone, Copy, Debug)]
 pub struct Touched {
     pub items: [(Side, usize); MAX_TOUCHED],
+    pub held: [bool; MAX_TOUCHED],
     pub len: usize,
 }
 
@@ -294,16 +297,17 @@ pub(crate) fn validate_law<K: ConstraintLaw>(k: &K, rods: &[&Rod]) -> Result<()>
 /// Control points the rows touch (for ordering, IV.3–IV.4): the four of
 /// every abscissa.
 pub(crate) fn touched_by<K: ConstraintLaw>(k: &K, rods: &[&Rod]) -> Result<Touched> {
-    let mut t = Touched { items: [(0, 0); MAX_TOUCHED], len: 0 };
+    let mut t = Touched { items: [(0, 0); MAX_TOUCHED], held: [true; MAX_TOUCHED], len: 0 };
     let mut res = Ok(());
     k.visit_abscissae(&mut |side, u| {
         if res.is_err() || t.len + 4 > MAX_TOUCHED {
             return;
         }
         match rods[side.min(1) as usize].basis_at(u) {
-            Ok((ctrl, _)) => {
-                for c in ctrl {
+            Ok((ctrl, b)) => {
+                for (c, v) in ctrl.into_iter().zip(b[0]) {
                     t.items[t.len] = (side.min(1), c);
+                    t.held[t.len] = v != 0.0;
                     t.len += 1;
                 }
             }

@@ -24,6 +24,10 @@ use serde::{Deserialize, Serialize};
 /// (rad), above which a slipping pair is solved again.
 const SLIP_TOLERANCE: f64 = 1e-3;
 
+/// Active-set rounds of one solve in which friction may change state;
+/// after them it is held as it is (see [`Friction::update`]).
+pub(crate) const FREE_ROUNDS: usize = 10;
+
 /// A contact pair's friction state.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Friction {
@@ -160,8 +164,22 @@ impl Friction {
     /// a's relative displacement since the anchor (this solve's included),
     /// `normal` the normal force. Returns whether the state changed enough
     /// to solve again.
-    pub(crate) fn update(&mut self, g: &Geometry, stick: Option<Vector3<f64>>, moved: Vector3<f64>, normal: f64) -> bool {
+    ///
+    /// `frozen` (the active set has gone round [`FREE_ROUNDS`] times in one
+    /// step): nothing changes — a sticking pair records its force, a
+    /// slipping one keeps its direction and normal force — so that the
+    /// rounds left settle the normal active set alone. Pairs chattering
+    /// between stick and slip at the cone's edge would otherwise use up
+    /// the step's rounds and leave a contact pulling or a point inside an
+    /// obstacle.
+    pub(crate) fn update(&mut self, g: &Geometry, stick: Option<Vector3<f64>>, moved: Vector3<f64>, normal: f64, frozen: bool) -> bool {
         let n = g.normal;
+        if frozen {
+            if let (None, Some(f)) = (self.slip, stick) {
+                self.force = (f - n * n.dot(&f)).into();
+            }
+            return false;
+        }
         let normal = normal.max(0.0);
         let limit = self.mu * normal;
         match (self.slip, stick) {

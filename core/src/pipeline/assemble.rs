@@ -101,20 +101,20 @@ fn place(
     for (_, c) in constraints.iter() {
         let (a, b) = (position_of(pos, c.rod)?, position_of(pos, c.other.unwrap_or(c.rod))?);
         let t = c.kind.touched(&[rods[a], rods[b]])?;
-        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: c.kind.n_rows(), n_extra: c.kind.n_extra(), touched: t.items, len: t.len });
+        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: c.kind.n_rows(), n_extra: c.kind.n_extra(), touched: t.items, held: t.held, len: t.len });
     }
     ws.stick_ids.clear();
     for (i, p) in contacts.active() {
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
         let t = p.kind.touched(&[rods[a], rods[b]])?;
-        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 1, n_extra: 0, touched: t.items, len: t.len });
+        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 1, n_extra: 0, touched: t.items, held: t.held, len: t.len });
         ws.contact_ids.push(i);
     }
     for (i, p) in contacts.active() {
         if let Some(k) = p.friction.as_ref().and_then(|f| f.rows.as_ref()) {
             let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
             let t = k.touched(&[rods[a], rods[b]])?;
-            ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 2, n_extra: 0, touched: t.items, len: t.len });
+            ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 2, n_extra: 0, touched: t.items, held: t.held, len: t.len });
             ws.stick_ids.push(i);
         }
     }
@@ -126,7 +126,7 @@ fn place(
             for (t, c) in touched.iter_mut().zip(ctrl) {
                 *t = (0, c);
             }
-            ws.slots.push(ConstraintSlot { rods: [r, r], n_rows: 0, n_extra: 1, touched, len: 4 });
+            ws.slots.push(ConstraintSlot { rods: [r, r], n_rows: 0, n_extra: 1, touched, held: [true; MAX_TOUCHED], len: 4 });
         }
     }
     // The layout (algorithms 9–10) changes only with the topology: rods

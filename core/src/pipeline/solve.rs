@@ -9,7 +9,9 @@ use crate::system::{Layout, Solved};
 use crate::world::World;
 
 /// Most re-solves one step spends settling the contact active set.
-const MAX_ACTIVE_SET_ROUNDS: usize = 10;
+/// After [`crate::contact::friction::FREE_ROUNDS`] of them friction is
+/// held, and the rest go to the normal set alone.
+const MAX_ACTIVE_SET_ROUNDS: usize = 15;
 
 /// Names unknown `g` of the system for error messages.
 fn describe(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], contact_ids: &[usize], stick_ids: &[usize], g: usize) -> Unknown {
@@ -113,7 +115,7 @@ pub(crate) fn assemble_and_solve(world: &mut World, regime: Regime) -> Result<(f
             Err(e) if block_dependent_contact(world, &e) => continue,
             other => other?,
         };
-        if world.contacts.is_empty() || rounds >= MAX_ACTIVE_SET_ROUNDS || !update_active_set(world)? {
+        if world.contacts.is_empty() || rounds >= MAX_ACTIVE_SET_ROUNDS || !update_active_set(world, rounds >= crate::contact::friction::FREE_ROUNDS)? {
             check_blocked(world)?;
             return Ok((energy, solved));
         }
@@ -222,13 +224,14 @@ pub(crate) fn settle_contacts(world: &mut World) -> Result<bool> {
     if world.contacts.is_empty() {
         return Ok(false);
     }
-    update_active_set(world)
+    update_active_set(world, false)
 }
 
 /// After a solve: drop pulling pairs, add pairs the step would penetrate,
 /// move the friction of active pairs between stick and slip
-/// ([`crate::contact::friction`]). Returns whether anything changed.
-fn update_active_set(world: &mut World) -> Result<bool> {
+/// ([`crate::contact::friction`]; held as it is when `freeze_friction`).
+/// Returns whether anything changed.
+fn update_active_set(world: &mut World, freeze_friction: bool) -> Result<bool> {
     let mut changed = false;
     let mut rows = [Row::default(); MAX_ROWS];
     let World { rods, contacts, ws, .. } = world;
@@ -282,7 +285,7 @@ fn update_active_set(world: &mut World) -> Result<bool> {
                 if let Some((start, _, _)) = f.start {
                     moved += g.relative - nalgebra::Vector3::from(start);
                 }
-                changed |= f.update(&g, stick, moved, force);
+                changed |= f.update(&g, stick, moved, force, freeze_friction);
             }
             continue;
         }

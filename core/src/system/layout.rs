@@ -18,6 +18,9 @@ pub struct ConstraintSlot {
     pub n_extra: usize,
     /// (which rod: 0/1, control point), `len` of them.
     pub touched: [(u8, usize); crate::constraint::MAX_TOUCHED],
+    /// Whether the curve passes through each with weight (see
+    /// `constraint::Touched`): the rows are placed among these.
+    pub held: [bool; crate::constraint::MAX_TOUCHED],
     pub len: usize,
 }
 
@@ -50,9 +53,18 @@ impl Layout {
         // anchors[k]: constraints whose rows follow the k-th control point.
         let mut anchors: Vec<Vec<usize>> = vec![Vec::new(); order.len()];
         for (c, s) in cons.iter().enumerate() {
-            let ranks = s.touched[..s.len].iter().map(|&(w, i)| rank[s.rods[w as usize]][i]);
-            let (lo, hi) = ranks.fold((usize::MAX, 0), |(lo, hi), k| (lo.min(k), hi.max(k)));
-            anchors[(lo + hi) / 2].push(c);
+            let mid = |held_only: bool| {
+                let ranks = s.touched[..s.len].iter().zip(&s.held).filter(|(_, &h)| h || !held_only).map(|(&(w, i), _)| rank[s.rods[w as usize]][i]);
+                let (lo, hi) = ranks.fold((usize::MAX, 0), |(lo, hi), k| (lo.min(k), hi.max(k)));
+                (lo != usize::MAX).then_some((lo + hi) / 2)
+            };
+            // Not before the middle of the points the curve passes through
+            // with weight: a position held at a rod's far end touches its
+            // last four points but only the last with weight, and a row
+            // placed before it meets a zero pivot in the symmetric
+            // factorisation (which then falls back to the LU every step).
+            let all = mid(false).unwrap_or(0);
+            anchors[mid(true).map_or(all, |h| h.max(all))].push(c);
         }
         let mut l = Layout {
             row_index: vec![0; cons.len()],
@@ -123,7 +135,7 @@ mod tests {
                 len += 1;
             }
         }
-        ConstraintSlot { rods, n_rows, n_extra: 0, touched, len }
+        ConstraintSlot { rods, n_rows, n_extra: 0, touched, held: [true; crate::constraint::MAX_TOUCHED], len }
     }
     /// The bandwidth of a rod with constraints spread along it does not grow
     /// with the number of constraints (IV.A).
