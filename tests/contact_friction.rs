@@ -43,11 +43,15 @@ fn incline(alpha: f64, mu: f64, duration: f64, scheme: Scheme) -> (f64, f64) {
         assert!(((p - start).dot(&n)).abs() < 1e-3 * r, "step {k}: off the plane by {}", (p - start).dot(&n));
         track.push(((k + 1) as f64 * dt, (p - start).dot(&down)));
     }
-    // Least-squares s = c + v t + ½ a t² over the second half.
-    let half = &track[steps / 2..];
-    let m = half.len() as f64;
+    (track.last().unwrap().1, acceleration(&track[steps / 2..]))
+}
+
+/// The acceleration of a least-squares fit s = c + v t + ½ a t² to
+/// (time, distance) samples.
+fn acceleration(track: &[(f64, f64)]) -> f64 {
+    let m = track.len() as f64;
     let (mut st, mut st2, mut st3, mut st4, mut ss, mut sts, mut st2s) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-    for &(t, s) in half {
+    for &(t, s) in track {
         st += t;
         st2 += t * t;
         st3 += t * t * t;
@@ -57,8 +61,7 @@ fn incline(alpha: f64, mu: f64, duration: f64, scheme: Scheme) -> (f64, f64) {
         st2s += t * t * s;
     }
     let mat = nalgebra::Matrix3::new(m, st, st2, st, st2, st3, st2, st3, st4);
-    let coef = mat.lu().solve(&Vector3::new(ss, sts, st2s)).unwrap();
-    (track.last().unwrap().1, 2.0 * coef[2])
+    2.0 * mat.lu().solve(&Vector3::new(ss, sts, st2s)).unwrap()[2]
 }
 
 /// Sticks at tan α = 0.5 μ and 0.95 μ; slides at α = 20° and 30° with
@@ -214,4 +217,63 @@ fn a_rod_pulled_across_another_sticks_then_slides() {
     let expected = 0.5 * mu * push / mass;
     println!("F = 1.5 μP: a = {acc:.4} m/s² vs (F − μP)/m = {expected:.4} ({:+.2} %), slid {slid:.4} m", 100.0 * (acc / expected - 1.0));
     assert!((acc / expected - 1.0).abs() < 1e-2);
+}
+
+/// A rope lying across a slope (a horizontal line of 20 control points on
+/// a plane tilted at α, μ = 0.4): its contact rows are many and alike, and
+/// near the friction angle its pairs sit at the cone's edge. Every step
+/// solves (no singular system from rows of a rod lying flat), no contact
+/// ever pulls, nothing goes through the plane; below the friction angle
+/// it stays put, above it slides with a = g(sin α − μ cos α) within 1 %.
+#[test]
+fn a_rope_across_a_slope_near_the_friction_angle() {
+    let (r, mu, dt) = (0.01, 0.4, 2e-3);
+    for ratio in [0.98f64, 1.02, 1.1] {
+        let alpha = (ratio * mu).atan();
+        let n = Vector3::new(alpha.sin(), 0.0, alpha.cos());
+        let down = Vector3::new(alpha.cos(), 0.0, -alpha.sin());
+        let rod = RodBuilder::straight(n * r, n * r + Vector3::new(0.0, 0.5, 0.0))
+            .control_points(20)
+            .with_roll(false)
+            .section(Section::circle(r).unwrap())
+            .material(Material::new("nylon", 3e9, 0.4, 1140.0).unwrap())
+            .build()
+            .unwrap();
+        let mut w = World::new(IntegrationParameters { dt, gravity: [0.0, 0.0, -G], ..Default::default() });
+        let h = w.add_rod(rod);
+        w.add_contact_detector(Obstacle::plane([0.0; 3], n.into()).unwrap().with_margin(0.005).unwrap().with_friction(mu).unwrap()).unwrap();
+        let centre = |w: &World| {
+            let rod = w.rod(h).unwrap();
+            let (u0, u1) = rod.domain();
+            (0..=100).map(|i| rod.position(u0 + (u1 - u0) * i as f64 / 100.0).unwrap()).fold(Vector3::zeros(), |s, p| s + p) / 101.0
+        };
+        let start = centre(&w);
+        let (mut deepest, mut least) = (0.0f64, f64::INFINITY);
+        let steps = 300;
+        let mut track = Vec::new();
+        for k in 0..steps {
+            w.step().unwrap_or_else(|e| panic!("tan α = {ratio} μ, step {k}: {e}"));
+            let rod = w.rod(h).unwrap();
+            let (u0, u1) = rod.domain();
+            for i in 0..=200 {
+                let p = rod.position(u0 + (u1 - u0) * i as f64 / 200.0).unwrap();
+                deepest = deepest.max(r - p.dot(&n));
+            }
+            for (_, p) in w.contacts().active() {
+                least = least.min(p.force);
+            }
+            track.push(((k + 1) as f64 * dt, (centre(&w) - start).dot(&down)));
+        }
+        let (t, s) = track[steps - 1];
+        let acc = acceleration(&track[steps / 2..]);
+        let expected = (G * (alpha.sin() - mu * alpha.cos())).max(0.0);
+        println!("tan α = {ratio} μ: slid {s:.3e} m in {t} s, a = {acc:.5} m/s² (Coulomb {expected:.5}); deepest {:.2e} r, least normal force {least:.3e} N", deepest / r);
+        assert!(least >= 0.0, "tan α = {ratio} μ: a contact pulled ({least} N)");
+        assert!(deepest < 0.01 * r, "tan α = {ratio} μ: {deepest} m into the plane");
+        if ratio < 1.0 {
+            assert!(s.abs() < 1e-6, "tan α = {ratio} μ should stick, slid {s} m");
+        } else {
+            assert!((acc / expected - 1.0).abs() < 1e-2, "tan α = {ratio} μ: a = {acc} vs {expected}");
+        }
+    }
 }

@@ -148,13 +148,26 @@ impl ContactDetector for Obstacle {
             let span = (u1 - u0) / rod.n_segments().max(1) as f64;
             let n = us.len();
             let gap = |j: usize| near[j].map_or(f64::INFINITY, |x| x.0);
+            // Gaps closer than 1e-7 of the radius are equal (the sag of a
+            // stiff rod between its rows is below it; 1e-8 left a stiff
+            // rope on a slope creeping, 1e-6 made the capstan's pull
+            // noisier: tests/contact_friction.rs).
+            let tie = 1e-7 * radius;
             // (probe, is a local minimum) of the rows kept so far.
             let mut kept: Vec<(usize, bool)> = Vec::new();
             for k in 0..n {
                 if near[k].is_none() {
                     continue;
                 }
-                let minimum = !(k > 0 && gap(k - 1) < gap(k)) && !(k + 1 < n && gap(k + 1) < gap(k));
+                // A minimum is lower than a neighbour by more than `tie`
+                // and higher than neither. Along a rod lying flat on a face
+                // the probes differ by round-off: rows at every such
+                // "minimum" outnumbered the control points (a singular
+                // system), and moved from step to step with their friction
+                // anchors (a rope below the friction angle crept). There
+                // rows follow the spacing alone.
+                let (before, after) = (if k > 0 { gap(k - 1) } else { f64::INFINITY }, if k + 1 < n { gap(k + 1) } else { f64::INFINITY });
+                let minimum = before >= gap(k) - tie && after >= gap(k) - tie && (before > gap(k) + tie || after > gap(k) + tie);
                 let last = kept.last().copied();
                 let dist = last.map(|(j, _)| (us[k] - us[j]).abs());
                 if dist.is_some_and(|d| d < 0.5 * span) {
