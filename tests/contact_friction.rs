@@ -224,7 +224,8 @@ fn a_rod_pulled_across_another_sticks_then_slides() {
 /// near the friction angle its pairs sit at the cone's edge. Every step
 /// solves (no singular system from rows of a rod lying flat), no contact
 /// ever pulls, nothing goes through the plane; below the friction angle
-/// it stays put, above it slides with a = g(sin α − μ cos α) within 1 %.
+/// it stays put (to 1e-6 m), above it slides with a = g(sin α − μ cos α)
+/// within 1e-6 (measured 1e-10: every pair slips).
 #[test]
 fn a_rope_across_a_slope_near_the_friction_angle() {
     let (r, mu, dt) = (0.01, 0.4, 2e-3);
@@ -267,13 +268,13 @@ fn a_rope_across_a_slope_near_the_friction_angle() {
         let (t, s) = track[steps - 1];
         let acc = acceleration(&track[steps / 2..]);
         let expected = (G * (alpha.sin() - mu * alpha.cos())).max(0.0);
-        println!("tan α = {ratio} μ: slid {s:.3e} m in {t} s, a = {acc:.5} m/s² (Coulomb {expected:.5}); deepest {:.2e} r, least normal force {least:.3e} N", deepest / r);
+        println!("tan α = {ratio} μ: slid {s:.3e} m in {t} s, a = {acc:.5} m/s² (Coulomb {expected:.5}, {:+.1e}); deepest {:.2e} r, least normal force {least:.3e} N", acc / expected - 1.0, deepest / r);
         assert!(least >= 0.0, "tan α = {ratio} μ: a contact pulled ({least} N)");
         assert!(deepest < 0.01 * r, "tan α = {ratio} μ: {deepest} m into the plane");
         if ratio < 1.0 {
             assert!(s.abs() < 1e-6, "tan α = {ratio} μ should stick, slid {s} m");
         } else {
-            assert!((acc / expected - 1.0).abs() < 1e-2, "tan α = {ratio} μ: a = {acc} vs {expected}");
+            assert!((acc / expected - 1.0).abs() < 1e-6, "tan α = {ratio} μ: a = {acc} vs {expected}");
         }
     }
 }
