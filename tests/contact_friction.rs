@@ -268,7 +268,7 @@ fn a_rope_across_a_slope_near_the_friction_angle() {
         let (t, s) = track[steps - 1];
         let acc = acceleration(&track[steps / 2..]);
         let expected = (G * (alpha.sin() - mu * alpha.cos())).max(0.0);
-        println!("tan α = {ratio} μ: slid {s:.3e} m in {t} s, a = {acc:.5} m/s² (Coulomb {expected:.5}, {:+.1e}); deepest {:.2e} r, least normal force {least:.3e} N", acc / expected - 1.0, deepest / r);
+        println!("tan α = {ratio} μ: slid {s:.3e} m in {t} s, a = {acc:.5} m/s² (Coulomb {expected:.5}, {:+.1e} m/s² off); deepest {:.2e} r, least normal force {least:.3e} N", acc - expected, deepest / r);
         assert!(least >= 0.0, "tan α = {ratio} μ: a contact pulled ({least} N)");
         assert!(deepest < 0.01 * r, "tan α = {ratio} μ: {deepest} m into the plane");
         if ratio < 1.0 {
