@@ -224,8 +224,10 @@ fn a_rod_pulled_across_another_sticks_then_slides() {
 /// near the friction angle its pairs sit at the cone's edge. Every step
 /// solves (no singular system from rows of a rod lying flat), no contact
 /// ever pulls, nothing goes through the plane; below the friction angle
-/// it stays put (to 1e-6 m), above it slides with a = g(sin α − μ cos α)
-/// within 1e-6 (measured 1e-10: every pair slips).
+/// it stays put (to 1e-6 m); above it no pair is left sticking, so it
+/// slides with a = g(sin α − μ cos α) within 1e-6 (measured 1e-10; with
+/// every pair slipping this is what implicit Euler gives, so the check is
+/// that none sticks).
 #[test]
 fn a_rope_across_a_slope_near_the_friction_angle() {
     let (r, mu, dt) = (0.01, 0.4, 2e-3);

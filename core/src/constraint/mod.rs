@@ -218,7 +218,7 @@ impl Row {
 
 /// Control points a constraint touches: (side, control point), and
 /// whether the curve passes through them with weight (`held`: a nonzero
-/// basis value at the abscissa — at a clamped end only the last point).
+/// basis value at the abscissa — at a clamped end only the end point).
 #[derive(Clone, Copy, Debug)]
 pub struct Touched {
     pub items: [(Side, usize); MAX_TOUCHED],

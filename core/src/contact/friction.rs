@@ -24,8 +24,9 @@ use serde::{Deserialize, Serialize};
 /// (rad), above which a slipping pair is solved again.
 const SLIP_TOLERANCE: f64 = 1e-3;
 
-/// Active-set rounds of one solve in which friction may change state;
-/// after them it is held as it is (see [`Friction::update`]).
+/// Active-set rounds of one solve (an implicit Euler step, a Newton
+/// iterate) in which friction may change state; after them it is held as
+/// it is (see [`Friction::update`]).
 pub(crate) const FREE_ROUNDS: usize = 10;
 
 /// A contact pair's friction state.
@@ -166,12 +167,17 @@ impl Friction {
     /// to solve again.
     ///
     /// `frozen` (the active set has gone round [`FREE_ROUNDS`] times in one
-    /// step): nothing changes — a sticking pair records its force, a
-    /// slipping one keeps its direction and normal force — so that the
-    /// rounds left settle the normal active set alone. Pairs chattering
-    /// between stick and slip at the cone's edge would otherwise use up
-    /// the step's rounds and leave a contact pulling or a point inside an
-    /// obstacle.
+    /// solve): nothing changes state — a sticking pair records its force,
+    /// a slipping one keeps its direction (its slip force still follows
+    /// the normal force at the next assembly, but a change of it no longer
+    /// asks for another solve) — so that the rounds left settle the normal
+    /// active set alone. Pairs chattering between stick and slip at the
+    /// cone's edge would otherwise use up the rounds and leave a contact
+    /// pulling or a point inside an obstacle. The price: a pair held
+    /// sticking may end the step with a friction force past μ N (reported
+    /// as it is, not slipping). Letting held pairs still start slipping
+    /// was tried: a slipping pair whose motion then turned back either
+    /// pushed the rod along (the capstan's step diverged) or chattered.
     pub(crate) fn update(&mut self, g: &Geometry, stick: Option<Vector3<f64>>, moved: Vector3<f64>, normal: f64, frozen: bool) -> bool {
         let n = g.normal;
         if frozen {
@@ -209,5 +215,34 @@ impl Friction {
             }
             (None, None) => false,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A pair against a floor (normal +z) with μ = 0.5 and N = 2: a stick
+    /// force of 1.5 (past μ N = 1) makes it slip against that force; held
+    /// (`frozen`), it stays sticking and records the force; a slipping pair
+    /// whose motion turned back sticks again, held it keeps slipping.
+    #[test]
+    fn held_friction_changes_no_state() {
+        let g = Geometry { ua: 0.0, ub: None, relative: Vector3::zeros(), normal: Vector3::z() };
+        let past = Some(Vector3::new(1.5, 0.0, 0.3));
+        let mut f = Friction::new(0.5).unwrap();
+        assert!(f.update(&g, past, Vector3::zeros(), 2.0, false));
+        assert_eq!(f.slip, Some([-1.0, 0.0, 0.0]));
+        let mut held = Friction::new(0.5).unwrap();
+        assert!(!held.update(&g, past, Vector3::zeros(), 2.0, true));
+        assert_eq!((held.slip, held.force), (None, [1.5, 0.0, 0.0]));
+        // Slipping along +x, the step moved it along −x.
+        let back = Vector3::new(-1e-6, 0.0, 0.0);
+        let mut s = Friction { slip: Some([1.0, 0.0, 0.0]), ..Friction::new(0.5).unwrap() };
+        assert!(s.update(&g, None, back, 2.0, false));
+        assert_eq!(s.slip, None);
+        let mut s = Friction { slip: Some([1.0, 0.0, 0.0]), ..Friction::new(0.5).unwrap() };
+        assert!(!s.update(&g, None, back, 2.0, true));
+        assert_eq!(s.slip, Some([1.0, 0.0, 0.0]));
     }
 }

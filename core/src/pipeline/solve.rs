@@ -8,9 +8,9 @@ use crate::handles::Index;
 use crate::system::{Layout, Solved};
 use crate::world::World;
 
-/// Most re-solves one step spends settling the contact active set.
-/// After [`crate::contact::friction::FREE_ROUNDS`] of them friction is
-/// held, and the rest go to the normal set alone.
+/// Most re-solves one solve (a step, a Newton iterate) spends settling
+/// the contact active set. After [`crate::contact::friction::FREE_ROUNDS`]
+/// of them friction is held, and the rest go to the normal set alone.
 const MAX_ACTIVE_SET_ROUNDS: usize = 15;
 
 /// Names unknown `g` of the system for error messages.
