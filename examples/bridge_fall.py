@@ -8,9 +8,11 @@ than 5 % of its radius inside it, during the impact less than a quarter of
 a rope segment (measured 3.3 cm of 20 cm: the rows sit about one per
 segment, and a rope striking the wall nearly flat bulges between them; the
 wall finds rows within 10 cm, half a segment — with 5 cm the rope struck
-6.4 cm deep; it was 0.8 cm before friction was held after ten rounds of
-the active set — why holding it deepens the handrail's impact is not yet
-known). The resting depth used to depend on round-off (0.00 to
+6.4 cm deep; it was 0.8 cm before the active set's rounds went from 10
+to 15: in the step before the impact the normal set cycles with period
+three — two pairs in, those pulling out and two others in, those
+pulling out, none — and the fifteenth round ends on the empty set, so
+the handrail's end strikes unchecked). The resting depth used to depend on round-off (0.00 to
 1.5 radii for 1e-10 changes of the time step: pairs chattering between
 stick and slip used up the contact active set's rounds, and a step was
 accepted with a handrail inside the face); since friction is held after
