@@ -20,7 +20,7 @@
 //!   (δ_b = min(δ, ½|C⁰|)), so any rest curvature, however small, is kept
 //!   exactly: the rest shape has zero energy and zero force. The Huber
 //!   Hessian B/δ_b stays bounded because B ∝ κ⁰.
-use super::invariants::{LocalState, Mat5, Vec5, QA, QC2, QP, QTH, QTH1};
+use super::invariants::{curvature_squared, Curvature2, LocalState, Mat5, Vec5, QA, QC2, QP, QTH, QTH1};
 use super::{ActiveSlots, EnergyTerms, FrameKinematics, FrameState, HoldCrossSection, MaterialAngle, MaterialFrame, SampleConsts, Strains};
 use crate::error::{Error, Result};
 use nalgebra::Vector3;
@@ -149,12 +149,8 @@ fn add_bend(q: &Vec5, c: &SampleConsts, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
     let aa = 0.5 * (c.ei1 * sn * sn + c.ei2 * cs * cs);
     let aa1 = d_ei * sn * cs;
     let aa2 = d_ei * (cs * cs - sn * sn);
-    // Q = κ² = c2 a⁻³
+    let Curvature2 { v: qv, a: q_a, c: q_c, aa: q_aa, ac: q_ac } = curvature_squared(q);
     let ia = 1.0 / a;
-    let ia3 = ia * ia * ia;
-    let qv = c2 * ia3;
-    let (q_a, q_c) = (-3.0 * qv * ia, ia3);
-    let (q_aa, q_ac) = (12.0 * qv * ia * ia, -3.0 * ia3 * ia);
     let mut w = aa * qv;
     fq[QA] += aa * q_a;
     fq[QC2] += aa * q_c;

@@ -93,6 +93,25 @@ fn set3(j: &mut SMatrix<f64, 5, 11>, row: usize, col: usize, v: &Vector3<f64>) {
     }
 }
 
+/// κ² = c2 a⁻³ (frame-free) and its derivatives in the invariants a, c2
+/// (∂²/∂c2² is zero).
+#[derive(Clone, Copy, Debug)]
+pub struct Curvature2 {
+    pub v: f64,
+    pub a: f64,
+    pub c: f64,
+    pub aa: f64,
+    pub ac: f64,
+}
+
+#[inline(always)]
+pub fn curvature_squared(q: &Vec5) -> Curvature2 {
+    let ia = 1.0 / q[QA];
+    let ia3 = ia * ia * ia;
+    let v = q[QC2] * ia3;
+    Curvature2 { v, a: -3.0 * v * ia, c: ia3, aa: 12.0 * v * ia * ia, ac: -3.0 * ia3 * ia }
+}
+
 /// Value, gradient and Hessian of W(d) from F's derivatives with respect to
 /// the invariants: the chain rule of the module doc, ∇W = Jᵀ F_q and
 /// ∇²W = Σ_k F_k ∇²q_k + Jᵀ F_qq J. `grad` and `hess` are overwritten.

@@ -1,7 +1,7 @@
-//! The reference-frame kinematics with exact first and second derivatives,
-//! exploiting its structure: in the old frame's basis, with p = r′ and
-//! q = r″, every strain is F(p) + Σ_j q_j G_j(p) — linear in q (SPEC §2.3;
-//! the formulas are in [`super::reference`]). So only functions of the
+//! The reference-frame model's bending strains with exact first and second
+//! derivatives, exploiting their structure: in the old frame's basis, with
+//! p = r′ and q = r″, each is F(p) + Σ_j q_j G_j(p) — linear in q (SPEC
+//! §2.3; the formulas are in [`super::reference`]). So only functions of the
 //! three components of p need second-order jets ([`J3`]: value, gradient,
 //! packed 3×3 Hessian); the q rows follow: ∂S/∂q_j = G_j, ∂²S/∂p∂q_j =
 //! ∇G_j, ∂²S/∂q² = 0. A third of the work of six-variable jets, checked
@@ -119,41 +119,32 @@ impl QLinear {
     }
 }
 
-/// The three strains' building blocks at p (old-frame basis) with the old
-/// tangent's rate `k`: curvature-binormal components x = κb·d1, y = κb·d2,
-/// the reference twist increment per u, w = ω_u − ω°_u, and 1/|p|.
+/// The bending strains' building blocks at p (old-frame basis):
+/// curvature-binormal components x = κb·d1, y = κb·d2. (The twist, whose
+/// strain has a simpler structure, is written in world components in
+/// [`super::reference`].)
 pub struct Kinematics {
     pub x: QLinear,
     pub y: QLinear,
-    pub w: QLinear,
-    pub inv_speed: J3,
 }
 
-/// x = (c1 − p0 c3/(s + p2))/s³, y = (c2 − p1 c3/(s + p2))/s³,
-/// w = ((p1 k0 − p0 k1) − c3/s)/(s + p2), with c = p × q, s = |p|.
-/// Only the bending strains if `bend`, only w if `twist` (the rest zero).
-pub fn kinematics(p: [f64; 3], k: [f64; 2], bend: bool, twist: bool) -> Kinematics {
+/// x = (c1 − p0 c3/(s + p2))/s³, y = (c2 − p1 c3/(s + p2))/s³, with
+/// c = p × q, s = |p| (their F parts are zero).
+pub fn kinematics(p: [f64; 3]) -> Kinematics {
     let pv: [J3; 3] = std::array::from_fn(|i| J3::var(i, p[i]));
     let a = pv[0].mul_var(0, p[0]).add(pv[1].mul_var(1, p[1])).add(pv[2].mul_var(2, p[2]));
     let s = a.sqrt();
     let inv = s.recip();
     let id = s.add(pv[2]).recip();
-    let (mut x, mut y, mut w) = (QLinear::default(), QLinear::default(), QLinear::default());
-    if bend {
-        let is3 = inv.mul(inv).mul(inv);
-        // ∂c/∂q_j: c1 = p1 q2 − p2 q1, c2 = p2 q0 − p0 q2, c3 = p0 q1 − p1 q0.
-        let pc = is3.mul(id); // multiplies p_i c3 in x and y
-        let px = pc.mul_var(0, p[0]);
-        let py = pc.mul_var(1, p[1]);
-        x.gq = [px.mul_var(1, p[1]), is3.mul_var(2, p[2]).add(px.mul_var(0, p[0])).scale(-1.0), is3.mul_var(1, p[1])];
-        y.gq = [is3.mul_var(2, p[2]).add(py.mul_var(1, p[1])), py.mul_var(0, p[0]).scale(-1.0), is3.mul_var(0, p[0]).scale(-1.0)];
-    }
-    if twist {
-        let r = inv.mul(id);
-        w.f = id.mul_var(1, p[1]).scale(k[0]).add(id.mul_var(0, p[0]).scale(-k[1]));
-        w.gq = [r.mul_var(1, p[1]), r.mul_var(0, p[0]).scale(-1.0), J3::default()];
-    }
-    Kinematics { x, y, w, inv_speed: inv }
+    let (mut x, mut y) = (QLinear::default(), QLinear::default());
+    let is3 = inv.mul(inv).mul(inv);
+    // ∂c/∂q_j: c1 = p1 q2 − p2 q1, c2 = p2 q0 − p0 q2, c3 = p0 q1 − p1 q0.
+    let pc = is3.mul(id); // multiplies p_i c3 in x and y
+    let px = pc.mul_var(0, p[0]);
+    let py = pc.mul_var(1, p[1]);
+    x.gq = [px.mul_var(1, p[1]), is3.mul_var(2, p[2]).add(px.mul_var(0, p[0])).scale(-1.0), is3.mul_var(1, p[1])];
+    y.gq = [is3.mul_var(2, p[2]).add(py.mul_var(1, p[1])), py.mul_var(0, p[0]).scale(-1.0), is3.mul_var(0, p[0]).scale(-1.0)];
+    Kinematics { x, y }
 }
 
 #[cfg(test)]
@@ -162,7 +153,7 @@ mod tests {
     use super::*;
 
     /// The same strains on six-variable jets (the generic formulas).
-    fn reference(p: [f64; 3], q: [f64; 3], k: [f64; 2]) -> [Jet; 3] {
+    fn reference(p: [f64; 3], q: [f64; 3]) -> [Jet; 2] {
         let pj: [Jet; 3] = std::array::from_fn(|i| Jet::var(i, p[i]));
         let qj: [Jet; 3] = std::array::from_fn(|i| Jet::var(3 + i, q[i]));
         let a = pj[0] * pj[0] + pj[1] * pj[1] + pj[2] * pj[2];
@@ -175,21 +166,20 @@ mod tests {
         let is3 = inv * inv * inv;
         let x = (c1 - pj[0] * c3 * id) * is3;
         let y = (c2 - pj[1] * c3 * id) * is3;
-        let w = (pj[1] * k[0] - pj[0] * k[1] - c3 * inv) * id;
-        [x, y, w]
+        [x, y]
     }
 
     #[test]
     fn q_linear_kinematics_match_six_variable_jets() {
         let cases = [
-            ([0.3, -0.2, 1.1], [0.5, 0.7, -0.4], [0.8, -1.3]),
-            ([-0.9, 0.4, 0.2], [-1.5, 0.1, 0.6], [0.0, 2.0]),
-            ([0.01, 0.02, -0.7], [0.3, 0.3, 0.3], [-0.4, 0.1]),
-            ([1.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0]),
+            ([0.3, -0.2, 1.1], [0.5, 0.7, -0.4]),
+            ([-0.9, 0.4, 0.2], [-1.5, 0.1, 0.6]),
+            ([0.01, 0.02, -0.7], [0.3, 0.3, 0.3]),
+            ([1.0, 0.0, 0.0], [0.0, 0.0, 0.0]),
         ];
-        for (p, q, k) in cases {
-            let kin = kinematics(p, k, true, true);
-            for (s, jet) in [kin.x, kin.y, kin.w].iter().zip(reference(p, q, k)) {
+        for (p, q) in cases {
+            let kin = kinematics(p);
+            for (s, jet) in [kin.x, kin.y].iter().zip(reference(p, q)) {
                 let (v, g, hpp, hpq) = s.eval(&q);
                 let scale = 1.0 + jet.v.abs() + jet.g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 assert!((v - jet.v).abs() < 1e-12 * scale, "value {v} vs {}", jet.v);
@@ -205,8 +195,6 @@ mod tests {
                     }
                 }
             }
-            let s = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt();
-            assert!((kin.inv_speed.v - 1.0 / s).abs() < 1e-15);
         }
     }
 }

@@ -25,13 +25,16 @@
 //!   κb·d1 = (C1 − p1 C3/(s + p3)) / s³,   κb·d2 = (C2 − p2 C3/(s + p3)) / s³
 //!   ω_u − ω°_u = (p2 k1 − p1 k2 − C3/s) / (s + p3)
 //!
-//! rational in six variables and linear in q; their exact gradient and
-//! Hessian come from [`super::qlinear`] (second-order jets in p only,
-//! checked against six-variable jets).
+//! rational in six variables and linear in q. The bending strains' exact
+//! gradient and Hessian come from [`super::qlinear`] (second-order jets in
+//! p only, checked against six-variable jets); the twist's are written in
+//! world components ([`add_twist`]), with no rotation back.
 //! W_b = ½ EI1 (κ1 − κ1⁰)² + ½ EI2 (κ2 − κ2⁰)², W_t = ½ GJ (ω − ω⁰)² per
 //! unit rest length, as in the Frenet model (the same EI1 ↔ d1 convention:
-//! κ1 = κ b·d1).
-use super::invariants::{LocalState, Mat5, Vec5, R1, TH, TH1};
+//! κ1 = κ b·d1). For an isotropic section on a straight rest shape W_b =
+//! ½ EI |κb|² does not depend on the frame and is written in the
+//! invariants, like the Frenet model's ([`bend_is_invariant`]).
+use super::invariants::{curvature_squared, LocalState, Mat5, Vec5, QA, QC2, R1, R2, TH, TH1};
 use super::qlinear;
 
 /// Number of local variables (p, q).
@@ -77,39 +80,63 @@ impl RefFrame {
     }
 }
 
-/// κb·d1, κb·d2, ω_ref − ω° and 1/|r′| from p = r′, q = r″ in the old
-/// frame's basis (module doc).
-/// Values only: the derivatives come from [`qlinear::kinematics`].
-struct Kin {
-    x: f64,
-    y: f64,
-    dw: f64,
-    inv_speed: f64,
-}
-
+/// κb·d1, κb·d2 from p = r′, q = r″ in the old frame's basis (module
+/// doc). Values only: the derivatives come from [`qlinear::kinematics`].
 #[inline(always)]
-fn kinematics(p: [f64; 3], q: [f64; 3], k: [f64; 2], bend: bool, twist: bool) -> Kin {
+fn bend_values(p: [f64; 3], q: [f64; 3]) -> (f64, f64) {
     let a = p[0] * p[0] + p[1] * p[1] + p[2] * p[2];
     let s = a.sqrt();
-    let inv_speed = s.recip();
+    let c1 = p[1] * q[2] - p[2] * q[1];
+    let c2 = p[2] * q[0] - p[0] * q[2];
     let c3 = p[0] * q[1] - p[1] * q[0];
     // 1 + t°·t = (s + p3)/s: zero only if the tangent turned half a turn
     // since the last transport (refused beyond 150°: `transportable`).
-    let id = (s + p[2]).recip();
-    let ia = inv_speed * inv_speed;
-    let (mut x, mut y, mut dw) = (0.0, 0.0, 0.0);
-    if bend {
-        let c1 = p[1] * q[2] - p[2] * q[1];
-        let c2 = p[2] * q[0] - p[0] * q[2];
-        let t1 = c3 * id;
-        let is3 = ia * inv_speed;
-        x = (c1 - p[0] * t1) * is3;
-        y = (c2 - p[1] * t1) * is3;
-    }
-    if twist {
-        dw = (p[1] * k[0] - p[0] * k[1] - c3 * inv_speed) * id;
-    }
-    Kin { x, y, dw, inv_speed }
+    let t1 = c3 / (s + p[2]);
+    let is3 = (a * s).recip();
+    ((c1 - p[0] * t1) * is3, (c2 - p[1] * t1) * is3)
+}
+
+/// The reference field's twist increment w = ω_u − ω°_u (module doc) in
+/// world components, with the parts its derivatives reuse ([`add_twist`]):
+/// with r = r′, v = r″, s = |r|, the old tangent T = t° and m = t° × t°_u =
+/// k0 d2° − k1 d1°,
+///
+///   w = N/D,  N = r·m − c3/s,  c3 = T·(r × v) = r·(v × T),  D = s + T·r.
+///
+/// D = s (1 + t°·t) vanishes only if the tangent turned half a turn since
+/// the last transport (refused beyond 150°: `transportable`).
+struct Twist {
+    /// 1/s, t = r/s, n = v × T, o = T × r, m, T.
+    is: f64,
+    t: Vector3<f64>,
+    n: Vector3<f64>,
+    o: Vector3<f64>,
+    m: Vector3<f64>,
+    tt: Vector3<f64>,
+    c3: f64,
+    /// 1/D and w.
+    id: f64,
+    w: f64,
+}
+
+#[inline(always)]
+fn twist_increment(r: &Vector3<f64>, v: &Vector3<f64>, f: &RefFrame) -> Twist {
+    let (d1o, tt) = (Vector3::from(f.d1), Vector3::from(f.t));
+    let m = tt.cross(&d1o) * f.k[0] - d1o * f.k[1];
+    let sp = r.norm();
+    let is = sp.recip();
+    let n = v.cross(&tt);
+    let c3 = r.dot(&n);
+    let id = (sp + tt.dot(r)).recip();
+    let w = (r.dot(&m) - c3 * is) * id;
+    Twist { is, t: r * is, n, o: tt.cross(r), m, tt, c3, id, w }
+}
+
+/// Ω = (θ′ + ω°_u + w)/|r′|, the material twist per length.
+#[inline(always)]
+fn twist_value(s: &LocalState, f: &RefFrame) -> f64 {
+    let tw = twist_increment(&s.r1, &s.r2, f);
+    (s.th1 + f.omega + tw.w) * tw.is
 }
 
 /// A strain's value, gradient in (p, q) and Hessian blocks (pp packed, pq;
@@ -158,6 +185,15 @@ impl Strain6 {
     }
 }
 
+/// Whether bending is ½ EI |κb|² — an isotropic section (EI1 = EI2) on a
+/// straight rest shape (κ⁰ = 0): κ1² + κ2² = |κb|² in any frame ⟂ t, so
+/// it is written in the invariants like the Frenet model's (exactly the
+/// same energy; the frame's derivatives are then needed for twist only).
+#[inline(always)]
+fn bend_is_invariant(c: &SampleConsts) -> bool {
+    c.ei1 == c.ei2 && c.kappa1 == 0.0 && c.kappa2 == 0.0
+}
+
 /// p, q of a local state in the old frame's basis.
 fn local(s: &LocalState, f: &RefFrame) -> ([f64; 3], [f64; 3], [Vector3<f64>; 3]) {
     let e = f.basis();
@@ -180,9 +216,9 @@ fn frame_of(state: &FrameState) -> &RefFrame {
 /// Values (κ1, κ2, ω) at a local state.
 fn strain_values(s: &LocalState, f: &RefFrame) -> (f64, f64, f64) {
     let (p, q, _) = local(s, f);
-    let kin = kinematics(p, q, f.k, true, true);
+    let (x, y) = bend_values(p, q);
     let (sn, cs) = s.th.sin_cos();
-    (cs * kin.x + sn * kin.y, cs * kin.y - sn * kin.x, (s.th1 + f.omega + kin.dw) * kin.inv_speed)
+    (cs * x + sn * y, cs * y - sn * x, twist_value(s, f))
 }
 
 /// The transported director d1 at tangent t.
@@ -200,10 +236,9 @@ fn tangent_and_rate(s: &LocalState) -> (Vector3<f64>, Vector3<f64>) {
     (t, (s.r2 - t * t.dot(&s.r2)) / speed)
 }
 
-/// The state of a sample with director `d1` (⟂ t) and reference twist
-/// `omega` per unit u.
-fn frame_at(s: &LocalState, d1: Vector3<f64>, omega: f64) -> RefFrame {
-    let (t, ts) = tangent_and_rate(s);
+/// The state of a sample with unit tangent t, its rate t_u, director `d1`
+/// (⟂ t) and reference twist `omega` per unit u.
+fn frame_at(t: Vector3<f64>, ts: Vector3<f64>, d1: Vector3<f64>, omega: f64) -> RefFrame {
     let d2 = t.cross(&d1);
     RefFrame { d1: d1.into(), t: t.into(), k: [ts.dot(&d1), ts.dot(&d2)], omega }
 }
@@ -263,118 +298,38 @@ impl FrameKinematics for Reference {
                 arc += 0.5 * w;
             }
         }
-        Ok(samples.iter().zip(d1s).map(|((s, _), d1)| FrameState::Reference(frame_at(s, d1, omega * s.r1.norm()))).collect())
+        Ok(samples.iter().zip(d1s).map(|((s, _), d1)| {
+            let (t, ts) = tangent_and_rate(s);
+            FrameState::Reference(frame_at(t, ts, d1, omega * s.r1.norm()))
+        }).collect())
     }
 
     /// Energy density of bending and twist with its derivatives in d,
     /// added to `out` (which holds the stretch part). Returns W.
     fn add_direct(s: &LocalState, c: &SampleConsts, state: &FrameState, terms: EnergyTerms, derivs: bool, out: &mut LocalEnergy) -> f64 {
-        let (bend, twist) = (terms.bend, terms.twist);
+        let (bend, twist) = (terms.bend && !bend_is_invariant(c), terms.twist);
         if !bend && !twist {
             return 0.0;
         }
         let f = frame_of(state);
-        let (p, q, e) = local(s, f);
-        if !derivs {
-            let (k1, k2, om) = strain_values(s, f);
-            let mut w = 0.0;
-            if bend {
-                let (e1, e2) = (k1 - c.kappa1, k2 - c.kappa2);
-                w += 0.5 * (c.ei1 * e1 * e1 + c.ei2 * e2 * e2);
-            }
-            if twist {
-                w += 0.5 * c.gj * (om - c.omega).powi(2);
-            }
-            return w;
-        }
-        let kin = qlinear::kinematics(p, f.k, bend, twist);
-        // Derivatives in (p, q) (6), θ and θ′, then rotated to (r′, r″).
-        let mut g6 = [0.0f64; N];
-        let mut h66 = [[0.0f64; N]; N];
-        let (mut g_th, mut g_th1) = (0.0, 0.0);
-        let mut h6_th = [0.0f64; N];
-        let mut h6_th1 = [0.0f64; N];
-        let (mut h_thth, mut h_th1th1) = (0.0, 0.0);
         let mut w = 0.0;
         if bend {
-            let (sn, cs) = s.th.sin_cos();
-            // κ1 = cos θ x + sin θ y, κ2 = cos θ y − sin θ x; ∂κ1/∂θ = κ2, ∂κ2/∂θ = −κ1.
-            let (x, y) = (Strain6::of(&kin.x, &q), Strain6::of(&kin.y, &q));
-            let k1 = x.combine(cs, &y, sn);
-            let k2 = y.combine(cs, &x, -sn);
-            let (e1, e2) = (k1.v - c.kappa1, k2.v - c.kappa2);
-            let (a1, a2) = (c.ei1, c.ei2);
-            w += 0.5 * (a1 * e1 * e1 + a2 * e2 * e2);
-            g_th += a1 * e1 * k2.v - a2 * e2 * k1.v;
-            h_thth += a1 * (k2.v * k2.v - e1 * k1.v) + a2 * (k1.v * k1.v - e2 * k2.v);
-            for i in 0..N {
-                g6[i] += a1 * e1 * k1.g[i] + a2 * e2 * k2.g[i];
-                h6_th[i] += a1 * (k2.v * k1.g[i] + e1 * k2.g[i]) - a2 * (k1.v * k2.g[i] + e2 * k1.g[i]);
-            }
-            k1.add_hessian(a1, e1, &mut h66);
-            k2.add_hessian(a2, e2, &mut h66);
+            let (p, q, e) = local(s, f);
+            w += if derivs {
+                add_frame_bend(s, c, p, q, &e, out)
+            } else {
+                let (x, y) = bend_values(p, q);
+                let (sn, cs) = s.th.sin_cos();
+                let (e1, e2) = (cs * x + sn * y - c.kappa1, cs * y - sn * x - c.kappa2);
+                0.5 * (c.ei1 * e1 * e1 + c.ei2 * e2 * e2)
+            };
+        }
+        if twist && !derivs {
+            return w + 0.5 * c.gj * (twist_value(s, f) - c.omega).powi(2);
         }
         if twist {
-            // Ω = (θ′ + ω°_u + w)/|p|: its f and G_j times 1/|p|.
-            let is = kin.inv_speed;
-            let om = qlinear::QLinear { f: is.scale(s.th1 + f.omega).add(kin.w.f.mul(is)), gq: kin.w.gq.map(|g| g.mul(is)) };
-            let om = Strain6::of(&om, &q);
-            let e3 = om.v - c.omega;
-            w += 0.5 * c.gj * e3 * e3;
-            g_th1 += c.gj * e3 * is.v;
-            h_th1th1 += c.gj * is.v * is.v;
-            for i in 0..N {
-                g6[i] += c.gj * e3 * om.g[i];
-                // ∂Ω/∂θ′ = 1/|p|, a function of p only.
-                h6_th1[i] += c.gj * (is.v * om.g[i] + e3 * if i < 3 { is.g[i] } else { 0.0 });
-            }
-            om.add_hessian(c.gj, e3, &mut h66);
+            w += add_twist(s, c, f, out);
         }
-        // Back to world components: r′ = Σ_b p_b e_b, so ∂/∂r′ = Σ_b e_b ∂/∂p_b,
-        // and each 3×3 Hessian block X becomes Eᵀ X E (E's rows e_b).
-        let rot = |v: &[f64]| -> [f64; 3] { std::array::from_fn(|a| e[0][a] * v[0] + e[1][a] * v[1] + e[2][a] * v[2]) };
-        let grad = out.grad.as_mut_slice();
-        for blk in 0..2 {
-            let gw = rot(&g6[3 * blk..3 * blk + 3]);
-            for a in 0..3 {
-                grad[R1 + 3 * blk + a] += gw[a];
-            }
-        }
-        grad[TH] += g_th;
-        grad[TH1] += g_th1;
-        let h = &mut out.hess;
-        for (bi, bj) in [(0, 0), (0, 1), (1, 1)] {
-            // X = h66 block (bi, bj), the upper half stored for diagonal blocks.
-            let x = |r: usize, c: usize| if bi == bj && c < r { h66[3 * bi + c][3 * bj + r] } else { h66[3 * bi + r][3 * bj + c] };
-            // T = X E, then W = Eᵀ T.
-            let mut t = [[0.0f64; 3]; 3];
-            for r in 0..3 {
-                for c in 0..3 {
-                    t[r][c] = x(r, 0) * e[0][c] + x(r, 1) * e[1][c] + x(r, 2) * e[2][c];
-                }
-            }
-            for a in 0..3 {
-                for c in 0..3 {
-                    let wv = e[0][a] * t[0][c] + e[1][a] * t[1][c] + e[2][a] * t[2][c];
-                    h[(R1 + 3 * bi + a, R1 + 3 * bj + c)] += wv;
-                    if bi != bj {
-                        h[(R1 + 3 * bj + c, R1 + 3 * bi + a)] += wv;
-                    }
-                }
-            }
-        }
-        for blk in 0..2 {
-            let (ht, ht1) = (rot(&h6_th[3 * blk..3 * blk + 3]), rot(&h6_th1[3 * blk..3 * blk + 3]));
-            for a in 0..3 {
-                let i = R1 + 3 * blk + a;
-                h[(i, TH)] += ht[a];
-                h[(TH, i)] += ht[a];
-                h[(i, TH1)] += ht1[a];
-                h[(TH1, i)] += ht1[a];
-            }
-        }
-        h[(TH, TH)] += h_thth;
-        h[(TH1, TH1)] += h_th1th1;
         w
     }
 
@@ -383,31 +338,48 @@ impl FrameKinematics for Reference {
         let any = terms.bend || terms.twist;
         ActiveSlots { positions: if any { 2 } else { 0 }, theta: terms.bend, theta1: terms.twist }
     }
-    /// Nothing in the invariants: the whole bending and twist energy is
-    /// [`Reference::add_direct`].
-    fn add_bend_twist(_q: &Vec5, _c: &SampleConsts, _state: &FrameState, _terms: EnergyTerms, _fq: &mut Vec5, _fqq: &mut Mat5) -> f64 {
-        0.0
+    /// The bending of an isotropic section on a straight rest shape, which
+    /// does not depend on the frame (see [`bend_is_invariant`]); the rest
+    /// is [`Reference::add_direct`].
+    fn add_bend_twist(q: &Vec5, c: &SampleConsts, _state: &FrameState, terms: EnergyTerms, fq: &mut Vec5, fqq: &mut Mat5) -> f64 {
+        if !(terms.bend && bend_is_invariant(c)) {
+            return 0.0;
+        }
+        // ½ EI (κ1² + κ2²) = ½ EI |κb|² = ½ EI c2 a⁻³.
+        let k = curvature_squared(q);
+        let half = 0.5 * c.ei1;
+        fq[QA] += half * k.a;
+        fq[QC2] += half * k.c;
+        fqq[(QA, QA)] += half * k.aa;
+        fqq[(QA, QC2)] += half * k.ac;
+        fqq[(QC2, QA)] += half * k.ac;
+        half * k.v
     }
     fn strains(s: &LocalState, _q: &Vec5, _c: &SampleConsts, state: &FrameState) -> Strains {
         let (kappa1, kappa2, omega) = strain_values(s, frame_of(state));
         Strains { eps: 0.0, kappa1, kappa2, omega }
     }
-    fn rest_values(s0: &LocalState, state: &FrameState, _delta: f64) -> (f64, f64, f64) {
-        strain_values(s0, frame_of(state))
+    /// A rest |r′ × r″| below 1e-8 δ is a straight rest shape's round-off
+    /// (as in the Frenet model): its curvature is rounded to zero.
+    fn rest_values(s0: &LocalState, state: &FrameState, delta: f64) -> (f64, f64, f64) {
+        let (k1, k2, om) = strain_values(s0, frame_of(state));
+        if s0.cross().norm() <= 1e-8 * delta {
+            return (0.0, 0.0, om);
+        }
+        (k1, k2, om)
     }
     /// The transported director, its tangent's rate and the reference
     /// twist of the transported field (the same formula as the energy, so
     /// the energy is continuous across a transport).
     fn transport(state: &mut FrameState, s: &LocalState) {
         let FrameState::Reference(f) = state else { return };
-        let (t, _) = tangent_and_rate(s);
+        let (t, ts) = tangent_and_rate(s);
         if !t.iter().all(|x| x.is_finite()) {
             return; // a degenerate tangent: keep the last good state
         }
-        let (p, q, _) = local(s, f);
-        let dw = kinematics(p, q, f.k, false, true).dw;
+        let dw = twist_increment(&s.r1, &s.r2, f).w;
         let d1 = transported_d1(f, &t);
-        *f = frame_at(s, d1, f.omega + dw);
+        *f = frame_at(t, ts, d1, f.omega + dw);
     }
     /// The angle ψ of the material director m1 about t from `reference`
     /// (projected ⟂ t): ψ = θ + α, α the angle of the director carried from
@@ -463,4 +435,142 @@ impl FrameKinematics for Reference {
         let m1 = d1 * cs + t.cross(&d1) * sn;
         Ok(MaterialFrame { d1: m1, d2: t.cross(&m1), d3: t })
     }
+}
+
+/// The bending of an anisotropic section or a curved rest shape (where
+/// [`bend_is_invariant`] does not hold) with its gradient and Hessian,
+/// added to `out`: derivatives in (p, q) from [`qlinear`] and θ, then
+/// rotated to (r′, r″).
+fn add_frame_bend(s: &LocalState, c: &SampleConsts, p: [f64; 3], q: [f64; 3], e: &[Vector3<f64>; 3], out: &mut LocalEnergy) -> f64 {
+    let kin = qlinear::kinematics(p);
+    let (sn, cs) = s.th.sin_cos();
+    // κ1 = cos θ x + sin θ y, κ2 = cos θ y − sin θ x; ∂κ1/∂θ = κ2, ∂κ2/∂θ = −κ1.
+    let (x, y) = (Strain6::of(&kin.x, &q), Strain6::of(&kin.y, &q));
+    let k1 = x.combine(cs, &y, sn);
+    let k2 = y.combine(cs, &x, -sn);
+    let (e1, e2) = (k1.v - c.kappa1, k2.v - c.kappa2);
+    let (a1, a2) = (c.ei1, c.ei2);
+    let w = 0.5 * (a1 * e1 * e1 + a2 * e2 * e2);
+    let g_th = a1 * e1 * k2.v - a2 * e2 * k1.v;
+    let h_thth = a1 * (k2.v * k2.v - e1 * k1.v) + a2 * (k1.v * k1.v - e2 * k2.v);
+    let g6: [f64; N] = std::array::from_fn(|i| a1 * e1 * k1.g[i] + a2 * e2 * k2.g[i]);
+    let h6_th: [f64; N] = std::array::from_fn(|i| a1 * (k2.v * k1.g[i] + e1 * k2.g[i]) - a2 * (k1.v * k2.g[i] + e2 * k1.g[i]));
+    let mut h66 = [[0.0f64; N]; N];
+    k1.add_hessian(a1, e1, &mut h66);
+    k2.add_hessian(a2, e2, &mut h66);
+    // Back to world components: r′ = Σ_b p_b e_b, so ∂/∂r′ = Σ_b e_b ∂/∂p_b,
+    // and each 3×3 Hessian block X becomes Eᵀ X E (E's rows e_b).
+    let rot = |v: &[f64]| -> [f64; 3] { std::array::from_fn(|a| e[0][a] * v[0] + e[1][a] * v[1] + e[2][a] * v[2]) };
+    let grad = out.grad.as_mut_slice();
+    for blk in 0..2 {
+        let gw = rot(&g6[3 * blk..3 * blk + 3]);
+        for a in 0..3 {
+            grad[R1 + 3 * blk + a] += gw[a];
+        }
+    }
+    grad[TH] += g_th;
+    let h = &mut out.hess;
+    for (bi, bj) in [(0, 0), (0, 1), (1, 1)] {
+        // X = h66 block (bi, bj), the upper half stored for diagonal blocks.
+        let x = |r: usize, c: usize| if bi == bj && c < r { h66[3 * bi + c][3 * bj + r] } else { h66[3 * bi + r][3 * bj + c] };
+        // T = X E, then W = Eᵀ T.
+        let mut t = [[0.0f64; 3]; 3];
+        for r in 0..3 {
+            for c in 0..3 {
+                t[r][c] = x(r, 0) * e[0][c] + x(r, 1) * e[1][c] + x(r, 2) * e[2][c];
+            }
+        }
+        for a in 0..3 {
+            for c in 0..3 {
+                let wv = e[0][a] * t[0][c] + e[1][a] * t[1][c] + e[2][a] * t[2][c];
+                h[(R1 + 3 * bi + a, R1 + 3 * bj + c)] += wv;
+                if bi != bj {
+                    h[(R1 + 3 * bj + c, R1 + 3 * bi + a)] += wv;
+                }
+            }
+        }
+    }
+    for blk in 0..2 {
+        let ht = rot(&h6_th[3 * blk..3 * blk + 3]);
+        for a in 0..3 {
+            let i = R1 + 3 * blk + a;
+            h[(i, TH)] += ht[a];
+            h[(TH, i)] += ht[a];
+        }
+    }
+    h[(TH, TH)] += h_thth;
+    w
+}
+
+/// Twist W_t = ½ GJ (Ω − ω⁰)², Ω = (θ′ + ω°_u + w)/|r′|, with its
+/// gradient and Hessian in (r′, r″, θ′), added to `out`. Written in world
+/// components (no rotation back), with w = N/D of [`twist_increment`], so
+/// each factor's derivatives are a few outer products: ∇_r c3 = v × T,
+/// ∇_v c3 = T × r, ∂²c3/∂r∂v = −[T]×; ∇s = t, ∇²s = (I − t tᵀ)/s; and a
+/// quotient a = b/c has ∇a = (∇b − a∇c)/c, ∇²a = (∇²b − a∇²c − ∇a∇cᵀ −
+/// ∇c∇aᵀ)/c. Checked against AD of the SPEC formulas
+/// (`core/tests/reference_frame.rs`).
+fn add_twist(s: &LocalState, c: &SampleConsts, f: &RefFrame, out: &mut LocalEnergy) -> f64 {
+    let Twist { is, t, n, o, m, tt, c3, id, w } = twist_increment(&s.r1, &s.r2, f);
+    let om = (s.th1 + f.omega + w) * is;
+    let is2 = is * is;
+    // N's derivatives.
+    let gn_r = m - n * is + t * (c3 * is2);
+    let gn_v = o * (-is);
+    // ∇²_rr N = c3 (I − 3 t tᵀ)/s³ + (n tᵀ + t nᵀ)/s²; ∇²_rv N = [T]×/s + t oᵀ/s².
+    let c3s3 = c3 * is2 * is;
+    let mut hn_rr = [[0.0f64; 3]; 3];
+    let mut hn_rv = [[0.0f64; 3]; 3];
+    let tx = [[0.0, -tt[2], tt[1]], [tt[2], 0.0, -tt[0]], [-tt[1], tt[0], 0.0]];
+    for a in 0..3 {
+        for b in 0..3 {
+            let i = if a == b { 1.0 } else { 0.0 };
+            hn_rr[a][b] = c3s3 * (i - 3.0 * t[a] * t[b]) + is2 * (n[a] * t[b] + t[a] * n[b]);
+            hn_rv[a][b] = tx[a][b] * is + t[a] * o[b] * is2;
+        }
+    }
+    // w = N/D: ∇D = t + T, ∇²D = (I − t tᵀ)/s (r only).
+    let gd = t + tt;
+    let gw_r = (gn_r - gd * w) * id;
+    let gw_v = gn_v * id;
+    // Ω = U/s, U = θ′ + ω°_u + w.
+    let go_r = (gw_r - t * om) * is;
+    let go_v = gw_v * is;
+    let go_th1 = is;
+    let (gj, e3) = (c.gj, om - c.omega);
+    let grad = out.grad.as_mut_slice();
+    for a in 0..3 {
+        grad[R1 + a] += gj * e3 * go_r[a];
+        grad[R2 + a] += gj * e3 * go_v[a];
+    }
+    grad[TH1] += gj * e3 * go_th1;
+    // Hessian: GJ (∇Ω∇Ωᵀ + e ∇²Ω), written to both halves.
+    let h = out.hess.as_mut_slice();
+    let at = |i: usize, j: usize| 11 * j + i; // column-major
+    let ge = gj * e3;
+    for a in 0..3 {
+        for b in 0..3 {
+            let i = if a == b { 1.0 } else { 0.0 };
+            let p = i - t[a] * t[b];
+            // ∇²w, then ∇²Ω (rr).
+            let hw_rr = (hn_rr[a][b] - w * p * is - gw_r[a] * gd[b] - gd[a] * gw_r[b]) * id;
+            let ho_rr = (hw_rr - om * p * is - go_r[a] * t[b] - t[a] * go_r[b]) * is;
+            h[at(R1 + a, R1 + b)] += gj * go_r[a] * go_r[b] + ge * ho_rr;
+            // rv: ∇²_rv w = (∇²_rv N − ∇D ∇_v wᵀ)/D, ∇²_rv Ω = (∇²_rv w − t ∇_v Ωᵀ)/s.
+            let ho_rv = ((hn_rv[a][b] - gd[a] * gw_v[b]) * id - t[a] * go_v[b]) * is;
+            let x = gj * go_r[a] * go_v[b] + ge * ho_rv;
+            h[at(R1 + a, R2 + b)] += x;
+            h[at(R2 + b, R1 + a)] += x;
+            h[at(R2 + a, R2 + b)] += gj * go_v[a] * go_v[b];
+        }
+        // ∂²Ω/∂r∂θ′ = −t/s² (∂²Ω/∂v∂θ′ = 0).
+        let x = gj * go_r[a] * go_th1 - ge * t[a] * is2;
+        h[at(R1 + a, TH1)] += x;
+        h[at(TH1, R1 + a)] += x;
+        let y = gj * go_v[a] * go_th1;
+        h[at(R2 + a, TH1)] += y;
+        h[at(TH1, R2 + a)] += y;
+    }
+    h[at(TH1, TH1)] += gj * go_th1 * go_th1;
+    0.5 * gj * e3 * e3
 }
