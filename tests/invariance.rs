@@ -35,12 +35,23 @@ fn ei() -> f64 {
     E * std::f64::consts::PI * R.powi(4) / 4.0
 }
 
+/// The Frenet model: moving x, y, z rigidly with θ unchanged is a rigid
+/// motion of the material frame only where θ is measured from a frame that
+/// turns with the curve. (The reference-frame model measures θ from
+/// directors carried by the smallest rotation, which a finite rotation
+/// does not carry rigidly, and refuses a tangent turned by more than 150°
+/// in one assignment.)
+fn frenet() -> RodOptions {
+    RodOptions { model: FrameModel::Frenet, ..Default::default() }
+}
+
 fn straight(roll: bool) -> Rod {
     RodBuilder::straight(Vector3::new(0.2, 0.1, -0.3), Vector3::new(1.0, 0.7, 0.2))
         .control_points(12)
         .with_roll(roll)
         .section(Section::circle(R).unwrap())
         .material(material())
+        .options(frenet())
         .build()
         .unwrap()
 }
@@ -50,7 +61,8 @@ fn helix(roll: bool) -> Rod {
         .control_points(24)
         .with_roll(roll)
         .section(Section::ellipse(R, 0.7 * R).unwrap())
-        .material(material());
+        .material(material())
+        .options(frenet());
     // A non-trivial rest roll on the rods that have one.
     let b = if roll { b.roll((0..24).map(|i| 0.2 * (0.5 * i as f64).sin()).collect()) } else { b };
     b.build().unwrap()

@@ -285,7 +285,7 @@ fn reference_model_bad_input_is_refused_clearly() {
     println!("kinked rod: {err}");
     assert!(matches!(err, Error::InvalidInput { .. }) && err.to_string().contains("kink"), "{err}");
     // The same control points in the Frenet model build (it has no directors to carry).
-    assert!(Rod::new(KnotVector::clamped(7).unwrap(), 4, q, section, material, RodOptions::default()).is_ok());
+    assert!(Rod::new(KnotVector::clamped(7).unwrap(), 4, q, section, material, RodOptions { model: FrameModel::Frenet, ..Default::default() }).is_ok());
 
     // A straight rod folded back on itself in one assignment.
     let (mut w, h, _) = twisted(10, 0.0, false, FrameModel::Reference);

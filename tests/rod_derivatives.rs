@@ -10,6 +10,13 @@
 //! on rods with and without roll, clamped / uniform / periodic knots,
 //! straight, helical and ring rest shapes, one with sections varying along
 //! the rod, each pre-deformed by a deterministic pseudo-random displacement.
+//!
+//! In the Frenet model: the differences move the rod with `set_coords`,
+//! which in the reference-frame model carries its directors to the new
+//! shape, so a difference of forces there would include the transport (the
+//! energy is continuous across it, the force is not). That model's
+//! per-sample derivatives are checked at fixed directors in
+//! `core/tests/reference_frame.rs`; the assembly is the same for both.
 
 use nalgebra::Vector3;
 use strandkit::energy::EnergyTerms;
@@ -63,7 +70,7 @@ fn build(c: &Case) -> Rod {
         }),
     };
     let b = b.control_points(c.n_ctrl).knots(c.knots).with_roll(c.roll).material(material());
-    let b = b.options(RodOptions { stretch_at_greville: c.greville, ..Default::default() });
+    let b = b.options(RodOptions { stretch_at_greville: c.greville, model: FrameModel::Frenet, ..Default::default() });
     let b = if c.varying_section {
         b.sections((0..c.n_ctrl).map(|i| Section::circle(0.02 + 0.003 * (i % 5) as f64).unwrap()).collect())
     } else {
@@ -283,8 +290,9 @@ fn no_roll_rod_has_no_twist_energy() {
         amplitude: 0.04,
         greville: false,
     };
-    let all_on = RodOptions { terms: EnergyTerms { stretch: true, bend: true, twist: true }, ..Default::default() };
-    let no_twist = RodOptions { terms: EnergyTerms { stretch: true, bend: true, twist: false }, ..Default::default() };
+    // The Frenet model, as every rod without roll is (Rod::new).
+    let all_on = RodOptions { terms: EnergyTerms { stretch: true, bend: true, twist: true }, model: FrameModel::Frenet, ..Default::default() };
+    let no_twist = RodOptions { terms: EnergyTerms { stretch: true, bend: true, twist: false }, model: FrameModel::Frenet, ..Default::default() };
     let sec = Section::circle(0.025).unwrap();
     let mk = |roll: bool, o: RodOptions| {
         RodBuilder::helix(0.2, 0.15, 1.5)

@@ -419,7 +419,7 @@ fn thermal_bad_input_is_refused() {
     assert!(e.contains("roll"), "{e}");
     // A Frenet rod with roll: its roll's reference is undefined where straight.
     let mut w4 = world(1e-3, 1.0, 1);
-    w4.add_rod(dna_with(50.0, 10, 50.0, 100.0, true, RodOptions::default()));
+    w4.add_rod(dna_with(50.0, 10, 50.0, 100.0, true, RodOptions { model: FrameModel::Frenet, ..Default::default() }));
     assert!(w4.step().unwrap_err().to_string().contains("model='reference'"));
     // Brownian dynamics without drag, even at T = 0.
     let mut w5 = world(1e-3, 0.0, 1);

@@ -20,8 +20,16 @@ fn ring(n: usize, roll: bool, f: impl Fn(f64) -> Vector3<f64> + Send + Sync + 's
         .with_roll(roll)
         .section(Section::circle(0.005).unwrap())
         .material(material())
+        .options(frenet())
         .build()
         .unwrap()
+}
+
+/// These checks are of the Frenet model's twist (the Frenet ribbon's) and
+/// material frame; the reference model's link and twist are checked in
+/// `tests/reference_twist.rs`.
+fn frenet() -> RodOptions {
+    RodOptions { model: FrameModel::Frenet, ..Default::default() }
 }
 
 fn circle(n: usize, roll: bool) -> Rod {
@@ -130,6 +138,7 @@ fn material_frame_of_a_helix_is_the_rolled_frenet_frame() {
         .roll(vec![c; n])
         .section(Section::circle(0.005).unwrap())
         .material(material())
+        .options(frenet())
         .build()
         .unwrap();
     let (u0, u1) = rod.domain();
@@ -154,7 +163,7 @@ fn material_frame_of_a_helix_is_the_rolled_frenet_frame() {
     }
     println!("helix material frame: worst director error {worst:.2e}");
     assert!(worst < 1e-4, "{worst}");
-    let straight = RodBuilder::straight(Vector3::zeros(), Vector3::x()).control_points(6).with_roll(true).section(Section::circle(0.01).unwrap()).material(material()).build().unwrap();
+    let straight = RodBuilder::straight(Vector3::zeros(), Vector3::x()).control_points(6).with_roll(true).section(Section::circle(0.01).unwrap()).material(material()).options(frenet()).build().unwrap();
     assert!(matches!(straight.material_frame(0.5 * (straight.domain().0 + straight.domain().1)), Err(Error::Singular { .. })));
 }
 

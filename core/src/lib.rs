@@ -53,7 +53,7 @@ pub mod prelude {
     pub use crate::constraint::{BreakPolicy, Breaking, ConstraintKind, Reaction};
     pub use crate::force::{Distributed, Load, PointForce, PointTorque, Trap};
     pub use crate::{
-        BeadHandle, ClipHandle, ConstraintHandle, Error, IntegrationParameters, LoadHandle, Material, Result, Rod, RodBuilder, RodHandle,
-        RodOptions, Section, World,
+        BeadHandle, ClipHandle, ConstraintHandle, Error, FrameModel, IntegrationParameters, LoadHandle, Material, Result, Rod, RodBuilder,
+        RodHandle, RodOptions, Section, World,
     };
 }

@@ -795,9 +795,10 @@ builder_fn!(
     /// (1/length, 0 = 1/rest length), `stretch`, `bend`, `twist` (energy
     /// terms on/off, default True), `poisson_update` (sections contract
     /// with stretch, II.59, default False), `model` (frame model:
-    /// "frenet", the thesis' Frenet + roll, default; or "reference", a
-    /// transported reference director per sample, SPEC §2.3, for twist on
-    /// straight stretches); any other RodOptions field by name.
+    /// "reference", a transported reference director per sample, SPEC
+    /// §2.3, twist defined on straight stretches, default; or "frenet",
+    /// the thesis' Frenet + roll, for its validations; a rod without roll
+    /// is always "frenet"); any other RodOptions field by name.
     straight(start: [f64; 3], end: [f64; 3]) => |c| {
         build(c.apply(RodBuilder::straight(Vector3::from(start), Vector3::from(end)))?)
     }

@@ -291,13 +291,18 @@ def test_break_policies_on_world_constraints():
 def test_clamp_follows_the_frame_model():
     w = sk.World()
     straight = w.add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=0.01, material="nylon"))
-    helix = w.add_rod(sk.helix(0.2, 0.1, 1.0, section=0.01, material="nylon"))
+    helix = w.add_rod(sk.helix(0.2, 0.1, 1.0, section=0.01, material="nylon", model="frenet"))
+    ref_helix = w.add_rod(sk.helix(0.2, 0.1, 1.0, section=0.01, material="nylon"))
     no_roll = w.add_rod(sk.straight((0, 1, 0), (1, 1, 0), section=0.01, material="nylon", with_roll=False))
     kinds = lambda hs: [next(iter(h.kind)) for h in hs]  # noqa: E731
     s = sk.clamp(w, straight)
     assert kinds(s) == ["Position", "Tangent"] and s[0].kind["Position"]["axes"] == [True] * 4
     h = sk.clamp(w, helix)
     assert kinds(h) == ["Position", "Tangent", "MaterialRoll"] and h[0].kind["Position"]["axes"][3] is False
+    # The reference model (the default) holds the section by θ, curved or not.
+    assert ref_helix.model == "reference" and no_roll.model == "frenet"
+    r = sk.clamp(w, ref_helix)
+    assert kinds(r) == ["Position", "Tangent"] and r[0].kind["Position"]["axes"] == [True] * 4
     n = w.clamp(no_roll, no_roll.u_end, compliance=1e-6)
     assert kinds(n) == ["Position", "Tangent"] and n[0].compliance == 1e-6
     np.testing.assert_allclose(n[0].kind["Position"]["target"][:3], no_roll.position(no_roll.u_end))

@@ -185,7 +185,7 @@ def test_material_frame_at_u_and_s():
     d1 = principal normal (pointing to the axis), d2 = binormal; rows of a
     (3, 3) array, (m, 3, 3) for arrays; by abscissa or by rest arc length."""
     a, pitch = 0.1, 0.05
-    rod = sk.helix(a, pitch, 2.0, section=0.005, material="nylon", n_control_points=60)
+    rod = sk.helix(a, pitch, 2.0, section=0.005, material="nylon", n_control_points=60, model="frenet")
     s = np.linspace(0.1, 0.9, 5) * rod.rest_length
     f = rod.material_frame(s=s)
     assert f.shape == (5, 3, 3)
@@ -199,9 +199,15 @@ def test_material_frame_at_u_and_s():
     assert rod.material_frame(u[0]).shape == (3, 3)
     with pytest.raises(sk.InvalidInputError, match="exactly one"):
         rod.material_frame(u[0], s=0.1)
-    straight = sk.straight((0, 0, 0), (1, 0, 0), section=0.005, material="nylon")
+    straight = sk.straight((0, 0, 0), (1, 0, 0), section=0.005, material="nylon", model="frenet")
     with pytest.raises(sk.SingularError, match="straight"):
         straight.material_frame(0.5 * sum(straight.domain))
+    # The reference model (the default): the transported director, defined
+    # on the straight rod too, orthonormal with d3 the tangent.
+    ref = sk.straight((0, 0, 0), (1, 0, 0), section=0.005, material="nylon")
+    g = ref.material_frame(0.5 * sum(ref.domain))
+    np.testing.assert_allclose(g @ g.T, np.eye(3), atol=1e-14)
+    np.testing.assert_allclose(g[2], [1.0, 0.0, 0.0], atol=1e-14)
 
 
 def test_excess_link_on_a_ring():

@@ -42,12 +42,12 @@ impl Default for EnergyTerms {
 pub enum FrameModel {
     /// The thesis' model: θ is measured from the Frenet normal (SPEC §2.2),
     /// with the continuity extension of [`frenet`] where κ → 0.
-    #[default]
     #[serde(alias = "Frenet")]
     Frenet,
     /// A reference director per sample carried in time by parallel
     /// transport, θ measured from it (SPEC §2.3): twist is defined on
     /// straight stretches (Greenhill, Michell, plectonemes).
+    #[default]
     Reference,
 }
 

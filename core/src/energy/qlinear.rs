@@ -94,6 +94,39 @@ pub struct QLinear {
 }
 
 impl QLinear {
+    /// Value and gradient in (p, q) (the first half of [`QLinear::eval`]).
+    #[inline(always)]
+    pub fn value_grad(&self, q: &[f64; 3]) -> (f64, [f64; 6]) {
+        let mut v = self.f.v;
+        let mut g = [0.0; 6];
+        g[..3].copy_from_slice(&self.f.g);
+        for j in 0..3 {
+            let gj = &self.gq[j];
+            v += q[j] * gj.v;
+            g[3 + j] = gj.v;
+            for a in 0..3 {
+                g[a] += q[j] * gj.g[a];
+            }
+        }
+        (v, g)
+    }
+    /// The Hessian blocks of α S + β T (pp packed, pq; qq is zero), without
+    /// forming either strain's own.
+    #[inline(always)]
+    pub fn combined_hessian(s: &QLinear, alpha: f64, t: &QLinear, beta: f64, q: &[f64; 3]) -> ([f64; 6], [[f64; 3]; 3]) {
+        let mut hpp: [f64; 6] = std::array::from_fn(|k| alpha * s.f.h[k] + beta * t.f.h[k]);
+        let mut hpq = [[0.0; 3]; 3];
+        for j in 0..3 {
+            let (sa, tb) = (alpha * q[j], beta * q[j]);
+            for k in 0..6 {
+                hpp[k] += sa * s.gq[j].h[k] + tb * t.gq[j].h[k];
+            }
+            for a in 0..3 {
+                hpq[a][j] = alpha * s.gq[j].g[a] + beta * t.gq[j].g[a];
+            }
+        }
+        (hpp, hpq)
+    }
     /// Value, gradient in (p, q) and Hessian blocks: pp (packed), pq
     /// (`pq[a][j]` = ∂²S/∂p_a∂q_j); qq is zero.
     #[inline(always)]
@@ -179,6 +212,24 @@ mod tests {
         ];
         for (p, q) in cases {
             let kin = kinematics(p);
+            // The value and gradient alone, and one combination's Hessian.
+            let (alpha, beta) = (0.7, -1.3);
+            let (cpp, cpq) = QLinear::combined_hessian(&kin.x, alpha, &kin.y, beta, &q);
+            let ((_, xpp, xpq), (_, ypp, ypq)) = {
+                let (xv, xg, xpp, xpq) = kin.x.eval(&q);
+                let (yv, yg, ypp, ypq) = kin.y.eval(&q);
+                assert_eq!(kin.x.value_grad(&q), (xv, xg));
+                assert_eq!(kin.y.value_grad(&q), (yv, yg));
+                ((xv, xpp, xpq), (yv, ypp, ypq))
+            };
+            for k in 0..6 {
+                assert!((cpp[k] - (alpha * xpp[k] + beta * ypp[k])).abs() < 1e-12 * (1.0 + xpp[k].abs() + ypp[k].abs()));
+            }
+            for a in 0..3 {
+                for j in 0..3 {
+                    assert!((cpq[a][j] - (alpha * xpq[a][j] + beta * ypq[a][j])).abs() < 1e-12 * (1.0 + xpq[a][j].abs() + ypq[a][j].abs()));
+                }
+            }
             for (s, jet) in [kin.x, kin.y].iter().zip(reference(p, q)) {
                 let (v, g, hpp, hpq) = s.eval(&q);
                 let scale = 1.0 + jet.v.abs() + jet.g.iter().fold(0.0f64, |m, x| m.max(x.abs()));

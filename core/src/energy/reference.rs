@@ -139,52 +139,6 @@ fn twist_value(s: &LocalState, f: &RefFrame) -> f64 {
     (s.th1 + f.omega + tw.w) * tw.is
 }
 
-/// A strain's value, gradient in (p, q) and Hessian blocks (pp packed, pq;
-/// qq = 0: every strain is linear in q, see [`qlinear`]).
-struct Strain6 {
-    v: f64,
-    g: [f64; N],
-    hpp: [f64; 6],
-    hpq: [[f64; 3]; 3],
-}
-
-impl Strain6 {
-    #[inline(always)]
-    fn of(s: &qlinear::QLinear, q: &[f64; 3]) -> Strain6 {
-        let (v, g, hpp, hpq) = s.eval(q);
-        Strain6 { v, g, hpp, hpq }
-    }
-    /// a·self + b·o.
-    #[inline(always)]
-    fn combine(&self, a: f64, o: &Strain6, b: f64) -> Strain6 {
-        Strain6 {
-            v: a * self.v + b * o.v,
-            g: std::array::from_fn(|i| a * self.g[i] + b * o.g[i]),
-            hpp: std::array::from_fn(|k| a * self.hpp[k] + b * o.hpp[k]),
-            hpq: std::array::from_fn(|i| std::array::from_fn(|j| a * self.hpq[i][j] + b * o.hpq[i][j])),
-        }
-    }
-    /// h += k (∇S ∇Sᵀ + e ∇²S) on the upper half, for ½ k e² with e = S − S⁰.
-    #[inline(always)]
-    fn add_hessian(&self, k: f64, e: f64, h: &mut [[f64; N]; N]) {
-        let ke = k * e;
-        for i in 0..N {
-            let kg = k * self.g[i];
-            for j in i..N {
-                h[i][j] += kg * self.g[j];
-            }
-        }
-        for a in 0..3 {
-            for b in a..3 {
-                h[a][b] += ke * self.hpp[qlinear::hp(a, b)];
-            }
-            for j in 0..3 {
-                h[a][3 + j] += ke * self.hpq[a][j];
-            }
-        }
-    }
-}
-
 /// Whether bending is ½ EI |κb|² — an isotropic section (EI1 = EI2) on a
 /// straight rest shape (κ⁰ = 0): κ1² + κ2² = |κb|² in any frame ⟂ t, so
 /// it is written in the invariants like the Frenet model's (exactly the
@@ -439,67 +393,61 @@ impl FrameKinematics for Reference {
 
 /// The bending of an anisotropic section or a curved rest shape (where
 /// [`bend_is_invariant`] does not hold) with its gradient and Hessian,
-/// added to `out`: derivatives in (p, q) from [`qlinear`] and θ, then
-/// rotated to (r′, r″).
+/// added to `out`. With κ1 = cos θ x + sin θ y, κ2 = cos θ y − sin θ x
+/// (∂κ1/∂θ = κ2, ∂κ2/∂θ = −κ1), W_b's Hessian in (r′, r″) is
+/// EI1 ∇κ1∇κ1ᵀ + EI2 ∇κ2∇κ2ᵀ + α ∇²x + β ∇²y with α = EI1 e1 cos θ −
+/// EI2 e2 sin θ, β = EI1 e1 sin θ + EI2 e2 cos θ (e_i = κ_i − κ_i⁰): the
+/// gradients are rotated to world components and their outer products
+/// formed there; of the second derivatives (jets in p from [`qlinear`])
+/// only the one combination α ∇²x + β ∇²y is formed and rotated.
 fn add_frame_bend(s: &LocalState, c: &SampleConsts, p: [f64; 3], q: [f64; 3], e: &[Vector3<f64>; 3], out: &mut LocalEnergy) -> f64 {
     let kin = qlinear::kinematics(p);
     let (sn, cs) = s.th.sin_cos();
-    // κ1 = cos θ x + sin θ y, κ2 = cos θ y − sin θ x; ∂κ1/∂θ = κ2, ∂κ2/∂θ = −κ1.
-    let (x, y) = (Strain6::of(&kin.x, &q), Strain6::of(&kin.y, &q));
-    let k1 = x.combine(cs, &y, sn);
-    let k2 = y.combine(cs, &x, -sn);
-    let (e1, e2) = (k1.v - c.kappa1, k2.v - c.kappa2);
+    let ((xv, xg), (yv, yg)) = (kin.x.value_grad(&q), kin.y.value_grad(&q));
+    let (k1, k2) = (cs * xv + sn * yv, cs * yv - sn * xv);
+    let (e1, e2) = (k1 - c.kappa1, k2 - c.kappa2);
     let (a1, a2) = (c.ei1, c.ei2);
-    let w = 0.5 * (a1 * e1 * e1 + a2 * e2 * e2);
-    let g_th = a1 * e1 * k2.v - a2 * e2 * k1.v;
-    let h_thth = a1 * (k2.v * k2.v - e1 * k1.v) + a2 * (k1.v * k1.v - e2 * k2.v);
-    let g6: [f64; N] = std::array::from_fn(|i| a1 * e1 * k1.g[i] + a2 * e2 * k2.g[i]);
-    let h6_th: [f64; N] = std::array::from_fn(|i| a1 * (k2.v * k1.g[i] + e1 * k2.g[i]) - a2 * (k1.v * k2.g[i] + e2 * k1.g[i]));
-    let mut h66 = [[0.0f64; N]; N];
-    k1.add_hessian(a1, e1, &mut h66);
-    k2.add_hessian(a2, e2, &mut h66);
-    // Back to world components: r′ = Σ_b p_b e_b, so ∂/∂r′ = Σ_b e_b ∂/∂p_b,
-    // and each 3×3 Hessian block X becomes Eᵀ X E (E's rows e_b).
+    // ∇κ1, ∇κ2 in world components: r′ = Σ_b p_b e_b, so ∂/∂r′ = Σ_b e_b ∂/∂p_b.
     let rot = |v: &[f64]| -> [f64; 3] { std::array::from_fn(|a| e[0][a] * v[0] + e[1][a] * v[1] + e[2][a] * v[2]) };
+    let world = |g: [f64; N]| -> [f64; N] {
+        let (lo, hi) = (rot(&g[..3]), rot(&g[3..]));
+        [lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]]
+    };
+    let g1 = world(std::array::from_fn(|i| cs * xg[i] + sn * yg[i]));
+    let g2 = world(std::array::from_fn(|i| cs * yg[i] - sn * xg[i]));
     let grad = out.grad.as_mut_slice();
-    for blk in 0..2 {
-        let gw = rot(&g6[3 * blk..3 * blk + 3]);
-        for a in 0..3 {
-            grad[R1 + 3 * blk + a] += gw[a];
+    for i in 0..N {
+        grad[R1 + i] += a1 * e1 * g1[i] + a2 * e2 * g2[i];
+    }
+    grad[TH] += a1 * e1 * k2 - a2 * e2 * k1;
+    let h = out.hess.as_mut_slice();
+    let at = |i: usize, j: usize| 11 * j + i; // column-major
+    for i in 0..N {
+        for j in 0..N {
+            h[at(R1 + i, R1 + j)] += a1 * g1[i] * g1[j] + a2 * g2[i] * g2[j];
+        }
+        let x = a1 * (k2 * g1[i] + e1 * g2[i]) - a2 * (k1 * g2[i] + e2 * g1[i]);
+        h[at(R1 + i, TH)] += x;
+        h[at(TH, R1 + i)] += x;
+    }
+    h[at(TH, TH)] += a1 * (k2 * k2 - e1 * k1) + a2 * (k1 * k1 - e2 * k2);
+    // α ∇²x + β ∇²y: its pp (symmetric) and pq blocks, each X to Eᵀ X E.
+    let (alpha, beta) = (a1 * e1 * cs - a2 * e2 * sn, a1 * e1 * sn + a2 * e2 * cs);
+    let (hpp, hpq) = qlinear::QLinear::combined_hessian(&kin.x, alpha, &kin.y, beta, &q);
+    let to_world = |x: &dyn Fn(usize, usize) -> f64| -> [[f64; 3]; 3] {
+        let t: [[f64; 3]; 3] = std::array::from_fn(|r| std::array::from_fn(|c| x(r, 0) * e[0][c] + x(r, 1) * e[1][c] + x(r, 2) * e[2][c]));
+        std::array::from_fn(|a| std::array::from_fn(|c| e[0][a] * t[0][c] + e[1][a] * t[1][c] + e[2][a] * t[2][c]))
+    };
+    let wpp = to_world(&|r, c| hpp[qlinear::hp(r, c)]);
+    let wpq = to_world(&|r, c| hpq[r][c]);
+    for a in 0..3 {
+        for b in 0..3 {
+            h[at(R1 + a, R1 + b)] += wpp[a][b];
+            h[at(R1 + a, R2 + b)] += wpq[a][b];
+            h[at(R2 + b, R1 + a)] += wpq[a][b];
         }
     }
-    grad[TH] += g_th;
-    let h = &mut out.hess;
-    for (bi, bj) in [(0, 0), (0, 1), (1, 1)] {
-        // X = h66 block (bi, bj), the upper half stored for diagonal blocks.
-        let x = |r: usize, c: usize| if bi == bj && c < r { h66[3 * bi + c][3 * bj + r] } else { h66[3 * bi + r][3 * bj + c] };
-        // T = X E, then W = Eᵀ T.
-        let mut t = [[0.0f64; 3]; 3];
-        for r in 0..3 {
-            for c in 0..3 {
-                t[r][c] = x(r, 0) * e[0][c] + x(r, 1) * e[1][c] + x(r, 2) * e[2][c];
-            }
-        }
-        for a in 0..3 {
-            for c in 0..3 {
-                let wv = e[0][a] * t[0][c] + e[1][a] * t[1][c] + e[2][a] * t[2][c];
-                h[(R1 + 3 * bi + a, R1 + 3 * bj + c)] += wv;
-                if bi != bj {
-                    h[(R1 + 3 * bj + c, R1 + 3 * bi + a)] += wv;
-                }
-            }
-        }
-    }
-    for blk in 0..2 {
-        let ht = rot(&h6_th[3 * blk..3 * blk + 3]);
-        for a in 0..3 {
-            let i = R1 + 3 * blk + a;
-            h[(i, TH)] += ht[a];
-            h[(TH, i)] += ht[a];
-        }
-    }
-    h[(TH, TH)] += h_thth;
-    w
+    0.5 * (a1 * e1 * e1 + a2 * e2 * e2)
 }
 
 /// Twist W_t = ½ GJ (Ω − ω⁰)², Ω = (θ′ + ω°_u + w)/|r′|, with its

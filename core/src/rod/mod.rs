@@ -37,6 +37,10 @@ pub struct RodOptions {
     /// Which energies are on. Rods without roll never carry twist energy
     /// (their roll is free, so the twist relaxes to its rest value).
     pub terms: EnergyTerms,
+    /// How bending and twist are measured: the reference-frame model of
+    /// SPEC §2.3 (default: twist defined on straight stretches) or the
+    /// thesis' Frenet + roll model (its validations). Rods without roll
+    /// always use the Frenet model (see [`Rod::new`]).
     pub model: FrameModel,
     /// Curvature κ_ε (1/length) below which the Frenet torsion is
     /// regularised (SPEC §2.2). 0 selects 1 / rest length: the Frenet torsion
@@ -95,7 +99,7 @@ impl Default for RodOptions {
         RodOptions {
             samples_per_segment: 5,
             terms: EnergyTerms::default(),
-            model: FrameModel::Frenet,
+            model: FrameModel::Reference,
             curvature_threshold: 0.0,
             drag: 0.0,
             roll_drag: 0.0,
@@ -142,6 +146,8 @@ pub struct Rod {
 impl Rod {
     /// A rod from a knot vector and control points (rest shape = this shape).
     /// `ctrl` holds `knots.n_ctrl()` rows of 3 (no roll) or 4 (x, y, z, θ) values.
+    /// A rod without roll carries no twist energy and is measured in the
+    /// Frenet model, whatever `opts` say.
     pub fn new(
         knots: KnotVector,
         dofs: usize,
@@ -191,6 +197,12 @@ impl Rod {
         let mut opts = opts;
         if dofs == 3 {
             opts.terms.twist = false;
+            // No roll: the section is free to spin and the rod carries no
+            // twist, so bending is measured from the Frenet frame (for an
+            // isotropic straight rest shape the reference model's energy is
+            // the same; on a curved one it would pin the section's
+            // orientation to the transported director).
+            opts.model = FrameModel::Frenet;
         }
         let mut rod = Rod {
             knots,
