@@ -13,7 +13,7 @@
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 use strandkit_core::error::{non_negative, positive, size};
-use strandkit_core::{Assembly, Error, Material, Result, RodBuilder, Section};
+use strandkit_core::{Assembly, Error, FrameModel, Material, Result, RodBuilder, RodOptions, Section};
 
 /// Most beads the spring may carry.
 pub const MAX_BEADS: usize = 100_000;
@@ -51,6 +51,11 @@ pub struct BeadsOnSpring {
     pub top: [f64; 3],
     /// Control points of the wire.
     pub control_points: usize,
+    /// The wire's frame model (default: the rods' default, the
+    /// reference-frame model). The wire is curved everywhere, so the
+    /// thesis' Frenet model measures its twist as well, and its step is
+    /// cheaper (BENCHMARKS §28).
+    pub model: FrameModel,
 }
 
 impl Default for BeadsOnSpring {
@@ -70,6 +75,7 @@ impl Default for BeadsOnSpring {
             friction: 0.0,
             top: [0.0; 3],
             control_points: 61,
+            model: FrameModel::default(),
         }
     }
 }
@@ -168,6 +174,7 @@ pub fn beads_on_spring(p: &BeadsOnSpring) -> Result<(Assembly, SpringLayout)> {
         .with_roll(true)
         .section(Section::circle(p.wire_radius)?)
         .material(Material::new("spring wire", p.young_modulus, p.poisson_ratio, p.density)?)
+        .options(RodOptions { model: p.model, ..RodOptions::default() })
         .build()?;
     let (u0, _) = rod.domain();
     // The beads start near the top, bead[0] lowest: the top one a spacing

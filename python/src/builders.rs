@@ -4,6 +4,7 @@ use crate::assembly::PyAssembly;
 use crate::{bad, guard};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use strandkit_core::FrameModel;
 use strandkit_builders::{
     beads_on_spring, cable_on_clips, harness, necklace, rope_bridge, BeadsOnSpring, BranchEnd, CableOnClips, Hang, Harness, Necklace, PlankModel, Rope, RopeBridge,
 };
@@ -123,7 +124,7 @@ fn build_necklace<'py>(
 
 /// Particles on a spring (SPEC §9.4); see `strandkit.builders.beads_on_spring`.
 #[pyfunction]
-#[pyo3(signature = (*, coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points))]
+#[pyo3(signature = (*, coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points, model))]
 #[allow(clippy::too_many_arguments)]
 fn build_beads_on_spring<'py>(
     py: Python<'py>,
@@ -141,9 +142,15 @@ fn build_beads_on_spring<'py>(
     friction: f64,
     top: [f64; 3],
     control_points: usize,
+    model: &str,
 ) -> PyResult<(PyAssembly, Bound<'py, PyDict>)> {
+    let model = match model {
+        "reference" => FrameModel::Reference,
+        "frenet" => FrameModel::Frenet,
+        other => return Err(bad(format!("model: {other:?} is not 'reference' or 'frenet'"))),
+    };
     let p = BeadsOnSpring {
-        coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points,
+        coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points, model,
     };
     let (asm, l) = guard(|| beads_on_spring(&p))?;
     let d = PyDict::new(py);

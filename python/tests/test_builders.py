@@ -98,6 +98,16 @@ def test_beads_on_spring_slide_off_and_a_bead_on_a_rigid_helix_reaches_its_termi
     for _ in range(2000):
         left += [e for e in w.step().events if e.kind == "BeadLeft"]
     assert [e.bead for e in left] == ins.beads  # all leave, bead[0] first
+    assert ins.rods[0].model == "reference"  # the rods' default
+    # The thesis' Frenet model on request: the same scene, the same sequence.
+    frenet = sk.builders.beads_on_spring(model="frenet")
+    w = sk.World(gravity=(0, -G, 0), dt=1e-3)
+    ins = w.insert(frenet.assembly)
+    assert ins.rods[0].model == "frenet"
+    left = []
+    for _ in range(2000):
+        left += [e for e in w.step().events if e.kind == "BeadLeft"]
+    assert [e.bead for e in left] == ins.beads
     # A thick wire (rigid track), viscous friction c: speed m g sin α / c.
     stiff = sk.builders.beads_on_spring(wire_radius=4e-3, pitch=0.03, n_beads=1, bead_mass=1e-3, friction=0.05)
     w = sk.World(gravity=(0, -G, 0), dt=1e-3)
@@ -146,6 +156,7 @@ def test_harness_branches_balance_and_bad_input():
 @pytest.mark.parametrize("builder, bad, name", [
     ("beads_on_spring", dict(pitch=1e-4), "pitch"),
     ("beads_on_spring", dict(n_beads=-1), "n_beads"),
+    ("beads_on_spring", dict(model="bishop"), "model"),
     ("cable_on_clips", dict(clip_positions=[(5.0, 5.0, 5.0)]), r"clip_positions\[0\]"),
     ("cable_on_clips", dict(path=[(0, 0, 0)]), "path"),
     ("harness", dict(radii=[0.003]), "radii"),
