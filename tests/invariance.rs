@@ -4,11 +4,14 @@
 //!   arbitrary point, applied to x, y, z of every control point; θ unchanged)
 //!   of a rod in its rest state give zero internal force (max |P| ≤ 1e-10 EA)
 //!   and zero energy (≤ 1e-10 × the energy of a bending to curvature 0.01/L),
-//!   for straight and helical rest shapes, with and without roll.
-//! - A helical rest shape is an equilibrium: zero internal forces at rest, and
+//!   for straight and helical rest shapes, with and without roll (Frenet
+//!   model: see `frenet`).
+//! - A helical rest shape is an equilibrium (both models): zero internal
+//!   forces at rest, and
 //!   `relax()` of the helix clamped at one end (position + roll, tangent,
 //!   material roll) without load leaves it unchanged (1e-9 × length).
-//! - SPEC §2.2: a straight free rod stays straight and stable in dynamics.
+//! - SPEC §2.2: a straight free rod stays put at rest (both models) and
+//!   straight and stable in dynamics.
 mod common;
 
 use strandkit::prelude::*;
@@ -46,23 +49,34 @@ fn frenet() -> RodOptions {
 }
 
 fn straight(roll: bool) -> Rod {
+    straight_in(roll, FrameModel::Frenet)
+}
+
+fn helix(roll: bool) -> Rod {
+    helix_in(roll, FrameModel::Frenet)
+}
+
+/// The checks that do not move the rod rigidly hold in both models.
+const MODELS: [FrameModel; 2] = [FrameModel::Frenet, FrameModel::Reference];
+
+fn straight_in(roll: bool, model: FrameModel) -> Rod {
     RodBuilder::straight(Vector3::new(0.2, 0.1, -0.3), Vector3::new(1.0, 0.7, 0.2))
         .control_points(12)
         .with_roll(roll)
         .section(Section::circle(R).unwrap())
         .material(material())
-        .options(frenet())
+        .options(RodOptions { model, ..frenet() })
         .build()
         .unwrap()
 }
 
-fn helix(roll: bool) -> Rod {
+fn helix_in(roll: bool, model: FrameModel) -> Rod {
     let b = RodBuilder::helix(0.15, 0.1, 2.0)
         .control_points(24)
         .with_roll(roll)
         .section(Section::ellipse(R, 0.7 * R).unwrap())
         .material(material())
-        .options(frenet());
+        .options(RodOptions { model, ..frenet() });
     // A non-trivial rest roll on the rods that have one.
     let b = if roll { b.roll((0..24).map(|i| 0.2 * (0.5 * i as f64).sin()).collect()) } else { b };
     b.build().unwrap()
@@ -166,15 +180,15 @@ fn helix_without_roll_rigid_motion_invariant() {
 /// max |P| ≤ 1e-9 × EI κ0 / ds (ds = control-point spacing), not only ≤ 1e-10 EA.
 #[test]
 fn helix_rest_forces_vanish_on_bending_scale() {
-    for roll in [true, false] {
-        let rod = helix(roll);
+    for (roll, model) in [true, false].into_iter().flat_map(|r| MODELS.map(|m| (r, m))) {
+        let rod = helix_in(roll, model);
         let (radius, c) = (0.15f64, 0.1 / (2.0 * std::f64::consts::PI));
         let kappa0 = radius / (radius * radius + c * c);
         let ds = rod.rest_length() / rod.n_ctrl() as f64;
         let scale = ei() * kappa0 / ds;
         let p = max_abs(&rod.internal_forces());
-        println!("helix roll={roll}: max|P| = {p:e}, bending force scale {scale:e}");
-        assert!(p <= 1e-9 * scale, "helix roll={roll}: rest force {p:e} vs bending scale {scale:e}");
+        println!("helix roll={roll} {model:?}: max|P| = {p:e}, bending force scale {scale:e}");
+        assert!(p <= 1e-9 * scale, "helix roll={roll} {model:?}: rest force {p:e} vs bending scale {scale:e}");
     }
 }
 
@@ -245,8 +259,8 @@ fn total_energy(w: &World, h: RodHandle) -> f64 {
 /// dynamics (200 steps, coords within 1e-12 L), with and without roll.
 #[test]
 fn straight_free_rod_at_rest_stays_put() {
-    for roll in [true, false] {
-        let rod = straight(roll);
+    for (roll, model) in [true, false].into_iter().flat_map(|r| MODELS.map(|m| (r, m))) {
+        let rod = straight_in(roll, model);
         let l = rod.rest_length();
         let q0 = rod.coords().to_vec();
         let mut w = World::new(IntegrationParameters::default());
@@ -256,7 +270,7 @@ fn straight_free_rod_at_rest_stays_put() {
         }
         let q = w.rod(h).unwrap().coords();
         let dq = max_abs(&q.iter().zip(&q0).map(|(a, b)| a - b).collect::<Vec<_>>());
-        assert!(dq <= 1e-12 * l, "roll={roll}: free straight rod at rest drifted by {dq:e}");
+        assert!(dq <= 1e-12 * l, "roll={roll} {model:?}: free straight rod at rest drifted by {dq:e}");
     }
 }
 

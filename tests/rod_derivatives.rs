@@ -11,12 +11,14 @@
 //! straight, helical and ring rest shapes, one with sections varying along
 //! the rod, each pre-deformed by a deterministic pseudo-random displacement.
 //!
-//! In the Frenet model: the differences move the rod with `set_coords`,
-//! which in the reference-frame model carries its directors to the new
-//! shape, so a difference of forces there would include the transport (the
-//! energy is continuous across it, the force is not). That model's
-//! per-sample derivatives are checked at fixed directors in
-//! `core/tests/reference_frame.rs`; the assembly is the same for both.
+//! In the Frenet model, and in the reference-frame model (the default for
+//! rods with roll) by differences of the energy alone: there `set_coords`
+//! carries the directors to the new shape, by the formulas the energy uses,
+//! so the energy of a state reached in one move from the base state is the
+//! energy at the base state's directors — the function the assembled
+//! forces and stiffness differentiate — while a difference of forces would
+//! include the transport. Its stiffness is checked against second
+//! differences of the energy.
 
 use nalgebra::Vector3;
 use strandkit::energy::EnergyTerms;
@@ -61,6 +63,10 @@ fn material() -> Material {
 }
 
 fn build(c: &Case) -> Rod {
+    build_in(c, FrameModel::Frenet)
+}
+
+fn build_in(c: &Case, model: FrameModel) -> Rod {
     let b = match c.shape {
         Shape::Straight => RodBuilder::straight(Vector3::new(0.1, -0.2, 0.3), Vector3::new(1.1, 0.3, 0.1)),
         Shape::Helix => RodBuilder::helix(0.2, 0.15, 1.5),
@@ -70,7 +76,7 @@ fn build(c: &Case) -> Rod {
         }),
     };
     let b = b.control_points(c.n_ctrl).knots(c.knots).with_roll(c.roll).material(material());
-    let b = b.options(RodOptions { stretch_at_greville: c.greville, model: FrameModel::Frenet, ..Default::default() });
+    let b = b.options(RodOptions { stretch_at_greville: c.greville, model, ..Default::default() });
     let b = if c.varying_section {
         b.sections((0..c.n_ctrl).map(|i| Section::circle(0.02 + 0.003 * (i % 5) as f64).unwrap()).collect())
     } else {
@@ -275,6 +281,76 @@ case_test!(nearly_straight_clamped_roll, Shape::Straight, KnotKind::Clamped, tru
 case_test!(nearly_straight_clamped_no_roll, Shape::Straight, KnotKind::Clamped, false, false, 9, 2e-5);
 case_test!(straight_clamped_roll_varying_section, Shape::Straight, KnotKind::Clamped, true, true, 10, 0.04);
 
+/// The reference-frame model (module doc): forces against central
+/// differences of the energy (≤ 1e-6 max |P|), the stiffness against
+/// second differences (≤ 1e-5 max |K|), every energy from the deformed
+/// state moved once.
+fn check_reference_case(c: &Case) {
+    let mut rod = build_in(c, FrameModel::Reference);
+    assert_eq!(rod.options().model, FrameModel::Reference);
+    let q0 = deform_by(&rod, 0x5eed ^ (c.n_ctrl as u64 * 977), c.amplitude);
+    rod.set_coords(&q0).unwrap();
+    let n = q0.len();
+    let energy = |q: &[f64]| {
+        let mut r = rod.clone();
+        r.set_coords(q).unwrap();
+        r.elastic_energy()
+    };
+    let p = rod.internal_forces();
+    let pmax = max_abs(&p);
+    let mut q = q0.clone();
+    let mut worst = 0.0f64;
+    for j in 0..n {
+        let h = step_for(&rod, j, c.amplitude);
+        q[j] = q0[j] + h;
+        let up = energy(&q);
+        q[j] = q0[j] - h;
+        let um = energy(&q);
+        q[j] = q0[j];
+        worst = worst.max((p[j] + (up - um) / (2.0 * h)).abs());
+    }
+    println!("{} (reference): max|P| = {pmax:.4e}, force error {:.2e} (relative)", c.name, worst / pmax);
+    assert!(worst <= 1e-6 * pmax, "{} (reference): internal forces differ from -dU/dq by {worst:e} (max |P| {pmax:e})", c.name);
+    // Second differences: steps 10× the first differences'. The error
+    // scales as h² (measured 4.7e-7, 4.2e-6, 4.7e-5 of max |K| at 10×, 30×,
+    // 100× on the straight rod): truncation, not a mismatch.
+    let k = dense_stiffness(&rod);
+    let kmax = k.iter().map(|r| max_abs(r)).fold(0.0, f64::max);
+    let mut worst = 0.0f64;
+    for i in 0..n {
+        let hi = 10.0 * step_for(&rod, i, c.amplitude);
+        for j in i..n {
+            let hj = 10.0 * step_for(&rod, j, c.amplitude);
+            let mut e = [0.0; 4];
+            for (slot, (si, sj)) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)].into_iter().enumerate() {
+                q[i] += si * hi;
+                q[j] += sj * hj;
+                e[slot] = energy(&q);
+                q[i] = q0[i];
+                q[j] = q0[j];
+            }
+            let fd = (e[0] - e[1] - e[2] + e[3]) / (4.0 * hi * hj);
+            worst = worst.max((k[i][j] - fd).abs());
+        }
+    }
+    println!("{} (reference): max|K| = {kmax:.4e}, stiffness error {:.2e} (relative)", c.name, worst / kmax);
+    assert!(worst <= 1e-5 * kmax, "{} (reference): stiffness differs from the energy's second differences by {worst:e} (max |K| {kmax:e})", c.name);
+}
+
+#[test]
+fn reference_model_whole_rod_derivatives() {
+    for (name, shape, knots, varying_section, n_ctrl, amplitude, greville) in [
+        ("straight_clamped_roll", Shape::Straight, KnotKind::Clamped, false, 9, 0.04, false),
+        ("helix_clamped_roll", Shape::Helix, KnotKind::Clamped, false, 12, 0.04, false),
+        ("helix_uniform_roll_varying_section", Shape::Helix, KnotKind::Uniform, true, 12, 0.04, false),
+        ("ring_periodic_roll", Shape::Ring, KnotKind::Periodic, false, 10, 0.04, false),
+        ("nearly_straight_clamped_roll", Shape::Straight, KnotKind::Clamped, false, 9, 2e-5, false),
+        ("helix_clamped_roll_varying_section_greville", Shape::Helix, KnotKind::Clamped, true, 12, 0.04, true),
+    ] {
+        check_reference_case(&Case { name, shape, knots, roll: true, varying_section, n_ctrl, amplitude, greville });
+    }
+}
+
 /// A rod without roll carries no twist energy: its energy equals that of the
 /// same rod with roll but twist switched off (same positions, rest roll), to
 /// 1e-12 relative, whereas with twist on the same deformation stores more.
@@ -304,6 +380,11 @@ fn no_roll_rod_has_no_twist_energy() {
             .build()
             .unwrap()
     };
+    // A rod without roll is measured in the Frenet model whatever its
+    // options ask (Rod::new).
+    let asked = mk(false, RodOptions { model: FrameModel::Reference, ..all_on });
+    assert_eq!(asked.options().model, FrameModel::Frenet);
+    assert_eq!(mk(true, RodOptions::default()).options().model, FrameModel::Reference, "the default for rods with roll");
     // Asked for twist, a 3-dof rod still has it off.
     let mut r3 = mk(false, all_on);
     assert!(!r3.options().terms.twist, "3-dof rod reports twist energy on");

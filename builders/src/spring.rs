@@ -23,7 +23,8 @@ pub const MAX_BEADS: usize = 100_000;
 /// 20 mm, wire radius 0.5 mm, carrying 4 beads of 10 g — with 61 control
 /// points (15 per turn) where the thesis had 31: its compliance is then
 /// within 2 % of Castigliano's (30 per turn: 0.2 %), while 7.5 per turn
-/// makes it 5 % too stiff along the axis and 28 % sideways (tests/spring.rs).
+/// makes it 5–6 % too stiff along the axis and 28–30 % sideways, in either
+/// frame model (tests/spring.rs).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BeadsOnSpring {
     /// Radius of the coil, axis to wire centre (m).

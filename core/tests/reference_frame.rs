@@ -140,6 +140,12 @@ proptest! {
             prop_assert!((w - e.w).abs() <= 1e-12 * w.abs().max(1.0), "W {w} vs {} for {t:?}", e.w);
             prop_assert!(rel_err(g.as_slice(), e.grad.as_slice()) < 1e-10, "grad {t:?}: {g} vs {}", e.grad);
             prop_assert!(rel_err(h.as_slice(), e.hess.as_slice()) < 1e-10, "hess {t:?}: {h} vs {}", e.hess);
+            // Carrying the state to this local state (as after a step)
+            // leaves the energy unchanged: the same formulas (module doc).
+            let mut st = FrameState::Reference(f);
+            FrameModel::Reference.transport(&mut st, &LocalState::from_vec(&d));
+            let moved = density(&LocalState::from_vec(&d), &c, &st, t, FrameModel::Reference, false).w;
+            prop_assert!((moved - e.w).abs() <= 1e-12 * e.w.abs().max(1.0), "transport changed W {} → {moved} for {t:?}", e.w);
             // Central differences of the closed-form gradient and energy.
             let step = 1e-6;
             for k in 0..11 {

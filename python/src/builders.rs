@@ -124,7 +124,7 @@ fn build_necklace<'py>(
 
 /// Particles on a spring (SPEC §9.4); see `strandkit.builders.beads_on_spring`.
 #[pyfunction]
-#[pyo3(signature = (*, coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points, model))]
+#[pyo3(signature = (*, coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points, model=None))]
 #[allow(clippy::too_many_arguments)]
 fn build_beads_on_spring<'py>(
     py: Python<'py>,
@@ -142,12 +142,13 @@ fn build_beads_on_spring<'py>(
     friction: f64,
     top: [f64; 3],
     control_points: usize,
-    model: &str,
+    model: Option<&str>,
 ) -> PyResult<(PyAssembly, Bound<'py, PyDict>)> {
     let model = match model {
-        "reference" => FrameModel::Reference,
-        "frenet" => FrameModel::Frenet,
-        other => return Err(bad(format!("model: {other:?} is not 'reference' or 'frenet'"))),
+        None => FrameModel::default(),
+        Some("reference") => FrameModel::Reference,
+        Some("frenet") => FrameModel::Frenet,
+        Some(other) => return Err(bad(format!("model: {other:?} is not 'reference' or 'frenet'"))),
     };
     let p = BeadsOnSpring {
         coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points, model,

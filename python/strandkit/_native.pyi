@@ -7,7 +7,7 @@ __all__ = ['Assembly', 'BeadHandle', 'ClipHandle', 'ConstraintHandle', 'DcdWrite
 
 def bead_positions(world):
     """Bead positions of a world (length unit), shape (N, 3): the sample points of every rod in world order (one bead per sample point)."""
-def build_beads_on_spring(*, coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points, model):
+def build_beads_on_spring(*, coil_radius, pitch, turns, wire_radius, young_modulus, poisson_ratio, density, n_beads, bead_mass, bead_radius, bead_spacing, friction, top, control_points, model=None):
     """Particles on a spring (SPEC §9.4); see `strandkit.builders.beads_on_spring`."""
 def build_cable_on_clips(*, path, clip_positions, clip_radius, clip_axis, clip_resistance, cable_radius, young_modulus, density, bend_radius, clamp_start, clamp_end, control_points):
     """A cable on clips (SPEC §9.5); see `strandkit.builders.cable_on_clips`."""

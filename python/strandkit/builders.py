@@ -269,7 +269,7 @@ def beads_on_spring(*, coil_radius: float = 0.03, pitch: float = 0.02, turns: fl
                     wire_radius: float = 5e-4, young_modulus: float = 2e11, poisson_ratio: float = 0.3,
                     density: float = 7800.0, n_beads: int = 4, bead_mass: float = 0.01, bead_radius: float = 0.004,
                     bead_spacing: float = 0.012, friction: float = 0.0, top=(0.0, 0.0, 0.0),
-                    control_points: int = 61, model: str = "reference") -> BeadsOnSpring:
+                    control_points: int = 61, model: Optional[str] = None) -> BeadsOnSpring:
     """Particles on a spring (SPEC §9.4, thesis fig. III.17): a helical steel
     spring hanging from a clamp (rest curvature and twist: it keeps its
     shape), beads threaded on its wire near the top. Stepped, the beads
@@ -284,9 +284,9 @@ def beads_on_spring(*, coil_radius: float = 0.03, pitch: float = 0.02, turns: fl
     of the coil's vertical axis (the clamp is at top + (0, 0, R));
     control_points: of the wire (61 = 15 per turn: compliance within 2 %
     of Castigliano's; the thesis' 31 is 5–28 % too stiff); model: the
-    wire's frame model, "reference" (the rods' default) or "frenet" (the
-    thesis'; the wire is curved everywhere, so it measures the twist too,
-    and steps faster).
+    wire's frame model, None for the rods' default ("reference") or
+    "frenet" (the thesis'; the wire is curved everywhere, so it measures
+    the twist too, and steps faster).
 
     Labels: "spring", "clamp", "bead[i]". Use gravity (0, −9.81, 0)."""
     _non_negative_ints(n_beads=n_beads, control_points=control_points)
@@ -295,7 +295,8 @@ def beads_on_spring(*, coil_radius: float = 0.03, pitch: float = 0.02, turns: fl
                   wire_radius=float(wire_radius), young_modulus=float(young_modulus),
                   poisson_ratio=float(poisson_ratio), density=float(density), n_beads=int(n_beads),
                   bead_mass=float(bead_mass), bead_radius=float(bead_radius), bead_spacing=float(bead_spacing),
-                  friction=float(friction), top=top3, control_points=int(control_points), model=str(model))
+                  friction=float(friction), top=top3, control_points=int(control_points),
+                  model=None if model is None else str(model))
     asm, l = _native.build_beads_on_spring(**params)
     return BeadsOnSpring(asm, int(l["spring"]), list(l["clamp"]), list(l["beads"]), np.asarray(l["bead_arc_lengths"]),
                          float(l["wire_length"]), float(l["helix_angle"]), float(l["close_coiled_rate"]), params)

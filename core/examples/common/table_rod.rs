@@ -34,7 +34,8 @@ pub fn section() -> Section {
 }
 
 /// The frame model named by `--model frenet|reference` on the command
-/// line (default: the rod default, Frenet).
+/// line (default: Frenet, the thesis table's model; the rods' default is
+/// the reference-frame model).
 pub fn model() -> strandkit_core::FrameModel {
     match std::env::args().skip_while(|a| a != "--model").nth(1).as_deref() {
         Some("reference") => strandkit_core::FrameModel::Reference,

@@ -8,7 +8,10 @@
 //! Frenet + roll model of the thesis ([`frenet::Frenet`]) carries no state
 //! and is written in the invariants; the reference-frame model of SPEC §2.3
 //! ([`reference::Reference`]) carries a reference director per sample,
-//! transported after every accepted step, and adds its energy in d directly.
+//! transported after every accepted step, and adds its energy in d directly
+//! (but for the bending of an isotropic section on a straight rest shape,
+//! which is frame-free and written in the invariants). It is the rods'
+//! default; rods without roll are always Frenet.
 pub mod frenet;
 pub mod invariants;
 #[cfg(test)]
@@ -89,7 +92,8 @@ pub enum HoldCrossSection {
 }
 
 /// The frame-model seam: the bending/twist kinematics of a rod, with the
-/// per-sample state it carries. Implemented by [`frenet::Frenet`].
+/// per-sample state it carries. Implemented by [`frenet::Frenet`] and
+/// [`reference::Reference`].
 pub trait FrameKinematics {
     /// Slots of d the bending and twist energies use.
     fn active_slots(terms: EnergyTerms) -> ActiveSlots;

@@ -128,8 +128,9 @@ impl QLinear {
         (hpp, hpq)
     }
     /// Value, gradient in (p, q) and Hessian blocks: pp (packed), pq
-    /// (`pq[a][j]` = ∂²S/∂p_a∂q_j); qq is zero.
-    #[inline(always)]
+    /// (`pq[a][j]` = ∂²S/∂p_a∂q_j); qq is zero. The whole evaluation,
+    /// which the tests check the parts the energy uses against.
+    #[cfg(test)]
     pub fn eval(&self, q: &[f64; 3]) -> (f64, [f64; 6], [f64; 6], [[f64; 3]; 3]) {
         let mut v = self.f.v;
         let mut g = [0.0; 6];

@@ -259,7 +259,8 @@ impl FrameKinematics for Reference {
     }
 
     /// Energy density of bending and twist with its derivatives in d,
-    /// added to `out` (which holds the stretch part). Returns W.
+    /// added to `out` (which holds the invariant part: stretch, and the
+    /// bending where [`bend_is_invariant`]). Returns W.
     fn add_direct(s: &LocalState, c: &SampleConsts, state: &FrameState, terms: EnergyTerms, derivs: bool, out: &mut LocalEnergy) -> f64 {
         let (bend, twist) = (terms.bend && !bend_is_invariant(c), terms.twist);
         if !bend && !twist {
