@@ -146,6 +146,32 @@ fn step_for(rod: &Rod, j: usize, amp: f64) -> f64 {
     }
 }
 
+/// The energy at `q`, reached in one move from `rod`'s state.
+fn energy_after_move(rod: &Rod, q: &[f64]) -> f64 {
+    let mut r = rod.clone();
+    r.set_coords(q).unwrap();
+    r.elastic_energy()
+}
+
+/// The largest |P_j + ∂U/∂q_j| at `q0` (`rod`'s state), the derivative by
+/// central differences of [`energy_after_move`], and max |P|.
+fn force_error(rod: &Rod, q0: &[f64], amp: f64) -> (f64, f64) {
+    let p = rod.internal_forces();
+    assert_eq!(p.len(), q0.len());
+    let mut q = q0.to_vec();
+    let mut worst = 0.0f64;
+    for j in 0..q0.len() {
+        let h = step_for(rod, j, amp);
+        q[j] = q0[j] + h;
+        let up = energy_after_move(rod, &q);
+        q[j] = q0[j] - h;
+        let um = energy_after_move(rod, &q);
+        q[j] = q0[j];
+        worst = worst.max((p[j] + (up - um) / (2.0 * h)).abs());
+    }
+    (worst, max_abs(&p))
+}
+
 fn check_case(c: &Case) {
     let mut rod = build(c);
     let q0 = deform_by(&rod, 0x5eed ^ (c.n_ctrl as u64 * 977), c.amplitude);
@@ -155,24 +181,8 @@ fn check_case(c: &Case) {
     assert!(e0.is_finite() && e0 > 0.0, "{}: energy of the deformed rod {e0}", c.name);
 
     // Forces against −∂U/∂q.
-    let p = rod.internal_forces();
-    assert_eq!(p.len(), n);
-    let pmax = max_abs(&p);
+    let (worst, pmax) = force_error(&rod, &q0, c.amplitude);
     let mut q = q0.clone();
-    let mut worst = 0.0f64;
-    for j in 0..n {
-        let h = step_for(&rod, j, c.amplitude);
-        q[j] = q0[j] + h;
-        rod.set_coords(&q).unwrap();
-        let up = rod.elastic_energy();
-        q[j] = q0[j] - h;
-        rod.set_coords(&q).unwrap();
-        let um = rod.elastic_energy();
-        q[j] = q0[j];
-        let fd = -(up - um) / (2.0 * h);
-        worst = worst.max((p[j] - fd).abs());
-    }
-    rod.set_coords(&q0).unwrap();
     println!("{}: U = {e0:.4e}, max|P| = {pmax:.4e}, force error {:.2e} (relative)", c.name, worst / pmax);
     assert!(worst <= 1e-6 * pmax, "{}: internal forces differ from -dU/dq by {worst:e} (max |P| {pmax:e})", c.name);
 
@@ -291,24 +301,9 @@ fn check_reference_case(c: &Case) {
     let q0 = deform_by(&rod, 0x5eed ^ (c.n_ctrl as u64 * 977), c.amplitude);
     rod.set_coords(&q0).unwrap();
     let n = q0.len();
-    let energy = |q: &[f64]| {
-        let mut r = rod.clone();
-        r.set_coords(q).unwrap();
-        r.elastic_energy()
-    };
-    let p = rod.internal_forces();
-    let pmax = max_abs(&p);
+    let energy = |q: &[f64]| energy_after_move(&rod, q);
+    let (worst, pmax) = force_error(&rod, &q0, c.amplitude);
     let mut q = q0.clone();
-    let mut worst = 0.0f64;
-    for j in 0..n {
-        let h = step_for(&rod, j, c.amplitude);
-        q[j] = q0[j] + h;
-        let up = energy(&q);
-        q[j] = q0[j] - h;
-        let um = energy(&q);
-        q[j] = q0[j];
-        worst = worst.max((p[j] + (up - um) / (2.0 * h)).abs());
-    }
     println!("{} (reference): max|P| = {pmax:.4e}, force error {:.2e} (relative)", c.name, worst / pmax);
     assert!(worst <= 1e-6 * pmax, "{} (reference): internal forces differ from -dU/dq by {worst:e} (max |P| {pmax:e})", c.name);
     // Second differences: steps 10× the first differences'. The error

@@ -94,7 +94,7 @@ pub struct QLinear {
 }
 
 impl QLinear {
-    /// Value and gradient in (p, q) (the first half of [`QLinear::eval`]).
+    /// Value and gradient in (p, q).
     #[inline(always)]
     pub fn value_grad(&self, q: &[f64; 3]) -> (f64, [f64; 6]) {
         let mut v = self.f.v;
@@ -110,8 +110,8 @@ impl QLinear {
         }
         (v, g)
     }
-    /// The Hessian blocks of α S + β T (pp packed, pq; qq is zero), without
-    /// forming either strain's own.
+    /// The Hessian blocks of α S + β T (pp packed, pq with `pq[a][j]` =
+    /// ∂²/∂p_a∂q_j; qq is zero), without forming either strain's own.
     #[inline(always)]
     pub fn combined_hessian(s: &QLinear, alpha: f64, t: &QLinear, beta: f64, q: &[f64; 3]) -> ([f64; 6], [[f64; 3]; 3]) {
         let mut hpp: [f64; 6] = std::array::from_fn(|k| alpha * s.f.h[k] + beta * t.f.h[k]);
@@ -126,30 +126,6 @@ impl QLinear {
             }
         }
         (hpp, hpq)
-    }
-    /// Value, gradient in (p, q) and Hessian blocks: pp (packed), pq
-    /// (`pq[a][j]` = ∂²S/∂p_a∂q_j); qq is zero. The whole evaluation,
-    /// which the tests check the parts the energy uses against.
-    #[cfg(test)]
-    pub fn eval(&self, q: &[f64; 3]) -> (f64, [f64; 6], [f64; 6], [[f64; 3]; 3]) {
-        let mut v = self.f.v;
-        let mut g = [0.0; 6];
-        let mut hpp = self.f.h;
-        let mut hpq = [[0.0; 3]; 3];
-        g[..3].copy_from_slice(&self.f.g);
-        for j in 0..3 {
-            let gj = &self.gq[j];
-            v += q[j] * gj.v;
-            g[3 + j] = gj.v;
-            for a in 0..3 {
-                g[a] += q[j] * gj.g[a];
-                hpq[a][j] = gj.g[a];
-            }
-            for k in 0..6 {
-                hpp[k] += q[j] * gj.h[k];
-            }
-        }
-        (v, g, hpp, hpq)
     }
 }
 
@@ -213,38 +189,27 @@ mod tests {
         ];
         for (p, q) in cases {
             let kin = kinematics(p);
-            // The value and gradient alone, and one combination's Hessian.
-            let (alpha, beta) = (0.7, -1.3);
-            let (cpp, cpq) = QLinear::combined_hessian(&kin.x, alpha, &kin.y, beta, &q);
-            let ((_, xpp, xpq), (_, ypp, ypq)) = {
-                let (xv, xg, xpp, xpq) = kin.x.eval(&q);
-                let (yv, yg, ypp, ypq) = kin.y.eval(&q);
-                assert_eq!(kin.x.value_grad(&q), (xv, xg));
-                assert_eq!(kin.y.value_grad(&q), (yv, yg));
-                ((xv, xpp, xpq), (yv, ypp, ypq))
-            };
-            for k in 0..6 {
-                assert!((cpp[k] - (alpha * xpp[k] + beta * ypp[k])).abs() < 1e-12 * (1.0 + xpp[k].abs() + ypp[k].abs()));
-            }
-            for a in 0..3 {
-                for j in 0..3 {
-                    assert!((cpq[a][j] - (alpha * xpq[a][j] + beta * ypq[a][j])).abs() < 1e-12 * (1.0 + xpq[a][j].abs() + ypq[a][j].abs()));
+            let jets = reference(p, q);
+            // Each strain alone (α = 1, β = 0, and the other way round) and
+            // one combination.
+            for (alpha, beta) in [(1.0, 0.0), (0.0, 1.0), (0.7, -1.3)] {
+                let (hpp, hpq) = QLinear::combined_hessian(&kin.x, alpha, &kin.y, beta, &q);
+                let want = |a: usize, b: usize| alpha * jets[0].hess(a, b) + beta * jets[1].hess(a, b);
+                for a in 0..3 {
+                    for b in 0..3 {
+                        let (pp, pq) = (want(a, b), want(a, 3 + b));
+                        assert!((hpp[hp(a, b)] - pp).abs() < (1.0 + pp.abs()) * 1e-11, "pp ({a},{b}): {} vs {pp}", hpp[hp(a, b)]);
+                        assert!((hpq[a][b] - pq).abs() < (1.0 + pq.abs()) * 1e-11, "pq ({a},{b}): {} vs {pq}", hpq[a][b]);
+                        assert!(want(3 + a, 3 + b).abs() < 1e-14, "qq ({a},{b}) should vanish");
+                    }
                 }
             }
-            for (s, jet) in [kin.x, kin.y].iter().zip(reference(p, q)) {
-                let (v, g, hpp, hpq) = s.eval(&q);
+            for (s, jet) in [kin.x, kin.y].iter().zip(jets) {
+                let (v, g) = s.value_grad(&q);
                 let scale = 1.0 + jet.v.abs() + jet.g.iter().fold(0.0f64, |m, x| m.max(x.abs()));
                 assert!((v - jet.v).abs() < 1e-12 * scale, "value {v} vs {}", jet.v);
                 for i in 0..N {
                     assert!((g[i] - jet.g[i]).abs() < 1e-12 * scale, "gradient {i}: {} vs {}", g[i], jet.g[i]);
-                }
-                for a in 0..3 {
-                    for b in 0..3 {
-                        let hs = (1.0 + jet.hess(a, b).abs()) * 1e-11;
-                        assert!((hpp[hp(a, b)] - jet.hess(a, b)).abs() < hs, "pp ({a},{b}): {} vs {}", hpp[hp(a, b)], jet.hess(a, b));
-                        assert!((hpq[a][b] - jet.hess(a, 3 + b)).abs() < (1.0 + jet.hess(a, 3 + b).abs()) * 1e-11, "pq ({a},{b})");
-                        assert!(jet.hess(3 + a, 3 + b).abs() < 1e-14, "qq ({a},{b}) should vanish");
-                    }
                 }
             }
         }
