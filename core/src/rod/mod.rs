@@ -99,7 +99,7 @@ impl Default for RodOptions {
         RodOptions {
             samples_per_segment: 5,
             terms: EnergyTerms::default(),
-            model: FrameModel::Reference,
+            model: FrameModel::default(),
             curvature_threshold: 0.0,
             drag: 0.0,
             roll_drag: 0.0,
