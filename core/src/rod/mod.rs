@@ -468,16 +468,39 @@ impl Rod {
     /// Replace coordinates (e.g. to pre-deform a rod); checks length and
     /// finiteness. The frame model's per-sample state is carried
     /// to the new shape as after a step (a reference director follows its
-    /// tangent by the smallest rotation).
+    /// tangent by the smallest rotation). A change too large for one
+    /// transport (a tangent turned by more than 150°) is carried along the
+    /// straight path of the control points, in up to 64 equal parts; it is
+    /// refused, leaving the rod as it was, if some part still turns a
+    /// tangent that far or passes an undefined one.
     pub fn set_coords(&mut self, q: &[f64]) -> Result<()> {
         check_vec("coordinates", q, self.q.len())?;
         let before = std::mem::replace(&mut self.q, q.to_vec());
-        if let Some(why) = self.transport_obstacle() {
-            self.q = before; // refused: the rod is as it was
-            return Err(Error::input(format!("coordinates: {why} from the current shape; the reference directors cannot follow (move it in smaller changes)")));
+        let Some(mut why) = self.transport_obstacle() else {
+            self.transport_frames();
+            return Ok(());
+        };
+        let frames = self.frames.clone();
+        for parts in [4usize, 16, 64] {
+            let mut carried = true;
+            for k in 1..=parts {
+                let t = k as f64 / parts as f64;
+                // The last part lands exactly on q.
+                self.q.iter_mut().zip(before.iter().zip(q)).for_each(|(x, (a, b))| *x = if k == parts { *b } else { a + t * (b - a) });
+                if let Some(w) = self.transport_obstacle() {
+                    why = w;
+                    carried = false;
+                    break;
+                }
+                self.transport_frames();
+            }
+            if carried {
+                return Ok(());
+            }
+            self.frames.clone_from(&frames);
         }
-        self.transport_frames();
-        Ok(())
+        self.q = before; // refused: the rod is as it was
+        Err(Error::input(format!("coordinates: {why} along the way from the current shape, even in 64 parts; the reference directors cannot follow (move it in smaller changes)")))
     }
     pub fn set_velocities(&mut self, v: &[f64]) -> Result<()> {
         check_vec("velocities", v, self.v.len())?;
