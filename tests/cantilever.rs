@@ -27,13 +27,14 @@ fn cantilever_matches_elastica_references() {
     }
 }
 
-/// Relax is Newton's method with a line search along a curved path (the
-/// second-order correction) once the constraints hold: at 100 and 1000
-/// control points (the damped schedule before it did not converge at 1000
-/// in 500 solves) the tip lands on the elastica references within 5e-4 L,
-/// as at 20; at F = 1e4 N it takes ≤ 8 solves at every size (the damped
-/// schedule took 16–21). The counts at higher loads are printed (26–57
-/// solves at 1e5–5e5 N; issue 13 asks ≤ 12, not reached).
+/// Relax is Newton's method with a line search, its stretch measured at
+/// mixed integration points (`IntegrationParameters::relax_mixed`): at
+/// 7–1000 control points the tip lands where the plain iteration puts it
+/// (the elastica references within 5e-4 L at 100 and 1000 points), in
+/// ≤ 12 linear solves (factorisations plus the back-substitutions of
+/// second-order corrections) up to F = 2e5 N, a tip turned by 59°
+/// (measured 4–9; the plain iteration takes 26–54 from 1e5 N, issue 13's
+/// goal ≤ 12). At 5e5 N (79°) the counts are printed (12–45).
 #[test]
 fn relax_newton_converges_at_any_size() {
     for &(f, _, x, y) in &CANTILEVER_REFERENCES {
@@ -47,9 +48,31 @@ fn relax_newton_converges_at_any_size() {
             if n >= 100 {
                 assert!(err < 5e-4, "F={f:e} n={n}: tip {p} vs ({x}, {y})");
             }
-            if f <= 1e4 {
-                assert!(rep.iterations <= 8, "F={f:e} n={n}: {} solves", rep.iterations);
+            if f <= 2e5 {
+                assert!(rep.iterations + rep.corrections <= 12, "F={f:e} n={n}: {} solves", rep.iterations + rep.corrections);
             }
         }
+    }
+}
+
+
+/// The mixed iteration changes the path, not the equilibrium: with
+/// `relax_mixed` off the tip is the same to 1e-9 L at every load (the
+/// plain iteration's solve counts printed beside).
+#[test]
+fn mixed_and_plain_relax_reach_the_same_equilibrium() {
+    for &(f, ..) in &CANTILEVER_REFERENCES {
+        let mut tips = Vec::new();
+        let mut counts = Vec::new();
+        for mixed in [true, false] {
+            let mut c = cantilever(20, 5, [0.0, -f, 0.0]);
+            c.world.params.relax_mixed = mixed;
+            let rep = c.world.relax().unwrap();
+            tips.push(tip(&c.world, c.rod).0);
+            counts.push(rep.iterations + rep.corrections);
+        }
+        let gap = (tips[0] - tips[1]).norm() / 4.0;
+        println!("F={f:.0e}: mixed {} solves, plain {} solves, tips {:.2e} L apart", counts[0], counts[1], gap);
+        assert!(gap < 1e-9, "F={f:e}: tips {} and {}", tips[0], tips[1]);
     }
 }

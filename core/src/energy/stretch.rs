@@ -60,6 +60,47 @@ pub fn leave_out_compression(r1: &Vector3<f64>, c: &SampleConsts, hess: &mut Mat
     }
 }
 
+/// Mixed-integration-point stiffness (Magisano, Leonetti & Garcea,
+/// CMAME 313 (2017) 986): in a Newton iteration the transverse
+/// (geometric) stretch stiffness EA ε/(l0 |r′|) (I − r̂′r̂′ᵀ) takes the
+/// strain predicted linearly from the previous iterate, ε̃ = t·r′/l0 − 1 −
+/// ε_p (t: that iterate's unit tangent), instead of the strain at r′. A
+/// step that turns a sample by θ stretches it by θ²/2 to second order;
+/// with EA ≫ EI/L² that spurious tension then stiffens the next
+/// iteration's sideways motion and the iteration crawls (membrane locking
+/// of the iteration, not of the equilibrium: ε̃ − ε = O(|Δr′|²), so the
+/// fixed point and the quadratic convergence are kept).
+#[inline(always)]
+pub fn mixed_geometric_stiffness(r1: &Vector3<f64>, t: &[f64; 3], c: &SampleConsts, hess: &mut Mat11) {
+    let a = r1.norm_squared();
+    if !(a > 0.0 && c.speed0 > 0.0) || *t == [0.0; 3] {
+        return; // no tangent to predict from: the exact stiffness stays
+    }
+    let s = a.sqrt();
+    // ε̃ − ε = (t·r′ − |r′|)/l0 ≤ 0.
+    let shift = c.ea * (Vector3::from(*t).dot(r1) - s) / (c.speed0 * c.speed0 * s);
+    for i in 0..3 {
+        for j in 0..3 {
+            let transverse = if i == j { 1.0 } else { 0.0 } - r1[i] * r1[j] / a;
+            hess[(R1 + i, R1 + j)] += shift * transverse;
+        }
+    }
+}
+
+/// The mixed merit's stretch density less the exact one: with ε̃ the strain
+/// predicted linearly from the tangent t (as above), the Hellinger–Reissner
+/// density σ̃ε − σ̃²/(2EA), σ̃ = EA ε̃, is ½EAε² − ½EA(ε − ε̃)²; this returns
+/// −½EA((|r′| − t·r′)/l0)². Zero at the iterate where t was taken, of
+/// second order in the step, so the merit's slope there is the energy's.
+#[inline(always)]
+pub fn mixed_merit_shift(r1: &Vector3<f64>, t: &[f64; 3], c: &SampleConsts) -> f64 {
+    if *t == [0.0; 3] || !(c.speed0 > 0.0) {
+        return 0.0;
+    }
+    let d = (r1.norm() - Vector3::from(*t).dot(r1)) / c.speed0;
+    -0.5 * c.ea * d * d
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -71,6 +112,53 @@ mod tests {
         d.fixed_rows_mut::<3>(R1).copy_from(&r1);
         let terms = EnergyTerms { stretch: true, bend: false, twist: false };
         density(&LocalState::from_vec(&d), c, &FrameState::None, terms, FrameModel::Frenet, true).hess
+    }
+
+    /// The mixed stiffness takes the strain predicted from a tangent t:
+    /// with t along r′ it is the exact Hessian; with t turned by φ its
+    /// transverse eigenvalue is EA ε̃/(l0 |r′|), ε̃ = cos φ |r′|/l0 − 1 − ε_p
+    /// (twice), and the axial one is unchanged. The merit's shift is
+    /// −½EA(|r′|(1 − cos φ)/l0)², and zero with a zero gradient (central
+    /// differences) where t is the tangent.
+    #[test]
+    fn mixed_stiffness_and_merit_take_the_predicted_strain() {
+        let c = SampleConsts { ea: 600.0, speed0: 0.04, eps_p: 0.003, ..Default::default() };
+        let dir = Vector3::new(0.6, -0.48, 0.64);
+        let r1 = dir * (c.speed0 * 1.01);
+        let s = r1.norm();
+        let exact = stretch_hessian(r1, &c);
+        let mut same = exact;
+        mixed_geometric_stiffness(&r1, &dir.into(), &c, &mut same);
+        assert!((same - exact).norm() < 1e-12 * exact.norm(), "t along r′ changes nothing");
+        assert_eq!(mixed_merit_shift(&r1, &dir.into(), &c), 0.0);
+        // Its gradient in r′ vanishes there.
+        let h = 1e-6 * s;
+        for i in 0..3 {
+            let mut e = Vector3::zeros();
+            e[i] = h;
+            let g = (mixed_merit_shift(&(r1 + e), &dir.into(), &c) - mixed_merit_shift(&(r1 - e), &dir.into(), &c)) / (2.0 * h);
+            assert!(g.abs() < 1e-9 * c.ea / c.speed0, "merit gradient {g}");
+        }
+        // t turned by φ about an axis normal to r′.
+        let axis = dir.cross(&Vector3::new(0.0, 0.0, 1.0)).normalize();
+        for phi in [0.05f64, 0.4, 1.0] {
+            let t = nalgebra::Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(axis), phi) * dir;
+            let mut mixed = exact;
+            mixed_geometric_stiffness(&r1, &t.into(), &c, &mut mixed);
+            let block = |h: &Mat11| h.fixed_view::<3, 3>(R1, R1).into_owned();
+            let mut ev: Vec<f64> = block(&mixed).symmetric_eigenvalues().iter().copied().collect();
+            ev.sort_by(f64::total_cmp);
+            let predicted = phi.cos() * s / c.speed0 - 1.0 - c.eps_p;
+            let transverse = c.ea * predicted / (c.speed0 * s);
+            let axial = c.ea / (c.speed0 * c.speed0);
+            for k in 0..2 {
+                assert!((ev[k] - transverse).abs() < 1e-9 * axial, "φ {phi}: transverse {} vs {transverse}", ev[k]);
+            }
+            assert!((ev[2] - axial).abs() < 1e-9 * axial, "φ {phi}: axial {} vs {axial}", ev[2]);
+            let d = s * (1.0 - phi.cos()) / c.speed0;
+            let shift = mixed_merit_shift(&r1, &t.into(), &c);
+            assert!((shift + 0.5 * c.ea * d * d).abs() < 1e-12 * c.ea * d * d, "φ {phi}: shift {shift}");
+        }
     }
 
     /// Compressed 1 %: the exact stretch Hessian in r′ has the transverse

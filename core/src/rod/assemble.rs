@@ -9,7 +9,7 @@
 use super::samples::local_state;
 use super::Rod;
 use crate::energy::invariants::{Mat11, TH, TH1};
-use crate::energy::stretch::leave_out_compression;
+use crate::energy::stretch::{leave_out_compression, mixed_geometric_stiffness};
 use crate::energy::{density_into, energy_density, ActiveSlots, EnergyTerms, FrameModel, FrameState, LocalEnergy};
 
 /// The terms of a Greville stretch sample.
@@ -168,15 +168,21 @@ impl Rod {
             if step && self.opts.terms.stretch {
                 leave_out_compression(&ls.r1, &s.consts, &mut e.hess);
             }
+            if let (true, true, Some(t)) = (need.hessian(), self.opts.terms.stretch, self.mixed_previous(c.seg_start[seg] + i)) {
+                mixed_geometric_stiffness(&ls.r1, t, &s.consts, &mut e.hess);
+            }
             add(out, e, &s.basis, s.w, np, th, th1);
         }
         // Greville stretch samples (empty unless `stretch_at_greville`): r' only.
         let stretch = if self.opts.terms.stretch { &c.stretch[c.seg_stretch_start[seg]..c.seg_stretch_start[seg + 1]] } else { &[] };
-        for s in stretch {
+        for (j, s) in stretch.iter().enumerate() {
             let ls = local_state(&self.q, dofs, ctrl, &s.basis);
             density_into(&ls, &s.consts, &FrameState::None, STRETCH_ONLY, FrameModel::Frenet, true, e);
             if step {
                 leave_out_compression(&ls.r1, &s.consts, &mut e.hess);
+            }
+            if let (true, Some(t)) = (need.hessian(), self.mixed_previous(c.samples.len() + c.seg_stretch_start[seg] + j)) {
+                mixed_geometric_stiffness(&ls.r1, t, &s.consts, &mut e.hess);
             }
             add(out, e, &s.basis, s.w, 1, false, false);
         }

@@ -5,6 +5,7 @@
 //! `q[i*dofs .. i*dofs+dofs]` = (x, y, z[, θ]). Positions are in the world's
 //! length unit, θ in radians; velocities likewise per time unit.
 mod arc;
+mod mixed;
 pub mod assemble;
 pub mod build;
 pub mod drag;
@@ -141,6 +142,9 @@ pub struct Rod {
     /// step for the anisotropic drag (derived from q; empty until a step).
     #[serde(skip)]
     pub(crate) drag_frame: Vec<[f64; 3]>,
+    /// Relax's mixed-integration-point tangents (None outside relax).
+    #[serde(skip)]
+    pub(crate) mixed: Option<Box<mixed::MixedTangents>>,
 }
 
 impl Rod {
@@ -219,6 +223,7 @@ impl Rod {
             excess_link: 0.0,
             cache: Cache::default(),
             drag_frame: Vec::new(),
+            mixed: None,
         };
         rod.prepare()?;
         rod.frames = rod.initial_frames()?;
