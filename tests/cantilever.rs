@@ -27,14 +27,14 @@ fn cantilever_matches_elastica_references() {
     }
 }
 
-/// Relax is Newton's method with a line search, its stretch measured at
-/// mixed integration points (`IntegrationParameters::relax_mixed`): at
-/// 7–1000 control points the tip lands where the plain iteration puts it
-/// (the elastica references within 5e-4 L at 100 and 1000 points), in
+/// Relax is Newton's method with a line search that may take a step on a
+/// mixed-integration-point merit (`IntegrationParameters::relax_mixed`):
+/// at 7–1000 control points the tip lands where the plain iteration puts
+/// it (the elastica references within 5e-4 L at 100 and 1000 points), in
 /// ≤ 12 linear solves (factorisations plus the back-substitutions of
 /// second-order corrections) up to F = 2e5 N, a tip turned by 59°
-/// (measured 4–9; the plain iteration takes 26–54 from 1e5 N, issue 13's
-/// goal ≤ 12). At 5e5 N (79°) the counts are printed (12–45).
+/// (measured 4–11; the plain iteration takes 26–54 from 1e5 N, issue 13's
+/// goal ≤ 12). At 5e5 N (79°) the counts are printed (18–101).
 #[test]
 fn relax_newton_converges_at_any_size() {
     for &(f, _, x, y) in &CANTILEVER_REFERENCES {

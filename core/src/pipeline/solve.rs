@@ -630,7 +630,7 @@ pub(crate) fn potential(world: &World) -> Result<f64> {
     let gravity = crate::force::gravity::Gravity(world.params.gravity);
     let mut p = 0.0;
     for (_, rod) in world.rods.iter() {
-        p += rod.elastic_energy() + if std::env::var_os("SK_NOMERIT").is_some() { 0.0 } else { rod.mixed_merit_shift() } + gravity.potential(rod, t)?;
+        p += rod.elastic_energy() + gravity.potential(rod, t)?;
     }
     for (_, l) in world.loads.iter() {
         p += l.potential(world.rod(l.rod())?, t)?;

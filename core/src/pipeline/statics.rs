@@ -102,44 +102,42 @@ fn relax_iterate(world: &mut World, lambda: f64, mut mixed: bool) -> Result<Rela
     let mut report = RelaxReport::default();
     let statics = Regime::Statics { bead_unknowns: true };
     let mut watchdog: Option<Watchdog> = None;
-    let mut max_turn = MAX_TURN;
+    let mut forgiven = false;
     for _ in 0..world.params.relax_max_iterations {
         // The mixed iteration moves on to this iterate (its merit is the
-        // potential here; the stiffness predicts the stretch from the last).
+        // potential here); after a step only the merit accepted, the
+        // stiffness predicts the stretch from the iterate before.
         if mixed {
             for (_, r) in world.rods.iter_mut() {
-                r.advance_mixed();
+                r.advance_mixed(forgiven);
             }
         }
         let mut potential = solve::potential(world)?;
+        // The watchdog, armed by a step taken on the merit alone: disarmed
+        // once the potential is below where that step started.
+        let mut start = None;
         if mixed {
             match watchdog.as_mut() {
-                Some(w) if potential > w.potential + 1e-11 * w.potential.abs() => {
+                Some(w) if potential <= w.potential + 1e-11 * w.potential.abs() => watchdog = None,
+                Some(w) => {
                     w.since += 1;
                     if w.since > WATCHDOG_STEPS {
                         // No lower potential in that many iterates: back to
-                        // the best one, on with the plain iteration.
+                        // where the merit took over, on with the plain
+                        // iteration.
                         w.restore(world);
                         (potential, lambda) = (w.potential, w.lambda);
-                        w.since = 0;
-                        max_turn *= 0.5;
-                        if max_turn < 0.2 * MAX_TURN {
-                            mixed = false;
-                            for (_, r) in world.rods.iter_mut() {
-                                r.end_mixed();
-                            }
-                        } else {
-                            for (_, r) in world.rods.iter_mut() {
-                                r.end_mixed();
-                                r.advance_mixed(); // from the best iterate anew
-                            }
+                        watchdog = None;
+                        mixed = false;
+                        for (_, r) in world.rods.iter_mut() {
+                            r.end_mixed();
                         }
                         if std::env::var_os("STRANDKIT_DEBUG").is_some() {
-                            eprintln!("relax: mixed iteration abandoned at iteration {}", report.iterations);
+                            eprintln!("relax: watchdog went back at iteration {}", report.iterations);
                         }
                     }
                 }
-                _ => watchdog = Some(Watchdog::take(world, potential, lambda)),
+                None => start = Some(Watchdog::take(world, potential, lambda)),
             }
         }
         let newton = lambda < 1e-9;
@@ -213,14 +211,22 @@ fn relax_iterate(world: &mut World, lambda: f64, mut mixed: bool) -> Result<Rela
         // the constraint violation (by half for the full step), or lower
         // the potential (by Armijo's sufficient decrease along a shortened
         // or curved step) without increasing the violation.
-        let accept = |t: &Trial, plain: bool| {
+        // With the mixed iteration, a step the potential refuses is still
+        // taken when the mixed merit (the potential less the stretch of
+        // turning, `mixed_merit_shift`) accepts it and no stretch sample
+        // turned past `MAX_TURN`.
+        let accept_with = |t: &Trial, plain: bool, energy: f64| {
             let tiny = plain && t.dx <= tol * length && t.dth <= tol && t.dbead <= tol * 1e3;
             let lowered = if plain { potential + 1e-11 * potential.abs() } else { potential + 1e-4 * t.alpha * slope };
-            t.energy.is_finite()
+            energy.is_finite()
                 && (tiny
                     || (violation > 1e-2 * tol * length && t.violation <= (1.0 - 0.5 * t.alpha) * violation)
-                    || (t.energy <= lowered && t.turn <= max_turn && t.violation <= violation.max(tol.sqrt() * length)))
+                    || (energy <= lowered && t.violation <= violation.max(tol.sqrt() * length)))
         };
+        let by_merit = |t: &Trial, plain: bool| mixed && newton && t.turn <= MAX_TURN && accept_with(t, plain, t.merit);
+        let accept = |t: &Trial, plain: bool| accept_with(t, plain, t.energy) || by_merit(t, plain);
+        // What the line search lowers: the merit where it may decide.
+        let value = |t: &Trial| if mixed { t.merit } else { t.energy };
         let debug = std::env::var_os("STRANDKIT_DEBUG").is_some();
         let log = |t: &Trial, curved: bool| {
             if debug {
@@ -265,9 +271,9 @@ fn relax_iterate(world: &mut World, lambda: f64, mut mixed: bool) -> Result<Rela
             let mut trials = 0;
             while best.is_none() && trials < MAX_BACKTRACKS {
                 let alpha = rejected.alpha;
-                let curvature = rejected.energy - potential - slope * alpha;
-                let next = if rejected.turn > max_turn {
-                    0.9 * alpha * max_turn / rejected.turn
+                let curvature = value(&rejected) - potential - slope * alpha;
+                let next = if mixed && rejected.turn > MAX_TURN {
+                    0.9 * alpha * MAX_TURN / rejected.turn
                 } else if curvature > 0.0 {
                     -slope * alpha * alpha / (2.0 * curvature)
                 } else {
@@ -288,13 +294,13 @@ fn relax_iterate(world: &mut World, lambda: f64, mut mixed: bool) -> Result<Rela
             // first acceptable point far short of it).
             if let Some(mut b) = best.take().filter(|b| !b.left) {
                 for _ in 0..MAX_EXPANSIONS {
-                    let Some(next) = parabola_minimum((0.0, potential), (b.alpha, b.energy), (rejected.alpha, rejected.energy)) else { break };
+                    let Some(next) = parabola_minimum((0.0, potential), (b.alpha, value(&b)), (rejected.alpha, value(&rejected))) else { break };
                     if !(next > 1.2 * b.alpha && next < 0.95 * rejected.alpha) {
                         break;
                     }
                     let t = path.evaluate(world, next, a)?;
                     log(&t, a.is_some());
-                    if !t.left && accept(&t, false) && t.energy < b.energy {
+                    if !t.left && accept(&t, false) && value(&t) < value(&b) {
                         b = t;
                     } else {
                         break;
@@ -307,6 +313,10 @@ fn relax_iterate(world: &mut World, lambda: f64, mut mixed: bool) -> Result<Rela
             }
             best
         };
+        forgiven = mixed && outcome.is_some_and(|t| !t.left && !accept_with(&t, t.alpha == alpha_max && !t.curved, t.energy));
+        if forgiven && watchdog.is_none() {
+            watchdog = start.take();
+        }
         let (dx, dth, dbead, trial, newton_step, short) = match outcome {
             Some(t) => (t.dx, t.dth, t.dbead, if t.left { f64::NAN } else { t.energy }, t.alpha == 1.0 && !t.curved, t.alpha < SHORT_STEP * alpha_max),
             None => {
@@ -411,16 +421,16 @@ const DAMPING_RESTART: f64 = 1e-4;
 /// points (0.75: 22), 0.5 and 0.3 take more solves at every load.
 const MAX_TURN: f64 = 0.75;
 
-/// Iterates the mixed iteration may go without lowering the potential
-/// below its best iterate before the watchdog takes it back there (the
-/// merit forgives stretch, so the potential is not monotone: on the
-/// cantilever it rises once, after the first step). Rope networks, whose
-/// tensions are their physics, and a column at its buckling load wander
-/// under the mixed merit; from the best iterate the plain iteration goes on.
+/// Iterates the mixed iteration may go, after a step taken on the merit
+/// alone, without lowering the potential below where that step started,
+/// before the watchdog takes it back there and the plain iteration goes on
+/// (the merit forgives stretch, so the potential is not monotone: on the
+/// cantilever it rises once, after the first step).
 const WATCHDOG_STEPS: usize = 4;
 
-/// The best iterate of a mixed iteration (Chamberlain, Powell, Lemaréchal
-/// & Pedersen, Math. Prog. Study 16 (1982): the watchdog technique).
+/// Where a mixed iteration left monotone descent (Chamberlain, Powell,
+/// Lemaréchal & Pedersen, Math. Prog. Study 16 (1982): the watchdog
+/// technique).
 struct Watchdog {
     potential: f64,
     lambda: f64,
@@ -469,6 +479,8 @@ struct Trial {
     curved: bool,
     /// Largest turn of a stretch sample's tangent (rad; mixed iteration).
     turn: f64,
+    /// The mixed merit (the energy without a mixed iteration).
+    merit: f64,
 }
 
 type Saved<'a> = (&'a [Vec<f64>], &'a [crate::constraint::ConstraintKind], &'a [f64]);
@@ -489,9 +501,10 @@ impl Path<'_> {
     fn evaluate(&mut self, world: &mut World, alpha: f64, a: Option<&[f64]>) -> Result<Trial> {
         let (dx, dth, dbead) = self.move_to(world, alpha, a)?;
         let turn = world.rods.iter().fold(0.0f64, |m, (_, r)| m.max(r.mixed_turn()));
-        let mut t = Trial { alpha, dx, dth, dbead, energy: f64::NAN, violation: f64::NAN, left: !world.ws.left.is_empty(), curved: a.is_some(), turn };
+        let mut t = Trial { alpha, dx, dth, dbead, energy: f64::NAN, violation: f64::NAN, left: !world.ws.left.is_empty(), curved: a.is_some(), turn, merit: f64::NAN };
         if !t.left {
             t.energy = solve::potential(world)?;
+            t.merit = t.energy + world.rods.iter().map(|(_, r)| r.mixed_merit_shift()).sum::<f64>();
             t.violation = solve::constraint_violation(world)?;
         }
         Ok(t)

@@ -37,14 +37,16 @@ impl Rod {
         }
     }
 
-    /// Starts (or moves on) the mixed iteration at the present coordinates:
-    /// the current tangents become the previous ones.
-    pub(crate) fn advance_mixed(&mut self) {
+    /// Starts (or moves on) the mixed iteration at the present coordinates.
+    /// `predict`: the stiffness predicts the stretch from the last iterate's
+    /// tangents (after a step that turned samples and was taken on the
+    /// merit); otherwise it is the exact one.
+    pub(crate) fn advance_mixed(&mut self, predict: bool) {
         let mut m = self.mixed.take().unwrap_or_default();
         std::mem::swap(&mut m.previous, &mut m.current);
         self.stretch_tangents(&mut m.current);
-        if m.previous.len() != m.current.len() {
-            m.previous.clone_from(&m.current); // the first iterate
+        if !predict || m.previous.len() != m.current.len() {
+            m.previous.clone_from(&m.current);
         }
         self.mixed = Some(m);
     }
