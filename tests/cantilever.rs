@@ -33,7 +33,7 @@ fn cantilever_matches_elastica_references() {
 /// it (the elastica references within 5e-4 L at 100 and 1000 points), in
 /// ≤ 12 linear solves (factorisations plus the back-substitutions of
 /// second-order corrections) up to F = 2e5 N, a tip turned by 59°
-/// (measured 4–11; the plain iteration takes 26–54 from 1e5 N, issue 13's
+/// (measured 4–11; the plain iteration takes 28–90 from 1e5 N, issue 13's
 /// goal ≤ 12). At 5e5 N (79°) the counts are printed (18–101).
 #[test]
 fn relax_newton_converges_at_any_size() {

@@ -37,7 +37,8 @@ pub fn strain(q: &Vec5, c: &SampleConsts) -> f64 {
 /// Left out everywhere, not only past a threshold: with the exact term
 /// kept below ten times the compression the inertia holds at the grid
 /// scale, the bridge diverged too. The force is untouched, so buckling
-/// still grows (its driving term is then explicit); statics and the
+/// still grows (its driving term is then explicit); statics (but for
+/// relax's mixed prediction, [`mixed_geometric_stiffness`]) and the
 /// Newton iterations of the second-order schemes keep the exact Hessian.
 #[inline(always)]
 pub fn leave_out_compression(r1: &Vector3<f64>, c: &SampleConsts, hess: &mut Mat11) {

@@ -9,7 +9,14 @@
 //! accepted when the potential does not rise (or while constraints are
 //! still being reached); λ ÷4 after an accepted step and ×4 after a
 //! rejected one, Newton again once λ is negligible. Convergence is declared
-//! on a full Newton increment. A mass-based damping (pseudo-transient continuation, M/h²)
+//! on a full Newton increment. Membrane locking of the iteration (a Newton
+//! step that turns a stiff rod stretches it by θ²/2, so the potential
+//! refuses it and the line search crawls) is met at mixed integration
+//! points (Magisano, Leonetti & Garcea, CMAME 313 (2017)): such a step is
+//! taken when the potential less that stretch of turning accepts it, the
+//! next stiffness predicts the stretch from the tangents it started from,
+//! and a watchdog returns to plain descent when the potential does not
+//! follow (`IntegrationParameters::relax_mixed`). A mass-based damping (pseudo-transient continuation, M/h²)
 //! was tried first: it stalls when the mass is very unevenly distributed,
 //! e.g. a bead on a light string.
 use super::assemble::{assemble, Regime};
@@ -69,7 +76,10 @@ pub(crate) fn contact_reach(world: &World) -> Option<f64> {
 }
 
 /// The relax iteration from `lambda` (0: Newton with a line search first;
-/// 1: the damped iteration, Newton once λ has fallen below 1e-9).
+/// 1: the damped iteration, Newton once λ has fallen below 1e-9); `mixed`:
+/// Newton steps may be taken on the mixed merit (not with contact
+/// detectors, whose active set and anchors a watchdog return would not
+/// restore).
 fn relax_from(world: &mut World, lambda: f64, mixed: bool) -> Result<RelaxReport> {
     let out = relax_iterate(world, lambda, mixed);
     for (_, r) in world.rods.iter_mut() {
@@ -78,7 +88,7 @@ fn relax_from(world: &mut World, lambda: f64, mixed: bool) -> Result<RelaxReport
     out
 }
 
-fn relax_iterate(world: &mut World, lambda: f64, mut mixed: bool) -> Result<RelaxReport> {
+fn relax_iterate(world: &mut World, lambda: f64, mixed: bool) -> Result<RelaxReport> {
     let tol = world.params.relax_tolerance;
     let length = world.rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
     world.ws.blocked.clear();
@@ -102,25 +112,30 @@ fn relax_iterate(world: &mut World, lambda: f64, mut mixed: bool) -> Result<Rela
     let mut report = RelaxReport::default();
     let statics = Regime::Statics { bead_unknowns: true };
     let mut watchdog: Option<Watchdog> = None;
+    let mut mixed = mixed && contact_reach(world).is_none();
     let mut forgiven = false;
     for _ in 0..world.params.relax_max_iterations {
         // The mixed iteration moves on to this iterate (its merit is the
         // potential here); after a step only the merit accepted, the
         // stiffness predicts the stretch from the iterate before.
+        let predicting = mixed && forgiven;
         if mixed {
             for (_, r) in world.rods.iter_mut() {
                 r.advance_mixed(forgiven);
             }
         }
+        forgiven = false;
         let mut potential = solve::potential(world)?;
         // The watchdog, armed by a step taken on the merit alone: disarmed
         // once the potential is below where that step started.
         let mut start = None;
         if mixed {
             match watchdog.as_mut() {
-                Some(w) if potential <= w.potential + 1e-11 * w.potential.abs() => watchdog = None,
+                Some(w) if potential <= w.potential + 1e-11 * w.potential.abs() => {
+                    watchdog = None;
+                    start = Some(Watchdog::take(world, potential, lambda));
+                }
                 Some(w) => {
-                    w.since += 1;
                     if w.since > WATCHDOG_STEPS {
                         // No lower potential in that many iterates: back to
                         // where the merit took over, on with the plain
@@ -161,6 +176,9 @@ fn relax_iterate(world: &mut World, lambda: f64, mut mixed: bool) -> Result<Rela
                 // start's violation hid from the first check (a clamped ring
                 // spinning about its clamp tangent). Name it.
                 if newton && violation <= tol * length && report.increment <= tol * length && report.iterations > 1 {
+                    for (_, r) in world.rods.iter_mut() {
+                        r.end_mixed();
+                    }
                     free_mode_check(world)?;
                 }
                 if lambda < 1e6 {
@@ -251,7 +269,10 @@ fn relax_iterate(world: &mut World, lambda: f64, mut mixed: bool) -> Result<Rela
         } else if !(newton && slope < 0.0) {
             None
         } else {
-            let correction = curvature_correction(world, &mut path, statics, length)?;
+            // (Not after a step on the merit: the finite difference takes
+            // the factorised matrix for −∂R/∂q, which the predicting
+            // stiffness is not.)
+            let correction = if predicting { None } else { curvature_correction(world, &mut path, statics, length)? };
             report.corrections += correction.is_some() as usize;
             let a = correction.as_deref();
             let mut rejected = full;
@@ -316,6 +337,8 @@ fn relax_iterate(world: &mut World, lambda: f64, mut mixed: bool) -> Result<Rela
         forgiven = mixed && outcome.is_some_and(|t| !t.left && !accept_with(&t, t.alpha == alpha_max && !t.curved, t.energy));
         if forgiven && watchdog.is_none() {
             watchdog = start.take();
+        } else if let Some(w) = watchdog.as_mut().filter(|_| outcome.is_some()) {
+            w.since += 1; // an accepted step that has not yet brought the potential down
         }
         let (dx, dth, dbead, trial, newton_step, short) = match outcome {
             Some(t) => (t.dx, t.dth, t.dbead, if t.left { f64::NAN } else { t.energy }, t.alpha == 1.0 && !t.curved, t.alpha < SHORT_STEP * alpha_max),
@@ -343,7 +366,7 @@ fn relax_iterate(world: &mut World, lambda: f64, mut mixed: bool) -> Result<Rela
             continue;
         }
         // Reference directors follow every accepted iterate (the energy is
-        // continuous across a transport, so the next merit is unchanged), keeping
+        // continuous across a transport), keeping
         // the smallest rotations short however far the rod turns overall.
         // An iterate that turned a tangent past 150° keeps the old ones.
         for (_, r) in world.rods.iter_mut() {
@@ -413,20 +436,24 @@ const SHORT_STEP: f64 = 0.05;
 /// The damping λ after a Newton step that no line search could use.
 const DAMPING_RESTART: f64 = 1e-4;
 
-/// Largest turn (rad) of a stretch sample's tangent in one iterate: the
-/// mixed merit measures stretch along the iterate's tangents (t·r′), a
-/// prediction that loses its meaning towards a right angle. Measured on
-/// the SPEC §10 cantilever at 7–1000 control points: 0.75 and 1.0 give the
-/// same solve counts up to 2e5 N, 1.0 takes 42 solves at 5e5 N and 1000
-/// points (0.75: 22), 0.5 and 0.3 take more solves at every load.
+/// Largest turn (rad) of a stretch sample's tangent in one iterate taken
+/// on the mixed merit: the merit measures stretch along the iterate's
+/// tangents (t·r′), a prediction that loses its meaning towards a right
+/// angle. Measured on the SPEC §10 cantilever at 7–1000 control points with
+/// the merit deciding every Newton step (an earlier variant): 0.75 and 1.0
+/// gave the same solve counts up to 2e5 N, 1.0 took 42 solves at 5e5 N and
+/// 1000 points (0.75: 22), 0.5 and 0.3 took more solves at every load.
 const MAX_TURN: f64 = 0.75;
 
-/// Iterates the mixed iteration may go, after a step taken on the merit
-/// alone, without lowering the potential below where that step started,
-/// before the watchdog takes it back there and the plain iteration goes on
-/// (the merit forgives stretch, so the potential is not monotone: on the
-/// cantilever it rises once, after the first step).
-const WATCHDOG_STEPS: usize = 4;
+/// Accepted steps the mixed iteration may take, after one taken on the
+/// merit alone, without lowering the potential below where that one
+/// started, before the watchdog takes it back there and the plain
+/// iteration goes on (the merit forgives stretch, so the potential is not
+/// monotone: on the cantilever it rises once, after the first step). Total
+/// solves of the test files' relaxes with 1 / 2 / 4: necklace 1575 / 1578
+/// / 2279 (plain 1563), a bead on a string 152 / 77 / 77 (plain 63), the
+/// hanging chain 26 / 36 / 38 (plain 23); the cantilever's the same.
+const WATCHDOG_STEPS: usize = 2;
 
 /// Where a mixed iteration left monotone descent (Chamberlain, Powell,
 /// Lemaréchal & Pedersen, Math. Prog. Study 16 (1982): the watchdog
@@ -558,12 +585,9 @@ fn curvature_correction(world: &mut World, path: &mut Path<'_>, regime: Regime, 
     let h = (CORRECTION_PROBE * length / peak).clamp(1e-7, 1e-2);
     restore(world, path.saved.0, path.saved.1, path.saved.2);
     let r0 = world.ws.sys.residual_less_rows(&world.ws.layout, z, true);
-    let mut probe = |world: &mut World, at: f64| {
-        let moved = path.move_to(world, at, None).is_ok() && world.ws.left.is_empty();
-        let assembled = moved && assemble(world, regime).is_ok();
-        assembled.then(|| world.ws.sys.residual_less_rows(&world.ws.layout, z, false))
-    };
-    let rh = probe(world, h);
+    let moved = path.move_to(world, h, None).is_ok() && world.ws.left.is_empty();
+    let assembled = moved && assemble(world, regime).is_ok();
+    let rh = assembled.then(|| world.ws.sys.residual_less_rows(&world.ws.layout, z, false));
     restore(world, path.saved.0, path.saved.1, path.saved.2);
     let Some(rh) = rh else { return Ok(None) };
     let k = 2.0 / (h * h);

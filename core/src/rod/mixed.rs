@@ -42,6 +42,9 @@ impl Rod {
     /// tangents (after a step that turned samples and was taken on the
     /// merit); otherwise it is the exact one.
     pub(crate) fn advance_mixed(&mut self, predict: bool) {
+        if !self.opts.terms.stretch {
+            return; // no stretch energy: nothing to predict nor forgive
+        }
         let mut m = self.mixed.take().unwrap_or_default();
         std::mem::swap(&mut m.previous, &mut m.current);
         self.stretch_tangents(&mut m.current);
@@ -68,12 +71,12 @@ impl Rod {
             for i in c.seg_start[seg]..c.seg_start[seg + 1] {
                 let s = &c.samples[i];
                 let r1 = local_state(&self.q, self.dofs, ctrl, &s.basis).r1;
-                shift += s.w * mixed_merit_shift(&r1, &m.current[i], &s.consts);
+                shift += m.current.get(i).map_or(0.0, |t| s.w * mixed_merit_shift(&r1, t, &s.consts));
             }
             for j in c.seg_stretch_start[seg]..c.seg_stretch_start[seg + 1] {
                 let s = &c.stretch[j];
                 let r1 = local_state(&self.q, self.dofs, ctrl, &s.basis).r1;
-                shift += s.w * mixed_merit_shift(&r1, &m.current[n_gauss + j], &s.consts);
+                shift += m.current.get(n_gauss + j).map_or(0.0, |t| s.w * mixed_merit_shift(&r1, t, &s.consts));
             }
         }
         shift
@@ -86,6 +89,10 @@ impl Rod {
         let mut tangents = Vec::new();
         self.stretch_tangents(&mut tangents);
         tangents.iter().zip(&m.current).fold(0.0f64, |acc, (a, b)| {
+            // A tangent that vanished (a folded sample) turned all the way.
+            if *a == [0.0; 3] || *b == [0.0; 3] {
+                return std::f64::consts::PI;
+            }
             let (a, b) = (nalgebra::Vector3::from(*a), nalgebra::Vector3::from(*b));
             acc.max(a.cross(&b).norm().atan2(a.dot(&b)))
         })
@@ -105,5 +112,48 @@ fn unit(r1: &nalgebra::Vector3<f64>) -> [f64; 3] {
         (r1 / n).into()
     } else {
         [0.0; 3]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::energy::EnergyTerms;
+    use crate::prelude::*;
+    use nalgebra::Vector3;
+
+    fn rod(stretch: bool) -> crate::rod::Rod {
+        let terms = EnergyTerms { stretch, ..Default::default() };
+        RodBuilder::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0))
+            .control_points(6)
+            .section(Section::circle(0.01).unwrap())
+            .material(Material::new("steel", 200e9, 0.3, 7800.0).unwrap())
+            .options(RodOptions { terms, ..Default::default() })
+            .build()
+            .unwrap()
+    }
+
+    /// A rod without stretch energy keeps no tangents (nothing to predict
+    /// or forgive); one with it forgives the stretch of a bend and reports
+    /// the turn: the middle control point lifted by 0.1 m turns tangents
+    /// and lengthens the rod, so the shift is negative and the turn
+    /// positive, both zero before the move.
+    #[test]
+    fn tangents_only_where_stretch_is_stored() {
+        let mut r = rod(false);
+        r.advance_mixed(false);
+        assert!(r.mixed.is_none());
+        assert_eq!((r.mixed_merit_shift(), r.mixed_turn()), (0.0, 0.0));
+        let mut r = rod(true);
+        r.advance_mixed(false);
+        assert_eq!((r.mixed_merit_shift(), r.mixed_turn()), (0.0, 0.0));
+        let d = r.dofs();
+        let mut q = r.coords().to_vec();
+        q[2 * d + 1] += 0.1;
+        r.q.copy_from_slice(&q);
+        assert!(r.mixed_merit_shift() < 0.0 && r.mixed_merit_shift().is_finite());
+        let turn = r.mixed_turn();
+        assert!(turn > 0.05 && turn < 1.0, "turn {turn}");
+        r.end_mixed();
+        assert_eq!(r.mixed_merit_shift(), 0.0);
     }
 }

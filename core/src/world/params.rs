@@ -30,7 +30,7 @@ pub struct IntegrationParameters {
     /// along the iterate's tangents; the next stiffness takes the strain
     /// predicted from them), under a watchdog that falls back to the plain
     /// iteration. Same equilibria; the SPEC §10 cantilever at 1e5 N takes 9
-    /// solves instead of 26–44. false: the plain Newton /
+    /// solves instead of 28–70 (7–1000 control points). false: the plain Newton /
     /// Levenberg–Marquardt iteration only.
     #[serde(default = "default_true")]
     pub relax_mixed: bool,
