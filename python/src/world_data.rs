@@ -17,8 +17,9 @@ use strandkit_core::{Item, World};
 /// (relative: increment ≤ tol × rod length, default 1e-10),
 /// `relax_max_iterations` (default 500), `plastic_tolerance` (relax with
 /// plastic flow: largest offset increment per round, strain or curvature ×
-/// rest length, default 1e-6), `relax_mixed` (relax measures each
-/// iterate's stretch along the last iterate's tangents, under a watchdog:
+/// rest length, default 1e-6), `relax_mixed` (relax may take a Newton
+/// step the potential refuses when a mixed-integration-point merit, which
+/// does not charge the stretch of turning, accepts it, under a watchdog:
 /// the same equilibria in fewer solves on bent stiff rods; default True),
 /// `linear_solver` ("Auto" | "Band" |
 /// "BandLu" | "Sparse"), `scheme` ("implicit_euler", the default: first
