@@ -153,6 +153,21 @@ fn energy_after_move(rod: &Rod, q: &[f64]) -> f64 {
     r.elastic_energy()
 }
 
+/// Deforms `rod` by the case's seeded perturbation; returns its coordinates.
+fn deformed(rod: &mut Rod, c: &Case) -> Vec<f64> {
+    let q0 = deform_by(rod, 0x5eed ^ (c.n_ctrl as u64 * 977), c.amplitude);
+    rod.set_coords(&q0).unwrap();
+    q0
+}
+
+/// Internal forces at `q0` (`rod`'s state) against −∂U/∂q by central
+/// differences, to 1e-6 max |P|.
+fn assert_forces(rod: &Rod, q0: &[f64], c: &Case, label: &str) {
+    let (worst, pmax) = force_error(rod, q0, c.amplitude);
+    println!("{}{label}: max|P| = {pmax:.4e}, force error {:.2e} (relative)", c.name, worst / pmax);
+    assert!(worst <= 1e-6 * pmax, "{}{label}: internal forces differ from -dU/dq by {worst:e} (max |P| {pmax:e})", c.name);
+}
+
 /// The largest |P_j + ∂U/∂q_j| at `q0` (`rod`'s state), the derivative by
 /// central differences of [`energy_after_move`], and max |P|.
 fn force_error(rod: &Rod, q0: &[f64], amp: f64) -> (f64, f64) {
@@ -174,17 +189,15 @@ fn force_error(rod: &Rod, q0: &[f64], amp: f64) -> (f64, f64) {
 
 fn check_case(c: &Case) {
     let mut rod = build(c);
-    let q0 = deform_by(&rod, 0x5eed ^ (c.n_ctrl as u64 * 977), c.amplitude);
-    rod.set_coords(&q0).unwrap();
+    let q0 = deformed(&mut rod, c);
     let n = q0.len();
     let e0 = rod.elastic_energy();
     assert!(e0.is_finite() && e0 > 0.0, "{}: energy of the deformed rod {e0}", c.name);
+    println!("{}: U = {e0:.4e}", c.name);
 
     // Forces against −∂U/∂q.
-    let (worst, pmax) = force_error(&rod, &q0, c.amplitude);
+    assert_forces(&rod, &q0, c, "");
     let mut q = q0.clone();
-    println!("{}: U = {e0:.4e}, max|P| = {pmax:.4e}, force error {:.2e} (relative)", c.name, worst / pmax);
-    assert!(worst <= 1e-6 * pmax, "{}: internal forces differ from -dU/dq by {worst:e} (max |P| {pmax:e})", c.name);
 
     // Stiffness against −∂P/∂q.
     let k = dense_stiffness(&rod);
@@ -298,14 +311,11 @@ case_test!(straight_clamped_roll_varying_section, Shape::Straight, KnotKind::Cla
 fn check_reference_case(c: &Case) {
     let mut rod = build_in(c, FrameModel::Reference);
     assert_eq!(rod.options().model, FrameModel::Reference);
-    let q0 = deform_by(&rod, 0x5eed ^ (c.n_ctrl as u64 * 977), c.amplitude);
-    rod.set_coords(&q0).unwrap();
+    let q0 = deformed(&mut rod, c);
     let n = q0.len();
     let energy = |q: &[f64]| energy_after_move(&rod, q);
-    let (worst, pmax) = force_error(&rod, &q0, c.amplitude);
+    assert_forces(&rod, &q0, c, " (reference)");
     let mut q = q0.clone();
-    println!("{} (reference): max|P| = {pmax:.4e}, force error {:.2e} (relative)", c.name, worst / pmax);
-    assert!(worst <= 1e-6 * pmax, "{} (reference): internal forces differ from -dU/dq by {worst:e} (max |P| {pmax:e})", c.name);
     // Second differences: steps 10× the first differences'. The error
     // scales as h² (measured 4.7e-7, 4.2e-6, 4.7e-5 of max |K| at 10×, 30×,
     // 100× on the straight rod): truncation, not a mismatch.

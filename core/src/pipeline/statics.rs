@@ -128,13 +128,9 @@ fn relax_iterate(world: &mut World, lambda: f64, mixed: bool) -> Result<RelaxRep
         let mut potential = solve::potential(world)?;
         // The watchdog, armed by a step taken on the merit alone: disarmed
         // once the potential is below where that step started.
-        let mut start = None;
         if mixed {
             match watchdog.as_mut() {
-                Some(w) if potential <= w.potential + 1e-11 * w.potential.abs() => {
-                    watchdog = None;
-                    start = Some(Watchdog::take(world, potential, lambda));
-                }
+                Some(w) if potential <= w.potential + 1e-11 * w.potential.abs() => watchdog = None,
                 Some(w) => {
                     if w.since > WATCHDOG_STEPS {
                         // No lower potential in that many iterates: back to
@@ -152,7 +148,7 @@ fn relax_iterate(world: &mut World, lambda: f64, mixed: bool) -> Result<RelaxRep
                         }
                     }
                 }
-                None => start = Some(Watchdog::take(world, potential, lambda)),
+                None => {}
             }
         }
         let newton = lambda < 1e-9;
@@ -336,7 +332,16 @@ fn relax_iterate(world: &mut World, lambda: f64, mixed: bool) -> Result<RelaxRep
         };
         forgiven = mixed && outcome.is_some_and(|t| !t.left && !accept_with(&t, t.alpha == alpha_max && !t.curved, t.energy));
         if forgiven && watchdog.is_none() {
-            watchdog = start.take();
+            // Where this step started: the saved state, and the frames,
+            // which are transported only below.
+            watchdog = Some(Watchdog {
+                potential,
+                lambda,
+                since: 0,
+                rods: saved.iter().zip(world.rods.iter()).map(|(q, (_, r))| (q.clone(), r.frames.clone())).collect(),
+                kinds: saved_kinds.clone(),
+                beads: saved_beads.clone(),
+            });
         } else if let Some(w) = watchdog.as_mut().filter(|_| outcome.is_some()) {
             w.since += 1; // an accepted step that has not yet brought the potential down
         }
@@ -468,17 +473,6 @@ struct Watchdog {
 }
 
 impl Watchdog {
-    fn take(world: &World, potential: f64, lambda: f64) -> Watchdog {
-        Watchdog {
-            potential,
-            lambda,
-            since: 0,
-            rods: world.rods.iter().map(|(_, r)| (r.coords().to_vec(), r.frames.clone())).collect(),
-            kinds: world.constraints.iter().map(|(_, c)| c.kind.clone()).collect(),
-            beads: world.beads.iter().map(|(_, b)| b.u).collect(),
-        }
-    }
-
     fn restore(&self, world: &mut World) {
         let q: Vec<Vec<f64>> = self.rods.iter().map(|(q, _)| q.clone()).collect();
         restore(world, &q, &self.kinds, &self.beads);

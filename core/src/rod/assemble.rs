@@ -168,7 +168,8 @@ impl Rod {
             if step && self.opts.terms.stretch {
                 leave_out_compression(&ls.r1, &s.consts, &mut e.hess);
             }
-            if let (true, true, Some(t)) = (need.hessian(), self.opts.terms.stretch, self.mixed_previous(c.seg_start[seg] + i)) {
+            // (Relax keeps tangents only for rods with stretch energy.)
+            if let (true, Some(t)) = (need.hessian(), self.mixed_previous(c.seg_start[seg] + i)) {
                 mixed_geometric_stiffness(&ls.r1, t, &s.consts, &mut e.hess);
             }
             add(out, e, &s.basis, s.w, np, th, th1);
