@@ -21,7 +21,10 @@
 //! minimises −F·r(u): the bead sits where its load is normal to the rod).
 //! Beads on one rod do not pass each other: |s_a − s_b| ≥ r_a + r_b, by
 //! an inelastic projection of the step's increments (and after the step,
-//! of the positions, for what the rod's deformation changed).
+//! of the positions, for what the rod's deformation changed). Touching
+//! beads push each other along their line of centres: the part of that
+//! push across the string goes to the string, so a train pressed round a
+//! bend leans on it and the pair's forces do no work.
 //! A `fixed` bead (knotted on the string) keeps its abscissa: a point mass
 //! riding with the rod, whole load and mass, never an unknown of the statics.
 use crate::handles::RodHandle;
