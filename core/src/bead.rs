@@ -19,9 +19,11 @@
 //! string that moves along itself drag its beads and created energy.
 //! In statics the bead's abscissa is an unknown of the Newton system (it
 //! minimises −F·r(u): the bead sits where its load is normal to the rod).
-//! Beads on one rod do not pass each other: |s_a − s_b| ≥ r_a + r_b, by
-//! an inelastic projection of the step's increments (and after the step,
-//! of the positions, for what the rod's deformation changed). Touching
+//! Beads on one rod do not pass each other: they are spheres threaded on
+//! the string, which touch when their centres are r_a + r_b apart (the
+//! chord, shorter than the arc between them on a bend), kept so by an
+//! inelastic projection of the step's increments (and after the step, of
+//! the positions, for what the rod's deformation changed). Touching
 //! beads push each other along their line of centres: the part of that
 //! push across the string goes to the string, so a train pressed round a
 //! bend leans on it and the pair's forces do no work.

@@ -26,7 +26,8 @@ use strandkit_core::{Item, World};
 /// order, damps what dt does not resolve | "tr_bdf2": second order,
 /// L-stable, keeps resolved vibrations, two or more solves per step |
 /// "trapezoidal": second order, no numerical damping, for rods held by
-/// linear constraints only). `set_params(**fields)` changes them later.
+/// linear constraints only; both second-order schemes refuse sliding
+/// beads). `set_params(**fields)` changes them later.
 ///
 /// Rods whose material has yield or rupture limits flow plastically and
 /// break after every step (and at every relax equilibrium); a rupture is a

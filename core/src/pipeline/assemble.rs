@@ -10,7 +10,7 @@ use crate::handles::{Arena, RodHandle};
 use crate::rod::Rod;
 use crate::system::kkt::{BeadRef, Coefficients, ConstraintRef, PointMass};
 use crate::system::layout::ConstraintSlot;
-use crate::system::ordering::{control_point_order_with, Link, RodGraph, Strategy};
+use crate::system::ordering::{control_point_order_with, RodGraph, Strategy};
 use crate::system::workspace::recycle;
 use crate::system::{Layout, Workspace};
 use crate::world::{position_of, Constraint, IntegrationParameters, World};
@@ -134,54 +134,57 @@ fn place(
     // when a slider changes segment) and interleaving. Rebuilt then only,
     // so a step allocates nothing.
     let shape_now = rods.iter().zip(&ws.rod_ids).map(|(r, i)| (*i, r.n_ctrl(), r.dofs(), segment_fingerprint(r)));
-    let same = ws.layout_rods.len() == rods.len()
-        && ws.layout_rods.iter().copied().eq(shape_now)
-        && ws.layout_slots == ws.slots
-        && ws.layout_groups.as_slice() == interleave;
-    if !same {
-        let graphs: Vec<RodGraph<'_>> = rods.iter().map(|r| RodGraph { n_ctrl: r.n_ctrl(), segments: &r.cache().seg_ctrl }).collect();
-        let links: Vec<Link> = ws
-            .slots
-            .iter()
-            .filter(|s| s.rods[0] != s.rods[1])
-            .flat_map(|s| {
-                // The middle control points of each side, linked crosswise, so
-                // that rods running either way are ordered alike.
-                let t = &s.touched[..s.len];
-                let mid = |side: u8| -> [Option<usize>; 2] {
-                    let mut c = t.iter().filter(|e| e.0 == side).map(|e| e.1);
-                    let (first, second, third) = (c.next(), c.next(), c.next());
-                    [second.or(first), third.or(second).or(first)]
-                };
-                let (a, b) = (mid(0), mid(1));
-                let mut out = Vec::with_capacity(4);
-                for x in a.into_iter().flatten() {
-                    for y in b.into_iter().flatten() {
-                        out.push((s.rods[0], x, s.rods[1], y));
-                    }
-                }
-                out
-            })
-            .collect();
-        let groups: Vec<Vec<usize>> =
-            interleave.iter().map(|g| g.iter().map(|h| position_of(pos, *h)).collect::<Result<Vec<_>>>()).collect::<Result<_>>()?;
-        // Two bandwidth-reducing orderings of linked rods; the narrower band wins.
-        let segs: Vec<_> = rods.iter().map(|r| (r.n_ctrl(), r.dofs(), r.cache().seg_ctrl.as_slice())).collect();
-        let rcm = Layout::build(&segs, &control_point_order_with(&graphs, &links, &groups, Strategy::Rcm), &ws.slots);
-        ws.layout = if links.is_empty() {
-            rcm
-        } else {
-            let merged = Layout::build(&segs, &control_point_order_with(&graphs, &links, &groups, Strategy::Parameter), &ws.slots);
-            if merged.bandwidth < rcm.bandwidth {
-                merged
-            } else {
-                rcm
-            }
-        };
-        ws.layout_rods = rods.iter().zip(&ws.rod_ids).map(|(r, i)| (*i, r.n_ctrl(), r.dofs(), segment_fingerprint(r))).collect();
-        ws.layout_slots.clone_from(&ws.slots);
-        ws.layout_groups = interleave.to_vec();
+    let same_rods = ws.layout_rods.len() == rods.len() && ws.layout_rods.iter().copied().eq(shape_now) && ws.layout_groups.as_slice() == interleave;
+    if same_rods && ws.layout_slots == ws.slots {
+        return Ok(());
     }
+    // The middle control points of each side of a two-rod slot, linked
+    // crosswise, so that rods running either way are ordered alike.
+    ws.links.clear();
+    for s in ws.slots.iter().filter(|s| s.rods[0] != s.rods[1]) {
+        let t = &s.touched[..s.len];
+        let mid = |side: u8| -> [Option<usize>; 2] {
+            let mut c = t.iter().filter(|e| e.0 == side).map(|e| e.1);
+            let (first, second, third) = (c.next(), c.next(), c.next());
+            [second.or(first), third.or(second).or(first)]
+        };
+        let (a, b) = (mid(0), mid(1));
+        for x in a.into_iter().flatten() {
+            for y in b.into_iter().flatten() {
+                ws.links.push((s.rods[0], x, s.rods[1], y));
+            }
+        }
+    }
+    let shapes = rods.iter().map(|r| (r.n_ctrl(), r.dofs(), r.cache().seg_ctrl.as_slice()));
+    if same_rods && ws.links == ws.layout_links {
+        // Only one-rod slots moved (a slider changed segment): the same
+        // order, the rows placed again, nothing allocated.
+        ws.layout.rebuild(shapes, &ws.layout_order, &ws.slots, &mut ws.layout_scratch);
+        ws.layout_slots.clone_from(&ws.slots);
+        return Ok(());
+    }
+    let graphs: Vec<RodGraph<'_>> = rods.iter().map(|r| RodGraph { n_ctrl: r.n_ctrl(), segments: &r.cache().seg_ctrl }).collect();
+    let groups: Vec<Vec<usize>> =
+        interleave.iter().map(|g| g.iter().map(|h| position_of(pos, *h)).collect::<Result<Vec<_>>>()).collect::<Result<_>>()?;
+    // Two bandwidth-reducing orderings of linked rods; the narrower band wins.
+    let segs: Vec<_> = shapes.collect();
+    let order = control_point_order_with(&graphs, &ws.links, &groups, Strategy::Rcm);
+    let rcm = Layout::build(&segs, &order, &ws.slots);
+    (ws.layout, ws.layout_order) = if ws.links.is_empty() {
+        (rcm, order)
+    } else {
+        let merged_order = control_point_order_with(&graphs, &ws.links, &groups, Strategy::Parameter);
+        let merged = Layout::build(&segs, &merged_order, &ws.slots);
+        if merged.bandwidth < rcm.bandwidth {
+            (merged, merged_order)
+        } else {
+            (rcm, order)
+        }
+    };
+    ws.layout_links.clone_from(&ws.links);
+    ws.layout_rods = rods.iter().zip(&ws.rod_ids).map(|(r, i)| (*i, r.n_ctrl(), r.dofs(), segment_fingerprint(r))).collect();
+    ws.layout_slots.clone_from(&ws.slots);
+    ws.layout_groups = interleave.to_vec();
     Ok(())
 }
 
@@ -421,13 +424,13 @@ fn gather_and_assemble(
         }
     }
     ws.masses.clear();
-    for (_, b) in beads.iter() {
+    for (k, (id, b)) in beads.iter().enumerate() {
         let r = position_of(pos, b.rod)?;
-        let (ctrl, bs) = rods[r].basis_at(b.u)?;
+        let (ctrl, bs) = crate::pipeline::beads::bead_basis(&ws.beads, k, id, b.u, rods[r])?;
         crate::force::spread(&mut ws.ext[r], rods[r].dofs(), &ctrl, &bs[0], &b.rod_force);
         // A sliding bead's tangential motion is its own (see beads::predict).
-        let slide = if b.fixed || !regime.bead_slides() { [0.0; 3] } else { rods[r].tangent(b.u)?.into() };
-        ws.masses.push(PointMass { rod: r, u: b.u, mass: b.mass, slide });
+        let slide = if b.fixed || !regime.bead_slides() { [0.0; 3] } else { rods[r].tangent_from(b.u, &ctrl, &bs[1])?.into() };
+        ws.masses.push(PointMass { rod: r, ctrl, b: bs[0], mass: b.mass, slide });
     }
     // ½ f(t + h) here, the other half of the trapezoid (and the drag of
     // the iterate) from the state of the step; the BDF2 stage's drag term.

@@ -38,8 +38,11 @@ pub(crate) struct Row {
     fixed: bool,
     mass: f64,
     radius: f64,
-    /// Position on the rod (length unit), for the chord bound on gaps.
+    /// Position on the rod (length unit), unit tangent and |r′| there
+    /// (length per unit u): what the gap of a pair is measured from.
     x: Vector3<f64>,
+    t: Vector3<f64>,
+    speed: f64,
 }
 
 impl Row {
@@ -67,9 +70,14 @@ pub(crate) struct Scratch {
     order: Vec<usize>,
     /// Neighbour pairs (positions in `rows`, period added to the second's u).
     pairs: Vec<(usize, usize, f64)>,
-    /// Gap per pair (length unit) and whether it is the exact arc length
-    /// or still the chord's lower bound.
-    gaps: Vec<(f64, bool)>,
+    /// Gap per pair beyond r_a + r_b, as an arc length along the string,
+    /// and the pair's c̄ (0 where the gap is the arc's) ([`gap`]).
+    gaps: Vec<(f64, f64)>,
+    /// Each bead's basis at its abscissa this step, from the prediction on
+    /// (the assembly and the advance read it instead of evaluating it
+    /// again): bead, abscissa, rod's control point count, control points
+    /// and basis. Emptied when the step's bead passes end.
+    basis: Vec<(Index, f64, usize, [usize; 4], [[f64; 4]; 4])>,
     groups: Vec<Group>,
     /// Per-chain buffers of the projection ([`project`]).
     ds0: Vec<f64>,
@@ -99,7 +107,23 @@ impl Scratch {
     /// Fills `rows` from the world's beads (positions not yet set).
     fn load(&mut self, world: &World) {
         self.rows.clear();
-        self.rows.extend(world.beads.iter().map(|(id, b)| Row { id, rod: b.rod, u: b.u, fixed: b.fixed, mass: b.mass, radius: b.radius, x: Vector3::zeros() }));
+        self.rows.extend(world.beads.iter().map(|(id, b)| Row { id, rod: b.rod, u: b.u, fixed: b.fixed, mass: b.mass, radius: b.radius, x: Vector3::zeros(), t: Vector3::zeros(), speed: 0.0 }));
+    }
+
+    /// The basis of the `k`-th bead (arena order) cached by this step's
+    /// prediction, if it is still that bead at that abscissa on a rod of
+    /// as many control points.
+    pub(crate) fn cached_basis(&self, k: usize, id: Index, u: f64, rod: &crate::rod::Rod) -> Option<([usize; 4], [[f64; 4]; 4])> {
+        self.basis.get(k).filter(|e| e.0 == id && e.1.to_bits() == u.to_bits() && e.2 == rod.n_ctrl()).map(|e| (e.3, e.4))
+    }
+}
+
+/// The basis of bead `k` (arena order) at `u` on `rod`: this step's cached
+/// one, or evaluated.
+pub(crate) fn bead_basis(s: &Scratch, k: usize, id: Index, u: f64, rod: &crate::rod::Rod) -> Result<([usize; 4], [[f64; 4]; 4])> {
+    match s.cached_basis(k, id, u, rod) {
+        Some(b) => Ok(b),
+        None => rod.basis_at(u),
     }
 }
 
@@ -110,16 +134,20 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
     s.w.clear();
     s.jets.clear();
     s.v_b.clear();
+    s.basis.clear();
     for k in 0..n {
         let Some(b) = world.beads.get(s.rows[k].id) else { continue };
-        let jet = world.rod(b.rod)?.jet(b.u)?;
+        let rod = world.rod(b.rod)?;
+        let (ctrl, basis) = rod.basis_at(b.u)?;
+        s.basis.push((s.rows[k].id, b.u, rod.n_ctrl(), ctrl, basis));
+        let jet = rod.jet_from(&ctrl, &basis);
         let sigma = jet.d1.norm();
         if !(sigma > 0.0) {
             return Err(crate::error::Error::singular(format!("zero tangent under bead {} at u = {}", s.rows[k].id.0, b.u)));
         }
         let t = jet.d1 / sigma;
         let v_r = t.dot(&jet.velocity);
-        s.rows[k].x = jet.position;
+        (s.rows[k].x, s.rows[k].t, s.rows[k].speed) = (jet.position, t, sigma);
         s.jets.push(jet);
         s.w.push(v_r);
         // Its own velocity, read off the jet (no second evaluation).
@@ -135,12 +163,15 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
     }
     neighbours(world, s)?;
     s.gaps.clear();
-    s.gaps.extend(s.pairs.iter().map(|&(a, b, _)| ((s.rows[b].x - s.rows[a].x).norm() - s.rows[a].radius - s.rows[b].radius, false)));
+    for &(a, b, period) in &s.pairs {
+        let g = gap(world.rod(s.rows[a].rod)?, &s.rows[a], &s.rows[b], period)?;
+        s.gaps.push(g);
+    }
     s.contact.clear();
     s.contact.resize(n, Vector3::zeros());
     let mut s_groups = std::mem::take(&mut s.groups);
     for g in &s_groups {
-        project(world, s, g, h)?;
+        project(s, g, h);
     }
     s_groups.clear();
     s.groups = s_groups;
@@ -188,15 +219,13 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
 }
 
 /// Projects the predicted increments of one rod's beads so that no two
-/// end the step closer than r_a + r_b ([`super::bead_chain`]). Gaps start
-/// as the chord's lower bound of the arc; a pair found touching with a
-/// bound gets its exact arc length and the chain is solved again. A closed
-/// ring is cut at its slackest pair; a ring too full to cut (every pair
-/// pressed) falls back to Gauss–Seidel sweeps.
-fn project(world: &World, s: &mut Scratch, g: &Group, h: f64) -> Result<()> {
+/// end the step closer than r_a + r_b ([`super::bead_chain`], with the
+/// gaps of [`gap`]). A closed ring is cut at its slackest pair; a ring too
+/// full to cut (every pair pressed) falls back to Gauss–Seidel sweeps.
+fn project(s: &mut Scratch, g: &Group, h: f64) {
     let m = g.len;
     if m < 2 {
-        return Ok(());
+        return;
     }
     let n_pairs = if g.closed { m } else { m - 1 };
     let bead = |s: &Scratch, i: usize| s.order[g.first + i % m];
@@ -204,75 +233,51 @@ fn project(world: &World, s: &mut Scratch, g: &Group, h: f64) -> Result<()> {
         let (a, b, _) = s.pairs[g.first_pair + j];
         s.gaps[g.first_pair + j].0 + s.ds[b] - s.ds[a]
     };
+    if (0..n_pairs).all(|j| slack(s, j) >= 0.0) {
+        return;
+    }
     s.ds0.clear();
     for i in 0..m {
         let d = s.ds[bead(s, i)];
         s.ds0.push(d);
     }
-    for _ in 0..=n_pairs {
-        // Restart from the prediction (gaps may have been refined).
-        for i in 0..m {
-            let k = bead(s, i);
-            s.ds[k] = s.ds0[i];
-        }
-        if (0..n_pairs).all(|j| slack(s, j) >= 0.0) {
-            return Ok(());
-        }
-        // Chain order: from the bead after the cut.
-        let cut = if g.closed { (0..m).max_by(|&a, &b| slack(s, a).total_cmp(&slack(s, b))).unwrap_or(0) } else { m - 1 };
-        let start = (cut + 1) % m;
-        s.z.clear();
-        s.mass.clear();
-        let mut offset = 0.0;
-        for i in 0..m {
-            let k = bead(s, start + i);
-            s.z.push(s.ds[k] + offset);
-            s.mass.push((!s.rows[k].fixed).then_some(s.rows[k].mass));
-            if i + 1 < m {
-                offset += s.gaps[g.first_pair + (start + i) % m].0;
-            }
-        }
-        s.pool_of.resize(m, 0);
-        super::bead_chain::isotonic(&mut s.z, &s.mass, &mut s.pools, &mut s.pool_of);
-        let mut offset = 0.0;
-        for i in 0..m {
-            let k = bead(s, start + i);
-            s.ds[k] = s.z[i] - offset;
-            if i + 1 < m {
-                offset += s.gaps[g.first_pair + (start + i) % m].0;
-            }
-        }
-        // Touching pairs whose gap was only the chord's bound: refine.
-        let mut refined = false;
-        for i in 0..m {
-            let j = (start + i) % m;
-            let along_chain = i + 1 < m;
-            let touching = if along_chain { s.pool_of[i] == s.pool_of[i + 1] } else { g.closed && slack(s, j) < 0.0 };
-            if touching && !s.gaps[g.first_pair + j].1 {
-                let (a, b, period) = s.pairs[g.first_pair + j];
-                let (ra, rb) = (&s.rows[a], &s.rows[b]);
-                s.gaps[g.first_pair + j] = (arc(world.rod(ra.rod)?, ra.u, rb.u + period)? - ra.radius - rb.radius, true);
-                refined = true;
-            }
-        }
-        if !refined {
-            if g.closed && slack(s, cut) < 0.0 {
-                break; // the ring is full: sweeps below
-            }
-            pair_forces(s, g, start, h);
-            return Ok(());
+    // Chain order: from the bead after the cut.
+    let cut = if g.closed { (0..m).max_by(|&a, &b| slack(s, a).total_cmp(&slack(s, b))).unwrap_or(0) } else { m - 1 };
+    let start = (cut + 1) % m;
+    s.z.clear();
+    s.mass.clear();
+    let mut offset = 0.0;
+    for i in 0..m {
+        let k = bead(s, start + i);
+        s.z.push(s.ds[k] + offset);
+        s.mass.push((!s.rows[k].fixed).then_some(s.rows[k].mass));
+        if i + 1 < m {
+            offset += s.gaps[g.first_pair + (start + i) % m].0;
         }
     }
-    // Gauss–Seidel sweeps over the ring (every gap exact by now or after
-    // the first sweep).
+    s.pool_of.resize(m, 0);
+    super::bead_chain::isotonic(&mut s.z, &s.mass, &mut s.pools, &mut s.pool_of);
+    let mut offset = 0.0;
+    for i in 0..m {
+        let k = bead(s, start + i);
+        s.ds[k] = s.z[i] - offset;
+        if i + 1 < m {
+            offset += s.gaps[g.first_pair + (start + i) % m].0;
+        }
+    }
+    if !(g.closed && slack(s, cut) < 0.0) {
+        pair_forces(s, g, start, h);
+        return;
+    }
+    // The ring is full: Gauss–Seidel sweeps over it, from the prediction.
+    for i in 0..m {
+        let k = bead(s, i);
+        s.ds[k] = s.ds0[i];
+    }
     for _ in 0..50 {
         let mut worst = 0.0f64;
         for j in 0..n_pairs {
-            let (a, b, period) = s.pairs[g.first_pair + j];
-            if slack(s, j) < 0.0 && !s.gaps[g.first_pair + j].1 {
-                let (ra, rb) = (&s.rows[a], &s.rows[b]);
-                s.gaps[g.first_pair + j] = (arc(world.rod(ra.rod)?, ra.u, rb.u + period)? - ra.radius - rb.radius, true);
-            }
+            let (a, b, _) = s.pairs[g.first_pair + j];
             let c = slack(s, j);
             let (wa, wb) = (s.rows[a].inv_mass(), s.rows[b].inv_mass());
             if c >= 0.0 || wa + wb == 0.0 {
@@ -286,7 +291,32 @@ fn project(world: &World, s: &mut Scratch, g: &Group, h: f64) -> Result<()> {
             break;
         }
     }
-    Ok(())
+}
+
+/// The gap (length unit) between neighbours `a` and `b` beyond r_a + r_b,
+/// as the arc length along the string that closes it. Beads are spheres
+/// threaded on the string: they touch when their centres are r_a + r_b
+/// apart, along the chord c = x_b − x_a. Sliding by Δs moves a centre by
+/// Δs t, so the chord shortens by c·t_a Δs_a − c·t_b Δs_b: the gap in arc
+/// length is (|c| − r_a − r_b)/c̄ with c̄ the mean of ĉ·t over the pair
+/// (1 on a straight string, cos(θ/2) on a bend that turns by θ between
+/// them). That holds while the chord runs along the string between them
+/// (c̄ > ½ and the arc, from their abscissae and |r′|, under twice the
+/// chord); otherwise (beads far apart along a string that comes back on
+/// itself) the gap is the arc length less r_a + r_b (3-point Gauss).
+fn gap(rod: &crate::rod::Rod, a: &Row, b: &Row, period: f64) -> Result<(f64, f64)> {
+    let need = a.radius + b.radius;
+    let d = b.x - a.x;
+    let len = d.norm();
+    if len > 0.0 {
+        let c = d / len;
+        let cbar = 0.5 * (c.dot(&a.t) + c.dot(&b.t));
+        let along = (b.u + period - a.u) * 0.5 * (a.speed + b.speed);
+        if cbar > 0.5 && along < 2.0 * len {
+            return Ok(((len - need) / cbar, cbar));
+        }
+    }
+    Ok((arc(rod, a.u, b.u + period)? - need, 0.0))
 }
 
 /// The contact forces of one rod's projected chain, from `start` (after
@@ -294,13 +324,12 @@ fn project(world: &World, s: &mut Scratch, g: &Group, h: f64) -> Result<()> {
 /// m_i (Δs_i − Δs⁰_i)/h² along the string, which is f_(i−1) − f_i with
 /// f_i the compression of pair (i, i+1); f is summed from each pool's free
 /// end (from both ends, so that a fixed bead, whose push is unknown, takes
-/// the rest). Two spheres touch along their line of centres c: the pair
-/// gets ∓F c, equal and opposite, with F = f/c̄ (c̄ the mean of c·t over
-/// the two beads, within a few percent of 1 for beads that touch), whose
-/// parts along the tangents are (to second order in the pair's turn) the
-/// ∓f the projection applied; the parts across them are what the string
-/// must bear. A ring too full to cut (its Gauss–Seidel sweeps) passes no
-/// such forces.
+/// the rest). Two spheres touch along their line of centres ĉ: the pair
+/// gets ∓F ĉ, equal and opposite, with F = f/c̄ ([`gap`]: the multiplier
+/// of the chord's constraint), whose parts along the tangents are (to
+/// second order in the pair's turn) the ∓f the projection applied; the
+/// parts across them are what the string must bear. A ring too full to
+/// cut (its Gauss–Seidel sweeps) passes no such forces.
 fn pair_forces(s: &mut Scratch, g: &Group, start: usize, h: f64) {
     let m = g.len;
     let chain = |i: usize| (start + i) % m;
@@ -339,17 +368,15 @@ fn pair_forces(s: &mut Scratch, g: &Group, start: usize, h: f64) {
             continue; // apart, or two fixed beads (no way to share the push)
         }
         let (a, b) = (bead(s, i), bead(s, i + 1));
+        // The pair's c̄ (0: far apart along a string that comes back, no
+        // line of centres to push along).
+        let cbar = s.gaps[g.first_pair + chain(i)].1;
         let d = s.rows[b].x - s.rows[a].x;
         let len = d.norm();
-        if !(len > 0.0) {
-            continue;
-        }
-        let c = d / len;
-        let ct = |k: usize| c.dot(&(s.jets[k].d1 / s.jets[k].d1.norm()));
-        let ct = 0.5 * (ct(a) + ct(b));
-        if ct > 0.1 {
-            s.contact[a] -= c * (f / ct);
-            s.contact[b] += c * (f / ct);
+        if cbar > 0.0 && len > 0.0 {
+            let c = d / len;
+            s.contact[a] -= c * (f / cbar);
+            s.contact[b] += c * (f / cbar);
         }
     }
 }
@@ -443,9 +470,11 @@ fn advance_with(world: &mut World, h: f64, events: &mut Vec<Event>, s: &mut Scra
         if b.fixed {
             continue;
         }
-        // Sliding speed relative to the rod as it now moves.
+        // Sliding speed relative to the rod as it now moves (the basis at
+        // the bead is the prediction's: it has not moved yet).
         let rod = world.rod(b.rod)?;
-        let jet = rod.jet(b.u)?;
+        let (ctrl, basis) = bead_basis(s, k, s.rows[k].id, b.u, rod)?;
+        let jet = rod.jet_from(&ctrl, &basis);
         let speed = jet.d1.norm();
         let v = b.step_w - (jet.d1 / speed).dot(&jet.velocity);
         let du = h * v / speed;
@@ -461,6 +490,7 @@ fn advance_with(world: &mut World, h: f64, events: &mut Vec<Event>, s: &mut Scra
             b.carried = Some(carried.into());
         }
     }
+    s.basis.clear();
     contacts(world, s)?;
     for r in &s.rows {
         let Some(b) = world.beads.get(r.id) else { continue };
@@ -473,49 +503,61 @@ fn advance_with(world: &mut World, h: f64, events: &mut Vec<Event>, s: &mut Scra
     Ok(())
 }
 
+/// Sets `row` to the point of `rod` at its abscissa (an open rod's end
+/// for a bead past it, which is leaving): position, unit tangent, |r′|.
+fn place(rod: &crate::rod::Rod, row: &mut Row) -> Result<()> {
+    let (lo, hi) = rod.domain();
+    let u = if period(rod).is_some() { row.u } else { row.u.clamp(lo, hi) };
+    let (ctrl, b) = rod.basis_at(u)?;
+    let jet = rod.jet_from(&ctrl, &b);
+    row.speed = jet.d1.norm();
+    row.x = jet.position;
+    row.t = if row.speed > 0.0 { jet.d1 / row.speed } else { Vector3::zeros() };
+    Ok(())
+}
+
 /// After the step, what the predicted increments could not foresee (the
-/// rod stretched or bent under them): neighbours closer than r_a + r_b
-/// are set r_a + r_b apart about their centre of mass, with a common
-/// velocity (inelastic; a fixed bead acts as an infinite mass). A pair
-/// whose chord already exceeds r_a + r_b is clear (the arc is longer).
+/// rod stretched or bent under them): neighbours whose gap ([`gap`], at
+/// the new shape) is negative are moved apart along the string by it,
+/// about their centre of mass, with a common velocity (inelastic; a fixed
+/// bead acts as an infinite mass).
 fn contacts(world: &mut World, s: &mut Scratch) -> Result<()> {
     for r in s.rows.iter_mut() {
         if let Some(b) = world.beads.get(r.id) {
-            // A bead past an open rod's end (leaving) sits at the end.
-            let rod = world.rod(b.rod)?;
-            let (lo, hi) = rod.domain();
             r.u = b.u;
-            r.x = rod.position(if period(rod).is_some() { b.u } else { b.u.clamp(lo, hi) })?;
+            place(world.rod(b.rod)?, r)?;
         }
     }
     for p in 0..s.pairs.len() {
         let (ka, kb, period) = s.pairs[p];
         let (ia, ib) = (s.rows[ka].id, s.rows[kb].id);
         let (Some(a), Some(b)) = (world.beads.get(ia), world.beads.get(ib)) else { continue };
-        let need = a.radius + b.radius;
-        // Rows are updated when a pair moves, so the chord is current.
-        if (s.rows[kb].x - s.rows[ka].x).norm() >= need {
-            continue;
-        }
-        let rod = world.rod(a.rod)?;
-        let bu = b.u + period;
-        let gap = arc(rod, a.u, bu)?;
-        if gap >= need {
-            continue;
-        }
         let (ma, mb) = match (a.fixed, b.fixed) {
             (true, true) => continue,
             (true, false) => (1.0, 0.0),
             (false, true) => (0.0, 1.0),
             (false, false) => (a.mass, b.mass),
         };
+        let handle = a.rod;
+        let rod = world.rod(handle)?;
+        // A bead past an open rod's end has left: it pushes no one.
+        let (lo, hi) = rod.domain();
+        let off = |u: f64| self::period(rod).is_none() && !(lo..=hi).contains(&u);
+        if off(a.u) || off(b.u) {
+            continue;
+        }
+        let (g, _) = gap(rod, &s.rows[ka], &s.rows[kb], period)?;
+        if g >= 0.0 {
+            continue;
+        }
         let m = ma + mb;
-        let (sc, v) = ((ma * a.u + mb * bu) / m, (ma * a.velocity + mb * b.velocity) / m);
-        let span = need / (gap / (bu - a.u).max(f64::MIN_POSITIVE));
-        let wrap = |u: f64| if period > 0.0 { u.rem_euclid(period) } else { u };
-        let (ua, ub) = (wrap(sc - span * mb / m), wrap(sc + span * ma / m - period));
-        let (xa, xb) = (rod.position(ua), rod.position(ub));
-        for (k, i, u, x) in [(ka, ia, ua, xa), (kb, ib, ub, xb)] {
+        let v = (ma * a.velocity + mb * b.velocity) / m;
+        let ring = self::period(rod);
+        let wrap = |u: f64| ring.map_or(u, |q| u.rem_euclid(q));
+        // Arc length to abscissa with each bead's |r′|.
+        let ua = wrap(a.u + g * mb / m / s.rows[ka].speed.max(f64::MIN_POSITIVE));
+        let ub = wrap(b.u - g * ma / m / s.rows[kb].speed.max(f64::MIN_POSITIVE));
+        for (k, i, u) in [(ka, ia, ua), (kb, ib, ub)] {
             if let Some(bead) = world.beads.get_mut(i) {
                 bead.u = u;
                 // The common speed along the rod replaces the bead's own.
@@ -525,8 +567,8 @@ fn contacts(world: &mut World, s: &mut Scratch) -> Result<()> {
                 }
                 bead.velocity = v;
             }
-            // A bead pushed past the end has left; its chord is moot.
-            s.rows[k].x = x.unwrap_or(s.rows[k].x);
+            s.rows[k].u = u;
+            place(world.rod(handle)?, &mut s.rows[k])?;
         }
     }
     Ok(())

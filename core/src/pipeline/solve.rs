@@ -24,7 +24,7 @@ fn describe(layout: &Layout, rod_ids: &[Index], con_ids: &[Index], contact_ids: 
     }
     let (nc, np, ns) = (con_ids.len(), contact_ids.len(), stick_ids.len());
     for (c, &start) in layout.extra_index.iter().enumerate() {
-        if g >= start && g < layout.row_index[c] {
+        if g >= start && g < start + layout.extra_count.get(c).copied().unwrap_or(0) {
             return match con_ids.get(c) {
                 Some(&h) => Unknown::Abscissa { constraint: h.into() },
                 None => Unknown::BeadAbscissa { bead: c - nc - np - ns },

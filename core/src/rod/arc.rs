@@ -23,6 +23,12 @@ impl Rod {
     /// the price of one `eval`.
     pub fn jet(&self, u: f64) -> Result<Jet> {
         let (ctrl, b) = self.basis_at(u)?;
+        Ok(self.jet_from(&ctrl, &b))
+    }
+
+    /// [`Jet`] from a basis already evaluated ([`Rod::basis_at`]) with the
+    /// current coordinates and velocities.
+    pub(crate) fn jet_from(&self, ctrl: &[usize; 4], b: &[[f64; 4]; 4]) -> Jet {
         let mut j = Jet::default();
         for (k, &i) in ctrl.iter().enumerate() {
             let (q, v) = (&self.q[i * self.dofs..i * self.dofs + 3], &self.v[i * self.dofs..i * self.dofs + 3]);
@@ -33,7 +39,7 @@ impl Rod {
             j.velocity += v * b[0][k];
             j.d_velocity += v * b[1][k];
         }
-        Ok(j)
+        j
     }
 
     /// The abscissa of the rod's point nearest `x`, and its distance

@@ -572,8 +572,14 @@ impl Rod {
     }
     /// Unit tangent r'(u)/|r'(u)|.
     pub fn tangent(&self, u: f64) -> Result<Vector3<f64>> {
-        let p = self.eval(u, 1)?;
-        let t = Vector3::new(p[0], p[1], p[2]);
+        let (ctrl, b) = self.basis_at(u)?;
+        self.tangent_from(u, &ctrl, &b[1])
+    }
+    /// Unit tangent at u from its basis' first derivatives `b1` on `ctrl`
+    /// (from [`Rod::basis_at`]).
+    pub(crate) fn tangent_from(&self, u: f64, ctrl: &[usize; 4], b1: &[f64; 4]) -> Result<Vector3<f64>> {
+        let d = self.dofs;
+        let t: Vector3<f64> = ctrl.iter().zip(b1).map(|(&i, &w)| Vector3::new(self.q[i * d], self.q[i * d + 1], self.q[i * d + 2]) * w).sum();
         let n = t.norm();
         if n == 0.0 {
             return Err(Error::singular(format!("zero tangent at u = {u}")));

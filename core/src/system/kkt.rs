@@ -189,6 +189,8 @@ pub struct KktSystem {
     pub(crate) scale: Vec<f64>,
     /// Scratch of `equilibrate`: unknown i is a multiplier row.
     is_row: Vec<bool>,
+    /// Which unknowns are slider abscissae ([`Self::equilibrate`]'s scratch).
+    is_extra: Vec<bool>,
     /// The last assembly had a positive mass coefficient c_m.
     inertia: bool,
     /// c_m × the largest mass per control point of the last assembly, and
@@ -208,13 +210,16 @@ pub struct KktSystem {
     pub(crate) elastic_forces: Vec<Vec<f64>>,
 }
 
-/// A point mass (bead) on a rod: `mass` at abscissa `u` of the rod at
-/// position `rod` in the layout; `slide` the unit direction along which
-/// it is free (its own unknown), or zero for a mass riding with the rod.
+/// A point mass (bead) on a rod: `mass` at the point of the rod at
+/// position `rod` in the layout whose basis is `b` on control points
+/// `ctrl` (evaluated once by the caller, which spreads the bead's force
+/// with it too); `slide` the unit direction along which it is free (its
+/// own unknown), or zero for a mass riding with the rod.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointMass {
     pub rod: usize,
-    pub u: f64,
+    pub ctrl: [usize; 4],
+    pub b: [f64; 4],
     pub mass: f64,
     pub slide: [f64; 3],
 }
@@ -310,24 +315,31 @@ impl KktSystem {
         // P = I − s sᵀ (s the unit sliding direction of a sliding bead, whose
         // motion along the rod is its own unknown; s = 0 for a fixed one).
         for pm in point_masses {
-            let (ctrl, b) = rods[pm.rod].basis_at(pm.u)?;
-            let v = rods[pm.rod].eval_velocity(pm.u)?;
+            let rod = rods[pm.rod];
+            let (d, b) = (rod.dofs, &pm.b);
+            let mut v = Vector3::zeros();
+            for (kk, &i) in pm.ctrl.iter().enumerate() {
+                v += Vector3::new(rod.v[i * d], rod.v[i * d + 1], rod.v[i * d + 2]) * b[kk];
+            }
             let s = Vector3::from(pm.slide);
             let p = nalgebra::Matrix3::identity() - s * s.transpose();
             let pv = p * v;
+            // One 12 × 12 block c_m m b_k b_l P, added at once.
+            let mut idx = [0usize; 12];
+            let mut upper = [0.0f64; 144];
             for kk in 0..4 {
                 for a in 0..3 {
-                    let gi = layout.cp_index[pm.rod][ctrl[kk]] + a;
-                    self.rhs[gi] += k.momentum * pm.mass * b[0][kk] * pv[a];
-                    for l in 0..4 {
-                        for c in 0..3 {
-                            if p[(a, c)] != 0.0 {
-                                self.matrix.add(gi, layout.cp_index[pm.rod][ctrl[l]] + c, k.mass * pm.mass * b[0][kk] * b[0][l] * p[(a, c)]);
-                            }
-                        }
-                    }
+                    let gi = layout.cp_index[pm.rod][pm.ctrl[kk]] + a;
+                    idx[kk * 3 + a] = gi;
+                    self.rhs[gi] += k.momentum * pm.mass * b[kk] * pv[a];
                 }
             }
+            for r in 0..12 {
+                for c in r..12 {
+                    upper[r * 12 + c] = k.mass * pm.mass * b[r / 3] * b[c / 3] * p[(r % 3, c % 3)];
+                }
+            }
+            self.matrix.add_sym_block(&idx, &upper, 12);
         }
         // Stiffness −∂F/∂q of the force fields (harmonic traps), rod-local entries.
         for &(r, i, j, v) in field_stiffness {
@@ -414,7 +426,8 @@ impl KktSystem {
             if layout.row_count[c] == 0 {
                 continue; // a bead: its abscissa is damped
             }
-            for i in layout.extra_index[c]..r0 + layout.row_count[c] {
+            // The rows and the slider abscissae after them.
+            for i in r0..layout.extra_index[c] + layout.extra_count[c] {
                 is_row[i] = true;
             }
         }
@@ -531,22 +544,40 @@ impl KktSystem {
                 self.diag_min = self.diag_min.min(a);
             }
         }
+        // Slider abscissae: a frictionless one on a straight rod has a
+        // diagonal of round-off (−λ·r″), whose scale would dwarf the rod's
+        // entries of its rows (their pivots would vanish before it).
+        let mut is_extra = std::mem::take(&mut self.is_extra);
+        is_extra.clear();
+        is_extra.resize(n, false);
+        for (c, &x0) in layout.extra_index.iter().enumerate() {
+            for i in 0..layout.extra_count.get(c).copied().unwrap_or(0) {
+                is_extra[x0 + i] = true;
+            }
+        }
         for i in (0..n).filter(|&i| is_row[i]) {
             // Row i read as column i (contiguous): the assembly writes every
             // constraint entry with its transpose, so the KKT matrix is
-            // symmetric (the LDLᵀ path relies on it too).
-            let mut m = 0.0f64;
+            // symmetric (the LDLᵀ path relies on it too). Scaled by its rod
+            // entries, where it has any.
+            let (mut m, mut m_extra) = (0.0f64, 0.0f64);
             let scale = &self.scale;
             self.matrix.for_column(i, |r, a| {
-                if !is_row[r] {
+                if is_extra[r] {
+                    m_extra = m_extra.max((a * scale[r]).abs());
+                } else if !is_row[r] {
                     m = m.max((a * scale[r]).abs());
                 }
             });
+            if m == 0.0 {
+                m = m_extra;
+            }
             if m > 0.0 {
                 self.scale[i] = 1.0 / m;
             }
         }
         self.is_row = is_row;
+        self.is_extra = is_extra;
         self.matrix.scale_symmetric(&self.scale);
         for (b, d) in self.rhs.iter_mut().zip(&self.scale) {
             *b *= d;

@@ -14,7 +14,11 @@ pub struct ConstraintSlot {
     /// Positions of its rods in the layout's rod order (twice the same for one rod).
     pub rods: [usize; 2],
     pub n_rows: usize,
-    /// Abscissa unknowns (sliders), placed just before the rows.
+    /// Abscissa unknowns (sliders), placed just after the rows: a
+    /// frictionless slider's abscissa has no stiffness of its own, and
+    /// pivoted after its rows it takes the positive pivot they give it
+    /// (before them, the symmetric factorisation met a zero pivot and
+    /// fell back to the LU every step).
     pub n_extra: usize,
     /// (which rod: 0/1, control point), `len` of them.
     pub touched: [(u8, usize); crate::constraint::MAX_TOUCHED],
@@ -32,8 +36,10 @@ pub struct Layout {
     /// Global index of the first row of each constraint.
     pub row_index: Vec<usize>,
     /// Global index of each constraint's first abscissa unknown (= row_index
-    /// − n_extra).
+    /// + row_count) and their number.
     pub extra_index: Vec<usize>,
+    #[serde(default)]
+    pub extra_count: Vec<usize>,
     pub row_count: Vec<usize>,
     /// Number of unknowns (coordinates + multipliers).
     pub n: usize,
@@ -42,19 +48,51 @@ pub struct Layout {
     pub bandwidth: usize,
 }
 
+/// Buffers of [`Layout::rebuild`], kept so that a rebuild allocates
+/// nothing once the sizes have been seen.
+#[derive(Clone, Debug, Default)]
+pub struct LayoutScratch {
+    /// Global rank of each control point, rods one after another from
+    /// `first[r]`.
+    first: Vec<usize>,
+    rank: Vec<usize>,
+    /// (rank of the control point the rows follow, constraint), sorted.
+    anchors: Vec<(usize, usize)>,
+}
+
 impl Layout {
     /// `rods[r] = (n_ctrl, dofs, segment control points)`; `order` lists every
     /// (rod, control point) once, in the global order.
     pub fn build(rods: &[(usize, usize, &[[usize; 4]])], order: &[(usize, usize)], cons: &[ConstraintSlot]) -> Layout {
-        let mut rank: Vec<Vec<usize>> = rods.iter().map(|(n, _, _)| vec![0; *n]).collect();
-        for (k, &(r, i)) in order.iter().enumerate() {
-            rank[r][i] = k;
+        let mut l = Layout::default();
+        l.rebuild(rods.iter().copied(), order, cons, &mut LayoutScratch::default());
+        l
+    }
+
+    /// [`Layout::build`] into `self`, reusing its buffers and `scratch`'s:
+    /// what a slider that changes segment needs every few steps (its rows
+    /// move; the order of the control points does not).
+    pub fn rebuild<'a, I>(&mut self, rods: I, order: &[(usize, usize)], cons: &[ConstraintSlot], scratch: &mut LayoutScratch)
+    where
+        I: Iterator<Item = (usize, usize, &'a [[usize; 4]])> + Clone,
+    {
+        let LayoutScratch { first, rank, anchors } = scratch;
+        first.clear();
+        let mut total = 0;
+        for (n, _, _) in rods.clone() {
+            first.push(total);
+            total += n;
         }
-        // anchors[k]: constraints whose rows follow the k-th control point.
-        let mut anchors: Vec<Vec<usize>> = vec![Vec::new(); order.len()];
+        rank.clear();
+        rank.resize(total, 0);
+        for (k, &(r, i)) in order.iter().enumerate() {
+            rank[first[r] + i] = k;
+        }
+        // Constraints whose rows follow each control point.
+        anchors.clear();
         for (c, s) in cons.iter().enumerate() {
             let mid = |held_only: bool| {
-                let ranks = s.touched[..s.len].iter().zip(&s.held).filter(|(_, &h)| h || !held_only).map(|(&(w, i), _)| rank[s.rods[w as usize]][i]);
+                let ranks = s.touched[..s.len].iter().zip(&s.held).filter(|(_, &h)| h || !held_only).map(|(&(w, i), _)| rank[first[s.rods[w as usize]] + i]);
                 let (lo, hi) = ranks.fold((usize::MAX, 0), |(lo, hi), k| (lo.min(k), hi.max(k)));
                 (lo != usize::MAX).then_some((lo + hi) / 2)
             };
@@ -64,47 +102,59 @@ impl Layout {
             // placed before it meets a zero pivot in the symmetric
             // factorisation (which then falls back to the LU every step).
             let all = mid(false).unwrap_or(0);
-            anchors[mid(true).map_or(all, |h| h.max(all))].push(c);
+            anchors.push((mid(true).map_or(all, |h| h.max(all)), c));
         }
-        let mut l = Layout {
-            row_index: vec![0; cons.len()],
-            extra_index: vec![0; cons.len()],
-            row_count: cons.iter().map(|c| c.n_rows).collect(),
-            cp_index: rods.iter().map(|(n, _, _)| vec![0; *n]).collect(),
-            dofs: rods.iter().map(|(_, d, _)| *d).collect(),
-            ..Default::default()
-        };
+        // Stable in c within one control point, as the rows were inserted.
+        anchors.sort_unstable();
+        self.row_index.clear();
+        self.row_index.resize(cons.len(), 0);
+        self.extra_index.clear();
+        self.extra_index.resize(cons.len(), 0);
+        self.row_count.clear();
+        self.row_count.extend(cons.iter().map(|c| c.n_rows));
+        self.extra_count.clear();
+        self.extra_count.extend(cons.iter().map(|c| c.n_extra));
+        self.cp_index.resize_with(first.len(), Vec::new);
+        for (v, (n, _, _)) in self.cp_index.iter_mut().zip(rods.clone()) {
+            v.clear();
+            v.resize(n, 0);
+        }
+        self.dofs.clear();
+        self.dofs.extend(rods.clone().map(|(_, d, _)| d));
+        self.n_rows = 0;
         let mut cursor = 0;
+        let mut next = 0;
         for (k, &(r, i)) in order.iter().enumerate() {
-            l.cp_index[r][i] = cursor;
-            cursor += l.dofs[r];
-            for &c in &anchors[k] {
-                l.extra_index[c] = cursor;
-                cursor += cons[c].n_extra;
-                l.row_index[c] = cursor;
+            self.cp_index[r][i] = cursor;
+            cursor += self.dofs[r];
+            while next < anchors.len() && anchors[next].0 == k {
+                let c = anchors[next].1;
+                self.row_index[c] = cursor;
                 cursor += cons[c].n_rows;
-                l.n_rows += cons[c].n_rows;
+                self.n_rows += cons[c].n_rows;
+                self.extra_index[c] = cursor;
+                cursor += cons[c].n_extra;
+                next += 1;
             }
         }
-        l.n = cursor;
+        self.n = cursor;
         let mut bw = 0;
-        for (r, (_, dofs, segs)) in rods.iter().enumerate() {
+        for (r, (_, dofs, segs)) in rods.enumerate() {
             for ctrl in segs.iter() {
-                let lo = ctrl.iter().map(|&i| l.cp_index[r][i]).min().unwrap_or(0);
-                let hi = ctrl.iter().map(|&i| l.cp_index[r][i] + dofs - 1).max().unwrap_or(0);
+                let lo = ctrl.iter().map(|&i| self.cp_index[r][i]).min().unwrap_or(0);
+                let hi = ctrl.iter().map(|&i| self.cp_index[r][i] + dofs - 1).max().unwrap_or(0);
                 bw = bw.max(hi - lo);
             }
         }
         for (c, s) in cons.iter().enumerate() {
-            let (r0, r1) = (l.extra_index[c], l.row_index[c] + s.n_rows - 1);
+            let (r0, r1) = (self.row_index[c], (self.extra_index[c] + s.n_extra).saturating_sub(1));
             for &(w, i) in &s.touched[..s.len] {
                 let r = s.rods[w as usize];
-                let (lo, hi) = (l.cp_index[r][i], l.cp_index[r][i] + l.dofs[r] - 1);
+                let (lo, hi) = (self.cp_index[r][i], self.cp_index[r][i] + self.dofs[r] - 1);
                 bw = bw.max(r1.saturating_sub(lo)).max(hi.saturating_sub(r0));
             }
         }
-        l.bandwidth = bw;
-        l
+        self.bandwidth = bw;
     }
 
     /// Global index of coordinate `local` (= cp * dofs + axis) of rod `r`.

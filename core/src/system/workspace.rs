@@ -15,6 +15,13 @@ pub struct Workspace {
     pub(crate) layout_rods: Vec<(Index, usize, usize, usize)>,
     pub(crate) layout_slots: Vec<ConstraintSlot>,
     pub(crate) layout_groups: Vec<Vec<RodHandle>>,
+    /// The order of the control points the layout was built on and the
+    /// two-rod links that order came from: while rods, groups and links
+    /// stay, a slot that moves rebuilds the layout on the same order.
+    pub(crate) layout_order: Vec<(usize, usize)>,
+    pub(crate) layout_links: Vec<crate::system::ordering::Link>,
+    pub(crate) links: Vec<crate::system::ordering::Link>,
+    pub(crate) layout_scratch: super::layout::LayoutScratch,
     pub(crate) slots: Vec<ConstraintSlot>,
     /// Allocations kept for the per-step vectors of references (always
     /// empty between steps, see [`recycle`]).

@@ -147,7 +147,8 @@ pub enum Scheme {
     /// periods by (ωh)²/12. Costs two to six solves per step. Without
     /// any damping of unresolved modes it suits vibration of rods held by
     /// linear constraints (fixed points, clamps); with curved constraints
-    /// (relative orientations, sliders, beads) prefer `TrBdf2`.
+    /// (relative orientations, sliders) prefer `TrBdf2`. Sliding beads are
+    /// refused (as by `TrBdf2`).
     Trapezoidal,
     /// TR-BDF2 (Bank et al. 1985): a trapezoidal stage over γh
     /// (γ = 2 − √2, Newton iterations as for `Trapezoidal`), then a BDF2
@@ -157,7 +158,9 @@ pub enum Scheme {
     /// L-stable: resolved vibrations keep their amplitude (99.2 % over 10
     /// periods at 20 steps per period, period +0.40 %), unresolved ones
     /// (stiff stretching, constraint chatter) are damped out as by
-    /// implicit Euler.
+    /// implicit Euler. A world with sliding beads is refused (their
+    /// first-order update along the rod pumps energy into a second-order
+    /// step; knotted beads are fine).
     TrBdf2,
 }
 
