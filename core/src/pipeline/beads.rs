@@ -474,14 +474,14 @@ fn advance_with(world: &mut World, h: f64, events: &mut Vec<Event>, s: &mut Scra
         // the bead is the prediction's: it has not moved yet).
         let rod = world.rod(b.rod)?;
         let (ctrl, basis) = bead_basis(s, k, s.rows[k].id, b.u, rod)?;
-        let jet = rod.jet_from(&ctrl, &basis);
-        let speed = jet.d1.norm();
-        let v = b.step_w - (jet.d1 / speed).dot(&jet.velocity);
+        let (_, d1, velocity) = rod.motion_from(&ctrl, &basis);
+        let speed = d1.norm();
+        let v = b.step_w - (d1 / speed).dot(&velocity);
         let du = h * v / speed;
         // Its own velocity: the rod's across the step's tangent, where it
         // was, and the step's speed along it.
         let t = Vector3::from(b.step_t);
-        let carried = jet.velocity - t * t.dot(&jet.velocity) + t * b.step_w;
+        let carried = velocity - t * t.dot(&velocity) + t * b.step_w;
         // On a closed rod a bead goes round: its abscissa wraps.
         let period = period(rod);
         if let Some(b) = world.beads.get_mut(s.rows[k].id) {
@@ -509,10 +509,10 @@ fn place(rod: &crate::rod::Rod, row: &mut Row) -> Result<()> {
     let (lo, hi) = rod.domain();
     let u = if period(rod).is_some() { row.u } else { row.u.clamp(lo, hi) };
     let (ctrl, b) = rod.basis_at(u)?;
-    let jet = rod.jet_from(&ctrl, &b);
-    row.speed = jet.d1.norm();
-    row.x = jet.position;
-    row.t = if row.speed > 0.0 { jet.d1 / row.speed } else { Vector3::zeros() };
+    let (x, d1, _) = rod.motion_from(&ctrl, &b);
+    row.speed = d1.norm();
+    row.x = x;
+    row.t = if row.speed > 0.0 { d1 / row.speed } else { Vector3::zeros() };
     Ok(())
 }
 

@@ -26,6 +26,21 @@ impl Rod {
         Ok(self.jet_from(&ctrl, &b))
     }
 
+    /// r, r′ and the velocity (what the bead passes read) from a basis
+    /// already evaluated ([`Rod::basis_at`]).
+    #[inline]
+    pub(crate) fn motion_from(&self, ctrl: &[usize; 4], b: &[[f64; 4]; 4]) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+        let (mut x, mut d1, mut v) = (Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
+        for (k, &i) in ctrl.iter().enumerate() {
+            let (q, w) = (&self.q[i * self.dofs..i * self.dofs + 3], &self.v[i * self.dofs..i * self.dofs + 3]);
+            let (q, w) = (Vector3::new(q[0], q[1], q[2]), Vector3::new(w[0], w[1], w[2]));
+            x += q * b[0][k];
+            d1 += q * b[1][k];
+            v += w * b[0][k];
+        }
+        (x, d1, v)
+    }
+
     /// [`Jet`] from a basis already evaluated ([`Rod::basis_at`]) with the
     /// current coordinates and velocities.
     pub(crate) fn jet_from(&self, ctrl: &[usize; 4], b: &[[f64; 4]; 4]) -> Jet {

@@ -321,10 +321,10 @@ impl KktSystem {
             for (kk, &i) in pm.ctrl.iter().enumerate() {
                 v += Vector3::new(rod.v[i * d], rod.v[i * d + 1], rod.v[i * d + 2]) * b[kk];
             }
-            let s = Vector3::from(pm.slide);
-            let p = nalgebra::Matrix3::identity() - s * s.transpose();
-            let pv = p * v;
-            // One 12 × 12 block c_m m b_k b_l P, added at once.
+            let s = pm.slide;
+            let p: [[f64; 3]; 3] = std::array::from_fn(|a| std::array::from_fn(|c| f64::from(u8::from(a == c)) - s[a] * s[c]));
+            let pv: [f64; 3] = std::array::from_fn(|a| p[a][0] * v[0] + p[a][1] * v[1] + p[a][2] * v[2]);
+            // One 12 × 12 block c_m m b_k b_l P (upper half), added at once.
             let mut idx = [0usize; 12];
             let mut upper = [0.0f64; 144];
             for kk in 0..4 {
@@ -334,9 +334,16 @@ impl KktSystem {
                     self.rhs[gi] += k.momentum * pm.mass * b[kk] * pv[a];
                 }
             }
-            for r in 0..12 {
-                for c in r..12 {
-                    upper[r * 12 + c] = k.mass * pm.mass * b[r / 3] * b[c / 3] * p[(r % 3, c % 3)];
+            let mb = k.mass * pm.mass;
+            for kk in 0..4 {
+                for ll in kk..4 {
+                    let w = mb * b[kk] * b[ll];
+                    for a in 0..3 {
+                        let row = &mut upper[(kk * 3 + a) * 12 + ll * 3..(kk * 3 + a) * 12 + ll * 3 + 3];
+                        for (c, x) in row.iter_mut().enumerate() {
+                            *x = w * p[a][c];
+                        }
+                    }
                 }
             }
             self.matrix.add_sym_block(&idx, &upper, 12);
