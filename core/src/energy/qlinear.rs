@@ -62,7 +62,11 @@ impl J3 {
                 h[k] = self.v * o.h[k] + o.v * self.h[k] + self.g[a] * o.g[b] + o.g[a] * self.g[b];
             }
         }
-        J3 { v: self.v * o.v, g: std::array::from_fn(|a| self.v * o.g[a] + o.v * self.g[a]), h }
+        // Written out (not `array::from_fn`): these run per sample, and
+        // whether from_fn's closure got inlined moved with unrelated code
+        // (a 6 % `try_from_fn` in the reference-model spring).
+        let g = [self.v * o.g[0] + o.v * self.g[0], self.v * o.g[1] + o.v * self.g[1], self.v * o.g[2] + o.v * self.g[2]];
+        J3 { v: self.v * o.v, g, h }
     }
     /// self × p_i (a variable: gradient e_i, no Hessian).
     #[inline(always)]
@@ -82,7 +86,11 @@ impl J3 {
     }
     #[inline(always)]
     pub fn add(self, o: J3) -> J3 {
-        J3 { v: self.v + o.v, g: std::array::from_fn(|a| self.g[a] + o.g[a]), h: std::array::from_fn(|k| self.h[k] + o.h[k]) }
+        let mut h = self.h;
+        for (x, y) in h.iter_mut().zip(&o.h) {
+            *x += y;
+        }
+        J3 { v: self.v + o.v, g: [self.g[0] + o.g[0], self.g[1] + o.g[1], self.g[2] + o.g[2]], h }
     }
 }
 
@@ -114,7 +122,10 @@ impl QLinear {
     /// ∂²/∂p_a∂q_j; qq is zero), without forming either strain's own.
     #[inline(always)]
     pub fn combined_hessian(s: &QLinear, alpha: f64, t: &QLinear, beta: f64, q: &[f64; 3]) -> ([f64; 6], [[f64; 3]; 3]) {
-        let mut hpp: [f64; 6] = std::array::from_fn(|k| alpha * s.f.h[k] + beta * t.f.h[k]);
+        let mut hpp = [0.0f64; 6];
+        for (k, x) in hpp.iter_mut().enumerate() {
+            *x = alpha * s.f.h[k] + beta * t.f.h[k];
+        }
         let mut hpq = [[0.0; 3]; 3];
         for j in 0..3 {
             let (sa, tb) = (alpha * q[j], beta * q[j]);

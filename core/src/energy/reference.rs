@@ -409,13 +409,25 @@ fn add_frame_bend(s: &LocalState, c: &SampleConsts, p: [f64; 3], q: [f64; 3], e:
     let (e1, e2) = (k1 - c.kappa1, k2 - c.kappa2);
     let (a1, a2) = (c.ei1, c.ei2);
     // ∇κ1, ∇κ2 in world components: r′ = Σ_b p_b e_b, so ∂/∂r′ = Σ_b e_b ∂/∂p_b.
-    let rot = |v: &[f64]| -> [f64; 3] { std::array::from_fn(|a| e[0][a] * v[0] + e[1][a] * v[1] + e[2][a] * v[2]) };
+    // Loops written out rather than `array::from_fn` (per sample; whether
+    // its closures were inlined moved with unrelated code).
+    let rot = |v: &[f64]| -> [f64; 3] {
+        let mut out = [0.0; 3];
+        for (a, o) in out.iter_mut().enumerate() {
+            *o = e[0][a] * v[0] + e[1][a] * v[1] + e[2][a] * v[2];
+        }
+        out
+    };
     let world = |g: [f64; N]| -> [f64; N] {
         let (lo, hi) = (rot(&g[..3]), rot(&g[3..]));
         [lo[0], lo[1], lo[2], hi[0], hi[1], hi[2]]
     };
-    let g1 = world(std::array::from_fn(|i| cs * xg[i] + sn * yg[i]));
-    let g2 = world(std::array::from_fn(|i| cs * yg[i] - sn * xg[i]));
+    let (mut g1, mut g2) = ([0.0; N], [0.0; N]);
+    for i in 0..N {
+        g1[i] = cs * xg[i] + sn * yg[i];
+        g2[i] = cs * yg[i] - sn * xg[i];
+    }
+    let (g1, g2) = (world(g1), world(g2));
     let grad = out.grad.as_mut_slice();
     for i in 0..N {
         grad[R1 + i] += a1 * e1 * g1[i] + a2 * e2 * g2[i];
@@ -435,12 +447,28 @@ fn add_frame_bend(s: &LocalState, c: &SampleConsts, p: [f64; 3], q: [f64; 3], e:
     // α ∇²x + β ∇²y: its pp (symmetric) and pq blocks, each X to Eᵀ X E.
     let (alpha, beta) = (a1 * e1 * cs - a2 * e2 * sn, a1 * e1 * sn + a2 * e2 * cs);
     let (hpp, hpq) = qlinear::QLinear::combined_hessian(&kin.x, alpha, &kin.y, beta, &q);
-    let to_world = |x: &dyn Fn(usize, usize) -> f64| -> [[f64; 3]; 3] {
-        let t: [[f64; 3]; 3] = std::array::from_fn(|r| std::array::from_fn(|c| x(r, 0) * e[0][c] + x(r, 1) * e[1][c] + x(r, 2) * e[2][c]));
-        std::array::from_fn(|a| std::array::from_fn(|c| e[0][a] * t[0][c] + e[1][a] * t[1][c] + e[2][a] * t[2][c]))
+    let to_world = |x: &[[f64; 3]; 3]| -> [[f64; 3]; 3] {
+        let (mut t, mut w) = ([[0.0; 3]; 3], [[0.0; 3]; 3]);
+        for r in 0..3 {
+            for c in 0..3 {
+                t[r][c] = x[r][0] * e[0][c] + x[r][1] * e[1][c] + x[r][2] * e[2][c];
+            }
+        }
+        for a in 0..3 {
+            for c in 0..3 {
+                w[a][c] = e[0][a] * t[0][c] + e[1][a] * t[1][c] + e[2][a] * t[2][c];
+            }
+        }
+        w
     };
-    let wpp = to_world(&|r, c| hpp[qlinear::hp(r, c)]);
-    let wpq = to_world(&|r, c| hpq[r][c]);
+    let mut pp = [[0.0; 3]; 3];
+    for (r, row) in pp.iter_mut().enumerate() {
+        for (c, x) in row.iter_mut().enumerate() {
+            *x = hpp[qlinear::hp(r, c)];
+        }
+    }
+    let wpp = to_world(&pp);
+    let wpq = to_world(&hpq);
     for a in 0..3 {
         for b in 0..3 {
             h[at(R1 + a, R1 + b)] += wpp[a][b];

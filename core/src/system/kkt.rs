@@ -322,8 +322,14 @@ impl KktSystem {
                 v += Vector3::new(rod.v[i * d], rod.v[i * d + 1], rod.v[i * d + 2]) * b[kk];
             }
             let s = pm.slide;
-            let p: [[f64; 3]; 3] = std::array::from_fn(|a| std::array::from_fn(|c| f64::from(u8::from(a == c)) - s[a] * s[c]));
-            let pv: [f64; 3] = std::array::from_fn(|a| p[a][0] * v[0] + p[a][1] * v[1] + p[a][2] * v[2]);
+            let mut p = [[0.0f64; 3]; 3];
+            let mut pv = [0.0f64; 3];
+            for a in 0..3 {
+                for c in 0..3 {
+                    p[a][c] = if a == c { 1.0 } else { 0.0 } - s[a] * s[c];
+                    pv[a] += p[a][c] * v[c];
+                }
+            }
             // One 12 × 12 block c_m m b_k b_l P (upper half), added at once.
             let mut idx = [0usize; 12];
             let mut upper = [0.0f64; 144];
