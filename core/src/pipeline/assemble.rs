@@ -430,7 +430,8 @@ fn gather_and_assemble(
         crate::force::spread(&mut ws.ext[r], rods[r].dofs(), &ctrl, &bs[0], &b.rod_force);
         // A sliding bead's tangential motion is its own (see beads::predict).
         let slide = if b.fixed || !regime.bead_slides() { [0.0; 3] } else { rods[r].tangent_from(b.u, &ctrl, &bs[1])?.into() };
-        ws.masses.push(PointMass { rod: r, ctrl, b: bs[0], mass: b.mass, slide });
+        let seg = rods[r].knots().locate(b.u)?;
+        ws.masses.push(PointMass { rod: r, seg, ctrl, b: bs[0], mass: b.mass, slide });
     }
     // ½ f(t + h) here, the other half of the trapezoid (and the drag of
     // the iterate) from the state of the step; the BDF2 stage's drag term.

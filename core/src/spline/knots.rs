@@ -301,6 +301,22 @@ impl KnotVector {
             KnotKind::Clamped if seg >= 2 && seg + 3 <= self.spans.len() => {
                 uniform_basis(u - self.knots[i])
             }
+            // The two first and two last segments, once the ends are apart
+            // (≥ 7 control points: 4 segments or more), have fixed shapes.
+            KnotKind::Clamped if self.spans.len() >= 4 => {
+                let tables = clamped_end_tables();
+                let x = u - self.knots[i];
+                match seg + 4 - self.spans.len() {
+                    // The last segment from whichever end is nearer, so
+                    // that both the knot it starts at and the domain's end
+                    // get exact zeros (a position held at the far end
+                    // touches only the last point with weight).
+                    3 if x > 0.5 => taylor_basis(&tables[4], x - 1.0),
+                    3 => taylor_basis(&tables[3], x),
+                    2 => taylor_basis(&tables[2], x),
+                    _ => taylor_basis(&tables[seg], x),
+                }
+            }
             KnotKind::Clamped | KnotKind::General => ders_basis(&self.knots, i, u),
         }
     }
@@ -358,6 +374,38 @@ fn uniform_basis(t: f64) -> [[f64; 4]; 4] {
         [s, 3.0 * t - 2.0, 1.0 - 3.0 * t, t],
         [-1.0, 3.0, -3.0, 1.0],
     ]
+}
+
+/// The clamped knot vector's end segments (first, second, second-to-last,
+/// last at its start, last at its end), each as its basis and derivatives
+/// at that point: the same for every clamped vector of ≥ 7 control points
+/// (their knots, from the segment's start, are 0,0,0,0,1,2,3 and its
+/// mirror), so their Cox–de Boor recursion runs once, not at every
+/// evaluation. Each is exact at its point (zeros where a basis vanishes).
+fn clamped_end_tables() -> &'static [[[f64; 4]; 4]; 5] {
+    static TABLES: std::sync::OnceLock<[[[f64; 4]; 4]; 5]> = std::sync::OnceLock::new();
+    TABLES.get_or_init(|| {
+        // 8 control points: 5 segments, the two ends apart.
+        let n_ctrl = 8usize;
+        let last = (n_ctrl - 3) as f64;
+        let knots: Vec<f64> = (0..n_ctrl + 4).map(|i: usize| (i.saturating_sub(3) as f64).min(last)).collect();
+        [(3usize, 0.0), (4, 1.0), (6, 3.0), (7, 4.0), (7, 5.0)].map(|(i, u)| ders_basis(&knots, i, u))
+    })
+}
+
+/// A cubic segment's basis at `x` past its start, from its basis and
+/// derivatives `t` there (Taylor, exact for cubics).
+#[inline]
+fn taylor_basis(t: &[[f64; 4]; 4], x: f64) -> [[f64; 4]; 4] {
+    let mut out = [[0.0; 4]; 4];
+    for k in 0..4 {
+        let (d0, d1, d2, d3) = (t[0][k], t[1][k], t[2][k], t[3][k]);
+        out[0][k] = d0 + x * (d1 + x * (0.5 * d2 + x * d3 / 6.0));
+        out[1][k] = d1 + x * (d2 + 0.5 * x * d3);
+        out[2][k] = d2 + x * d3;
+        out[3][k] = d3;
+    }
+    out
 }
 
 /// Cox–de Boor basis functions and derivatives on span `i` (`t_i < t_{i+1}`),
@@ -469,6 +517,35 @@ pub(crate) fn check_ctrl<const D: usize>(knots: &KnotVector, ctrl: &[[f64; D]]) 
 #[allow(clippy::needless_range_loop, clippy::too_many_arguments)] // index-heavy checks
 mod tests {
     use super::*;
+
+    /// The clamped end segments' tables give the Cox–de Boor basis and its
+    /// three derivatives (7–12 control points, 11 abscissae per segment),
+    /// with exact zeros at the domain's ends and the knots the segments
+    /// start at.
+    #[test]
+    fn clamped_end_tables_match_cox_de_boor() {
+        for n in 7..=12 {
+            let k = KnotVector::clamped(n).unwrap();
+            let ns = k.n_segments();
+            for seg in [0, 1, ns - 2, ns - 1] {
+                let (a, b) = k.segment_interval(seg);
+                for j in 0..=10 {
+                    let u = a + (b - a) * j as f64 / 10.0;
+                    let (fast, exact) = (k.basis(seg, u), ders_basis(&k.knots, k.spans[seg], u));
+                    for d in 0..4 {
+                        for l in 0..4 {
+                            assert!((fast[d][l] - exact[d][l]).abs() < 1e-13, "n {n} seg {seg} u {u} d {d} l {l}: {} vs {}", fast[d][l], exact[d][l]);
+                        }
+                    }
+                    if j == 0 || (seg == ns - 1 && j == 10) {
+                        for l in 0..4 {
+                            assert_eq!(fast[0][l] == 0.0, exact[0][l] == 0.0, "n {n} seg {seg} u {u}: zero pattern {:?} vs {:?}", fast[0], exact[0]);
+                        }
+                    }
+                }
+            }
+        }
+    }
 
     fn general() -> KnotVector {
         super::super::test_fixtures::general()

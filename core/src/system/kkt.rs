@@ -122,6 +122,35 @@ const PAR_MIN_SEGMENTS: usize = 2048;
 /// Turns a segment's stiffness block K into c_k K + c_m M + c_d D on each
 /// axis (II.70–II.75, III.10), upper half only (M, J, D are symmetric, so
 /// the upper half carries them).
+/// P = I − s sᵀ: what a sliding bead's mass acts on (s = 0: all of it).
+fn slide_projector(s: &[f64; 3]) -> [[f64; 3]; 3] {
+    let mut p = [[0.0f64; 3]; 3];
+    for a in 0..3 {
+        for c in 0..3 {
+            p[a][c] = if a == c { 1.0 } else { 0.0 } - s[a] * s[c];
+        }
+    }
+    p
+}
+
+/// Adds c_m m b_k b_l P, a bead's mass on its segment's control points,
+/// to the segment's block (upper half, rows of `d` dofs per point).
+fn add_point_mass(blk: &mut SegBlock, d: usize, c_m: f64, pm: &PointMass) {
+    let p = slide_projector(&pm.slide);
+    let mb = c_m * pm.mass;
+    for kk in 0..4 {
+        for ll in kk..4 {
+            let w = mb * pm.b[kk] * pm.b[ll];
+            for a in 0..3 {
+                let row = (kk * d + a) * 16 + ll * d;
+                for c in if ll == kk { a } else { 0 }..3 {
+                    blk.hess[row + c] += w * p[a][c];
+                }
+            }
+        }
+    }
+}
+
 fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4], j: &[[f64; 4]; 4], drag: Option<&SegDrag>) {
     if k.stiffness != 1.0 {
         let n = 4 * d;
@@ -189,6 +218,8 @@ pub struct KktSystem {
     pub(crate) scale: Vec<f64>,
     /// Scratch of `equilibrate`: unknown i is a multiplier row.
     is_row: Vec<bool>,
+    /// Point masses in (rod, segment) order ([`Self::assemble`]'s scratch).
+    pm_order: Vec<usize>,
     /// Which unknowns are slider abscissae ([`Self::equilibrate`]'s scratch).
     is_extra: Vec<bool>,
     /// The last assembly had a positive mass coefficient c_m.
@@ -210,14 +241,17 @@ pub struct KktSystem {
     pub(crate) elastic_forces: Vec<Vec<f64>>,
 }
 
-/// A point mass (bead) on a rod: `mass` at the point of the rod at
-/// position `rod` in the layout whose basis is `b` on control points
-/// `ctrl` (evaluated once by the caller, which spreads the bead's force
-/// with it too); `slide` the unit direction along which it is free (its
-/// own unknown), or zero for a mass riding with the rod.
+/// A point mass (bead) on a rod: `mass` at the point of segment `seg` of
+/// the rod at position `rod` in the layout whose basis is `b` on control
+/// points `ctrl` (evaluated once by the caller, which spreads the bead's
+/// force with it too); `slide` the unit direction along which it is free
+/// (its own unknown), or zero for a mass riding with the rod. Its mass
+/// block joins its segment's before that is scattered.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointMass {
     pub rod: usize,
+    /// The segment holding it (its control points are that segment's).
+    pub seg: usize,
     pub ctrl: [usize; 4],
     pub b: [f64; 4],
     pub mass: f64,
@@ -284,6 +318,11 @@ impl KktSystem {
         blocks.resize(batch.min(total), SegBlock::default());
         let need = if k.step_stiffness { Need::StepHessian } else { Need::Hessian };
         let (mut r, mut first) = (0, 0);
+        let mut pm_order = std::mem::take(&mut self.pm_order);
+        pm_order.clear();
+        pm_order.extend(0..point_masses.len());
+        pm_order.sort_unstable_by_key(|&p| (point_masses[p].rod, point_masses[p].seg, p));
+        let mut next_pm = 0;
         while r < rods.len() {
             ranges.clear();
             let mut filled = 0;
@@ -305,12 +344,19 @@ impl KktSystem {
                 for (s, blk) in (g.first..).zip(blocks[g.offset..g.offset + g.len].iter_mut()) {
                     energy += blk.energy;
                     let drag = drags.get(g.rod).filter(|d| k.drag != 0.0 && **d != Drag::default());
-                    self.scatter_segment(layout, g.rod, rods[g.rod], s, blk, k, drag);
+                    // The beads on this segment: their mass joins its block.
+                    let start = next_pm;
+                    while pm_order.get(next_pm).is_some_and(|&p| (point_masses[p].rod, point_masses[p].seg) <= (g.rod, s)) {
+                        next_pm += 1;
+                    }
+                    let on_segment = pm_order[start..next_pm].iter().map(|&p| &point_masses[p]).filter(|pm| (pm.rod, pm.seg) == (g.rod, s));
+                    self.scatter_segment(layout, g.rod, rods[g.rod], s, blk, k, drag, on_segment);
                 }
             }
         }
         self.blocks = blocks;
         self.ranges = ranges;
+        self.pm_order = pm_order;
         // Point masses (beads): c_m m b_i b_j P and c_v m b_i P v(u), with
         // P = I − s sᵀ (s the unit sliding direction of a sliding bead, whose
         // motion along the rod is its own unknown; s = 0 for a fixed one).
@@ -321,38 +367,15 @@ impl KktSystem {
             for (kk, &i) in pm.ctrl.iter().enumerate() {
                 v += Vector3::new(rod.v[i * d], rod.v[i * d + 1], rod.v[i * d + 2]) * b[kk];
             }
-            let s = pm.slide;
-            let mut p = [[0.0f64; 3]; 3];
-            let mut pv = [0.0f64; 3];
-            for a in 0..3 {
-                for c in 0..3 {
-                    p[a][c] = if a == c { 1.0 } else { 0.0 } - s[a] * s[c];
-                    pv[a] += p[a][c] * v[c];
-                }
-            }
-            // One 12 × 12 block c_m m b_k b_l P (upper half), added at once.
-            let mut idx = [0usize; 12];
-            let mut upper = [0.0f64; 144];
+            // Its mass block went in with its segment's (scatter above).
+            let p = slide_projector(&pm.slide);
             for kk in 0..4 {
                 for a in 0..3 {
                     let gi = layout.cp_index[pm.rod][pm.ctrl[kk]] + a;
-                    idx[kk * 3 + a] = gi;
-                    self.rhs[gi] += k.momentum * pm.mass * b[kk] * pv[a];
+                    let pv = p[a][0] * v[0] + p[a][1] * v[1] + p[a][2] * v[2];
+                    self.rhs[gi] += k.momentum * pm.mass * b[kk] * pv;
                 }
             }
-            let mb = k.mass * pm.mass;
-            for kk in 0..4 {
-                for ll in kk..4 {
-                    let w = mb * b[kk] * b[ll];
-                    for a in 0..3 {
-                        let row = &mut upper[(kk * 3 + a) * 12 + ll * 3..(kk * 3 + a) * 12 + ll * 3 + 3];
-                        for (c, x) in row.iter_mut().enumerate() {
-                            *x = w * p[a][c];
-                        }
-                    }
-                }
-            }
-            self.matrix.add_sym_block(&idx, &upper, 12);
         }
         // Stiffness −∂F/∂q of the force fields (harmonic traps), rod-local entries.
         for &(r, i, j, v) in field_stiffness {
@@ -394,7 +417,8 @@ impl KktSystem {
     /// One segment's block into the right-hand side (−c_f ∂U/∂q) and the
     /// matrix (c_k K + c_m M + c_d D).
     #[allow(clippy::too_many_arguments)]
-    fn scatter_segment(&mut self, layout: &Layout, r: usize, rod: &Rod, s: usize, blk: &mut SegBlock, k: Coefficients, drag: Option<&Drag>) {
+    #[allow(clippy::too_many_arguments)]
+    fn scatter_segment<'p>(&mut self, layout: &Layout, r: usize, rod: &Rod, s: usize, blk: &mut SegBlock, k: Coefficients, drag: Option<&Drag>, beads: impl Iterator<Item = &'p PointMass>) {
         let d = rod.dofs;
         let nl = 4 * d;
         let cache = &rod.cache;
@@ -424,6 +448,9 @@ impl KktSystem {
         }
         let drag = drag.map(|dr| rod.seg_drag(dr, s));
         add_inertia(blk, d, k, &cache.seg_mass[s], &cache.seg_inertia[s], drag.as_ref());
+        for pm in beads {
+            add_point_mass(blk, d, k.mass, pm);
+        }
         self.matrix.add_sym_block(&idx[..nl], &blk.hess, 16);
     }
 
