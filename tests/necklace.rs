@@ -168,7 +168,7 @@ fn knotted_beads_hang_on_the_funicular_polygon() {
 ///   released (asserted < 1e-8 J; it was 4.5e-5 J before implicit steps
 ///   left compression's negative transverse stiffness out of their matrix,
 ///   `stretch::leave_out_compression`, which also damps a little);
-/// - trains of touching beads (the default): 7.6e-6 J in one step of a
+/// - trains of touching beads (the default): 7.7e-6 J in one step of a
 ///   slow settling phase, all 12 beads in one train at the bottom (0.03 %
 ///   of the energy released), asserted < 2e-5 J. It was 1.03e-4 J while
 ///   the train's contact forces moved the beads along the string without
