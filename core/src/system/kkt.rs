@@ -119,9 +119,6 @@ const SEQ_BATCH: usize = 16;
 const PAR_BATCH: usize = 4096;
 const PAR_MIN_SEGMENTS: usize = 2048;
 
-/// Turns a segment's stiffness block K into c_k K + c_m M + c_d D on each
-/// axis (II.70–II.75, III.10), upper half only (M, J, D are symmetric, so
-/// the upper half carries them).
 /// P = I − s sᵀ: what a sliding bead's mass acts on (s = 0: all of it).
 fn slide_projector(s: &[f64; 3]) -> [[f64; 3]; 3] {
     let mut p = [[0.0f64; 3]; 3];
@@ -151,6 +148,9 @@ fn add_point_mass(blk: &mut SegBlock, d: usize, c_m: f64, pm: &PointMass) {
     }
 }
 
+/// Turns a segment's stiffness block K into c_k K + c_m M + c_d D on each
+/// axis (II.70–II.75, III.10), upper half only (M, J, D are symmetric, so
+/// the upper half carries them).
 fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4], j: &[[f64; 4]; 4], drag: Option<&SegDrag>) {
     if k.stiffness != 1.0 {
         let n = 4 * d;
@@ -415,8 +415,7 @@ impl KktSystem {
     }
 
     /// One segment's block into the right-hand side (−c_f ∂U/∂q) and the
-    /// matrix (c_k K + c_m M + c_d D).
-    #[allow(clippy::too_many_arguments)]
+    /// matrix (c_k K + c_m M + c_d D, and the mass of the `beads` on it).
     #[allow(clippy::too_many_arguments)]
     fn scatter_segment<'p>(&mut self, layout: &Layout, r: usize, rod: &Rod, s: usize, blk: &mut SegBlock, k: Coefficients, drag: Option<&Drag>, beads: impl Iterator<Item = &'p PointMass>) {
         let d = rod.dofs;
