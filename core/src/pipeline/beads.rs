@@ -63,7 +63,8 @@ pub(crate) struct Scratch {
     ds: Vec<f64>,
     /// Rod speed along the tangent, then the bead's absolute speed w.
     w: Vec<f64>,
-    jets: Vec<crate::rod::Jet>,
+    /// The rod's velocity under each bead at the start of the step.
+    v_rod: Vec<Vector3<f64>>,
     /// The bead's own velocity at the start of the step.
     v_b: Vec<Vector3<f64>>,
     force: Vec<Vector3<f64>>,
@@ -109,20 +110,14 @@ impl Scratch {
         self.rows.clear();
         self.rows.extend(world.beads.iter().map(|(id, b)| Row { id, rod: b.rod, u: b.u, fixed: b.fixed, mass: b.mass, radius: b.radius, x: Vector3::zeros(), t: Vector3::zeros(), speed: 0.0 }));
     }
-
-    /// The basis of the `k`-th bead (arena order) cached by this step's
-    /// prediction, if it is still that bead at that abscissa on a rod of
-    /// as many control points.
-    pub(crate) fn cached_basis(&self, k: usize, id: Index, u: f64, rod: &crate::rod::Rod) -> Option<([usize; 4], [[f64; 4]; 4])> {
-        self.basis.get(k).filter(|e| e.0 == id && e.1.to_bits() == u.to_bits() && e.2 == rod.n_ctrl()).map(|e| (e.3, e.4))
-    }
 }
 
-/// The basis of bead `k` (arena order) at `u` on `rod`: this step's cached
-/// one, or evaluated.
+/// The basis of bead `k` (arena order) at `u` on `rod`: the one this step's
+/// prediction cached, if it is still that bead at that abscissa on a rod
+/// of as many control points; else evaluated.
 pub(crate) fn bead_basis(s: &Scratch, k: usize, id: Index, u: f64, rod: &crate::rod::Rod) -> Result<([usize; 4], [[f64; 4]; 4])> {
-    match s.cached_basis(k, id, u, rod) {
-        Some(b) => Ok(b),
+    match s.basis.get(k).filter(|e| e.0 == id && e.1.to_bits() == u.to_bits() && e.2 == rod.n_ctrl()) {
+        Some(e) => Ok((e.3, e.4)),
         None => rod.basis_at(u),
     }
 }
@@ -132,7 +127,7 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
     let n = s.rows.len();
     s.ds.clear();
     s.w.clear();
-    s.jets.clear();
+    s.v_rod.clear();
     s.v_b.clear();
     s.basis.clear();
     for k in 0..n {
@@ -140,18 +135,18 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
         let rod = world.rod(b.rod)?;
         let (ctrl, basis) = rod.basis_at(b.u)?;
         s.basis.push((s.rows[k].id, b.u, rod.n_ctrl(), ctrl, basis));
-        let jet = rod.jet_from(&ctrl, &basis);
-        let sigma = jet.d1.norm();
+        let (x, d1, velocity) = rod.motion_from(&ctrl, &basis);
+        let sigma = d1.norm();
         if !(sigma > 0.0) {
             return Err(crate::error::Error::singular(format!("zero tangent under bead {} at u = {}", s.rows[k].id.0, b.u)));
         }
-        let t = jet.d1 / sigma;
-        let v_r = t.dot(&jet.velocity);
-        (s.rows[k].x, s.rows[k].t, s.rows[k].speed) = (jet.position, t, sigma);
-        s.jets.push(jet);
+        let t = d1 / sigma;
+        let v_r = t.dot(&velocity);
+        (s.rows[k].x, s.rows[k].t, s.rows[k].speed) = (x, t, sigma);
+        s.v_rod.push(velocity);
         s.w.push(v_r);
-        // Its own velocity, read off the jet (no second evaluation).
-        let v_b = b.velocity_from(jet.velocity, t);
+        // Its own velocity, from the same evaluation.
+        let v_b = b.velocity_from(velocity, t);
         s.v_b.push(v_b);
         if b.fixed {
             s.ds.push(0.0);
@@ -179,12 +174,11 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
     s.force.clear();
     for k in 0..n {
         let Some(b) = world.beads.get(s.rows[k].id) else { continue };
-        let (jet, fp) = (&s.jets[k], bead_load(world, b));
+        let fp = bead_load(world, b);
         let f = if b.fixed {
             fp + s.contact[k]
         } else {
-            let sigma = jet.d1.norm();
-            let t = jet.d1 / sigma;
+            let t = s.rows[k].t;
             let normal = |x: Vector3<f64>| x - t * x.dot(&t);
             let v = s.ds[k] / h;
             s.w[k] += v;
@@ -193,7 +187,7 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
             // bead follow the rod's bends and turning (the centripetal and
             // Coriolis forces, −m(ṡ²κn + 2ṡ ∂v/∂s⊥) in the limit) as
             // inelastic impulses, which never add energy.
-            let across = normal(s.v_b[k] - jet.velocity);
+            let across = normal(s.v_b[k] - s.v_rod[k]);
             // The neighbours' push across the rod goes to the rod: with
             // the part along it (in Δs) the pair's forces are equal and
             // opposite along the line of centres, so they do no work.
@@ -212,7 +206,7 @@ fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
             b.step_ds = s.ds[k];
             b.step_w = s.w[k];
             b.rod_force = s.force[k].into();
-            b.step_t = (s.jets[k].d1 / s.jets[k].d1.norm()).into();
+            b.step_t = s.rows[k].t.into();
         }
     }
     Ok(())

@@ -23,7 +23,17 @@ impl Rod {
     /// the price of one `eval`.
     pub fn jet(&self, u: f64) -> Result<Jet> {
         let (ctrl, b) = self.basis_at(u)?;
-        Ok(self.jet_from(&ctrl, &b))
+        let mut j = Jet::default();
+        for (k, &i) in ctrl.iter().enumerate() {
+            let (q, v) = (&self.q[i * self.dofs..i * self.dofs + 3], &self.v[i * self.dofs..i * self.dofs + 3]);
+            let (q, v) = (Vector3::new(q[0], q[1], q[2]), Vector3::new(v[0], v[1], v[2]));
+            j.position += q * b[0][k];
+            j.d1 += q * b[1][k];
+            j.d2 += q * b[2][k];
+            j.velocity += v * b[0][k];
+            j.d_velocity += v * b[1][k];
+        }
+        Ok(j)
     }
 
     /// r, r′ and the velocity (what the bead passes read) from a basis
@@ -39,22 +49,6 @@ impl Rod {
             v += w * b[0][k];
         }
         (x, d1, v)
-    }
-
-    /// [`Jet`] from a basis already evaluated ([`Rod::basis_at`]) with the
-    /// current coordinates and velocities.
-    pub(crate) fn jet_from(&self, ctrl: &[usize; 4], b: &[[f64; 4]; 4]) -> Jet {
-        let mut j = Jet::default();
-        for (k, &i) in ctrl.iter().enumerate() {
-            let (q, v) = (&self.q[i * self.dofs..i * self.dofs + 3], &self.v[i * self.dofs..i * self.dofs + 3]);
-            let (q, v) = (Vector3::new(q[0], q[1], q[2]), Vector3::new(v[0], v[1], v[2]));
-            j.position += q * b[0][k];
-            j.d1 += q * b[1][k];
-            j.d2 += q * b[2][k];
-            j.velocity += v * b[0][k];
-            j.d_velocity += v * b[1][k];
-        }
-        j
     }
 
     /// The abscissa of the rod's point nearest `x`, and its distance
