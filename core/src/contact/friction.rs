@@ -122,8 +122,9 @@ impl Friction {
     /// Before an assembly: the step's starting position; while sticking
     /// the stick rows about the anchor (taken now if there is none, moved
     /// along the rods if the pair moved to other abscissae), while slipping
-    /// the slip force −μ N ŝ from the pair's last normal force `normal`.
-    pub(crate) fn prepare(&mut self, g: &Geometry, rods: [&Rod; 2], step: u64, normal: f64) -> Result<()> {
+    /// the slip force −μ N ŝ from the pair's last normal force `normal`;
+    /// `compliance`: the stick rows' ([`stick_compliance`] of the pair's rods).
+    pub(crate) fn prepare(&mut self, g: &Geometry, rods: [&Rod; 2], step: u64, normal: f64, compliance: f64) -> Result<()> {
         if self.start.is_none_or(|a| a.1 != step) {
             self.start = Some((g.relative.into(), step, [g.ua, g.ub.unwrap_or(0.0)]));
         }
@@ -150,7 +151,7 @@ impl Friction {
             }
         };
         self.anchor = Some((anchor.into(), [g.ua, ub]));
-        self.compliance = stick_compliance(rods[0])? + if g.ub.is_some() { stick_compliance(rods[1])? } else { 0.0 };
+        self.compliance = compliance;
         self.rows = Some(match g.ub {
             Some(ub) => RelativeAxis { ua: g.ua, ub, offset: anchor.into(), direction: g.normal.into() }.into(),
             None => Axis { u: g.ua, origin: anchor.into(), direction: g.normal.into() }.into(),

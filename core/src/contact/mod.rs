@@ -28,6 +28,7 @@ pub mod capsule;
 pub mod friction;
 pub mod mesh;
 pub mod obstacle;
+pub(crate) mod broad;
 pub mod rods;
 
 use crate::constraint::ConstraintKind;

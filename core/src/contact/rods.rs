@@ -22,12 +22,16 @@ use super::{ContactDetector, ContactPair, ContactSet};
 use crate::constraint::kinds::contact::closest_points_within;
 use crate::constraint::kinds::Contact;
 use crate::constraint::ConstraintKind;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::handles::RodHandle;
 use crate::rod::Rod;
 use nalgebra::Vector3;
+use super::broad::{Bounds, Cell, CellHasher, Runs};
 use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
+use std::hash::BuildHasherDefault;
+
+/// Rows kept, keyed by their rod pair and grid cell.
+type Kept<V> = HashMap<(RodHandle, RodHandle, Cell), V, BuildHasherDefault<CellHasher>>;
 use std::f64::consts::PI;
 
 /// Which contacts to detect, and how early (`margin`, length unit: pairs
@@ -99,47 +103,6 @@ fn capsules(index: usize, rod: &Rod, out: &mut Vec<Capsule>) -> Result<f64> {
     Ok(arc)
 }
 
-/// A grid cell's indices, hashed as three words (the array's own `Hash`
-/// goes through a byte slice, several times slower here).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-struct Cell([i64; 3]);
-
-impl std::hash::Hash for Cell {
-    fn hash<H: Hasher>(&self, state: &mut H) {
-        for x in self.0 {
-            state.write_i64(x);
-        }
-    }
-}
-
-/// A fast hasher for grid cells (three small integers; SipHash's
-/// resistance to adversarial keys buys nothing here).
-#[derive(Default)]
-struct CellHasher(u64);
-
-impl Hasher for CellHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for &b in bytes {
-            self.write_u64(b as u64);
-        }
-    }
-    fn write_i64(&mut self, x: i64) {
-        self.write_u64(x as u64);
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    fn write_usize(&mut self, x: usize) {
-        self.write_u64(x as u64);
-    }
-    fn write_u32(&mut self, x: u32) {
-        self.write_u64(x as u64);
-    }
-}
-
 impl ContactDetector for RodContacts {
     fn detect(&self, rods: &[(RodHandle, &Rod)], out: &mut ContactSet) -> Result<()> {
         if !self.self_contact && !self.between_rods {
@@ -149,97 +112,87 @@ impl ContactDetector for RodContacts {
         let exclusion = |reach: f64| (PI * reach).max(0.5 * PI * (reach + self.margin));
         let mut caps = Vec::new();
         let mut chain = Vec::with_capacity(rods.len());
+        let mut rod_ranges = Vec::with_capacity(rods.len());
         for (i, (_, rod)) in rods.iter().enumerate() {
+            let first = caps.len();
             chain.push(capsules(i, rod, &mut caps)?);
+            rod_ranges.push((first, caps.len()));
         }
         if caps.is_empty() {
             return Ok(());
         }
-        // Grid cells larger than any capsule plus the reach: a touching
-        // pair's midpoints are then in neighbouring cells.
-        let rmax = caps.iter().map(|c| c.radius).fold(0.0, f64::max);
-        let lmax = caps.iter().map(|c| (c.q - c.p).norm()).fold(0.0, f64::max);
-        let cell = lmax + 2.0 * rmax + self.margin;
-        if !(cell > 0.0) || !cell.is_finite() {
-            return Err(Error::input("contact detection: the rods have no extent (zero capsule length and radius)"));
-        }
-        let key = |c: &Capsule| {
-            let m = 0.5 * (c.p + c.q) / cell;
-            [m.x.floor() as i64, m.y.floor() as i64, m.z.floor() as i64]
-        };
-        // Capsules sorted by cell; each occupied cell a range of them.
-        let keys: Vec<Cell> = caps.iter().map(|c| Cell(key(c))).collect();
-        let mut order: Vec<(Cell, usize)> = keys.iter().enumerate().map(|(i, k)| (*k, i)).collect();
-        order.sort_unstable();
-        let mut cells: HashMap<Cell, (usize, usize), BuildHasherDefault<CellHasher>> = HashMap::default();
-        let mut first = 0;
-        for k in 1..=order.len() {
-            if k == order.len() || order[k].0 != order[first].0 {
-                cells.insert(order[first].0, (first, k));
-                first = k;
-            }
-        }
         // Each capsule's box grown by its radius and half the margin: two
         // capsules can be within reach only if their boxes overlap.
         let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
-        let boxes: Vec<(Vector3<f64>, Vector3<f64>)> = caps.iter().map(|c| (c.p.inf(&c.q) - grow(c), c.p.sup(&c.q) + grow(c))).collect();
+        let boxes: Vec<Bounds> = caps.iter().map(|c| Bounds { lo: c.p.inf(&c.q) - grow(c), hi: c.p.sup(&c.q) + grow(c) }).collect();
         // Arc length between two capsules of one rod (around a ring).
         let along = |a: &Capsule, b: &Capsule| {
             let d = (b.sa - a.sa).abs();
             if rods[a.rod].1.is_closed() { d.min(chain[a.rod] - d) } else { d }
         };
-        // Candidates (every pair of neighbouring cells visited once: a cell
-        // with itself and with the 13 cells after it).
+        // The exact test of one capsule pair (i < j): boxes, which pairs are
+        // asked for, a rod's own neighbourhood, the closest points.
         let mut found: Vec<(usize, usize, f64, f64, f64)> = Vec::new();
-        const FORWARD: [[i64; 3]; 14] = [
-            [0, 0, 0], [1, 0, 0], [-1, 1, 0], [0, 1, 0], [1, 1, 0], [-1, -1, 1], [0, -1, 1],
-            [1, -1, 1], [-1, 0, 1], [0, 0, 1], [1, 0, 1], [-1, 1, 1], [0, 1, 1], [1, 1, 1],
-        ];
-        for &(lo, hi) in cells.values() {
-            let k = keys[order[lo].1].0;
-            for d in FORWARD {
-                let Some(&(lo2, hi2)) = cells.get(&Cell([k[0] + d[0], k[1] + d[1], k[2] + d[2]])) else { continue };
-                let same_cell = d == [0, 0, 0];
-                for x in lo..hi {
-                    let start = if same_cell { x + 1 } else { lo2 };
-                    for y in start..hi2 {
-                        let (i, j) = (order[x].1.min(order[y].1), order[x].1.max(order[y].1));
-                        let (a, b) = (&caps[i], &caps[j]);
-                        let (ba, bb) = (&boxes[i], &boxes[j]);
-                        if (0..3).any(|t| ba.0[t] > bb.1[t] || bb.0[t] > ba.1[t]) {
-                            continue;
-                        }
-                        let same = a.rod == b.rod;
-                        if (same && !self.self_contact) || (!same && !self.between_rods) {
-                            continue;
-                        }
-                        let reach = a.radius + b.radius;
-                        // A straight stretch has points at distance d at arc
-                        // d: the margin's candidates need the rod to have
-                        // turned back, half a circle at least.
-                        if same && (along(a, b) < exclusion(reach) || j == i + 1) {
-                            continue;
-                        }
-                        let (s, t, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
-                        if dist < reach + self.margin {
-                            found.push((i, j, s, t, dist));
-                        }
+        let test = |i: usize, j: usize, found: &mut Vec<(usize, usize, f64, f64, f64)>| {
+            let (a, b) = (&caps[i], &caps[j]);
+            if !boxes[i].overlaps(&boxes[j]) {
+                return;
+            }
+            let same = a.rod == b.rod;
+            if (same && !self.self_contact) || (!same && !self.between_rods) {
+                return;
+            }
+            let reach = a.radius + b.radius;
+            // A straight stretch has points at distance d at arc d: the
+            // margin's candidates need the rod to have turned back, half a
+            // circle at least.
+            if same && (along(a, b) < exclusion(reach) || j == i + 1) {
+                return;
+            }
+            let (s, t, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
+            if dist < reach + self.margin {
+                found.push((i, j, s, t, dist));
+            }
+        };
+        let runs = Runs::new(&boxes, &rod_ranges)?;
+        // The capsules' own cells, as large as any capsule plus the reach:
+        // the order of the pairs reads the direction from one to the other
+        // in this grid (the one they were once found on).
+        let rmax = caps.iter().map(|c| c.radius).fold(0.0, f64::max);
+        let lmax = caps.iter().map(|c| (c.q - c.p).norm()).fold(0.0, f64::max);
+        let fine = lmax + 2.0 * rmax + self.margin;
+        let fine_key = |c: &Capsule| {
+            let m = 0.5 * (c.p + c.q) / fine;
+            [m.x.floor() as i64, m.y.floor() as i64, m.z.floor() as i64]
+        };
+        let fine_keys: Vec<[i64; 3]> = caps.iter().map(fine_key).collect();
+        let direction = |i: usize, j: usize| {
+            let (a, b) = (fine_keys[i], fine_keys[j]);
+            (b[0] - a[0] + 1) * 9 + (b[1] - a[1] + 1) * 3 + (b[2] - a[2] + 1)
+        };
+        // Run by run in the capsules' order, with itself and the later runs
+        // whose boxes overlap it (each pair of runs once): the pairs come
+        // out along the first capsule's rod; within a run they are put in
+        // a deterministic order — by the direction of the partner's cell,
+        // then along the partner's rod (the order of a scan capsule by
+        // capsule; it decides ties below, and the plectoneme's closest
+        // approach moves from 0.94 to 0.80 diameters with them).
+        let mut local: Vec<(usize, i64, usize, f64, f64, f64)> = Vec::new();
+        let mut local_found = Vec::new();
+        let mut partners = Vec::new();
+        for a in 0..runs.len() {
+            runs.partners(a, &mut partners);
+            for &b in &partners {
+                for i in runs.capsules(a) {
+                    for j in runs.capsules(b).filter(|&j| b != a || j > i) {
+                        test(i, j, &mut local_found);
                     }
                 }
             }
+            local.extend(local_found.drain(..).map(|(i, j, s, t, d)| (i, direction(i, j), j, s, t, d)));
+            local.sort_unstable_by(|x, y| (x.0, x.1, x.2).cmp(&(y.0, y.1, y.2)));
+            found.extend(local.drain(..).map(|(i, _, j, s, t, d)| (i, j, s, t, d)));
         }
-        // A deterministic order whatever the hash map's iteration order:
-        // along the first capsule's rod, then by the direction of the
-        // partner's cell, then along the partner's rod (the order of a scan
-        // capsule by capsule; it decides ties below, and the plectoneme's
-        // closest approach moves from 0.94 to 0.80 diameters with them).
-        let direction = |i: usize, j: usize| {
-            let (a, b) = (keys[i].0, keys[j].0);
-            (b[0] - a[0] + 1) * 9 + (b[1] - a[1] + 1) * 3 + (b[2] - a[2] + 1)
-        };
-        let mut sorted: Vec<(usize, i64, usize, usize)> = found.iter().enumerate().map(|(n, f)| (f.0, direction(f.0, f.1), f.1, n)).collect();
-        sorted.sort_unstable();
-        let found: Vec<(usize, usize, f64, f64, f64)> = sorted.iter().map(|x| found[x.3]).collect();
         // Each capsule's nearest partner on every strand passing by, ties to
         // the first in that order (parallel strands give equal distances).
         // Partners on one rod farther apart along it than the shortest loop
@@ -262,11 +215,11 @@ impl ContactDetector for RodContacts {
         let nearest = |i: usize, j: usize| best[i].iter().any(|(k, _)| *k == j);
         // Half a segment's length along each rod (its chain over its segments).
         let spacing: Vec<f64> = rods.iter().zip(&chain).map(|((_, r), l)| 0.5 * l / r.n_segments().max(1) as f64).collect();
-        // Rows kept, by rod pair and grid cell (as large as the largest
-        // duplicate distance, so a duplicate is in a neighbouring cell).
-        let dup_cell = spacing.iter().copied().fold(0.5 * rmax, f64::max);
-        type Kept = HashMap<(RodHandle, RodHandle, Cell), Vec<(Vector3<f64>, Vector3<f64>)>, BuildHasherDefault<CellHasher>>;
-        let mut kept: Kept = HashMap::default();
+        // Rows kept, by rod pair and grid cell (twice the largest duplicate
+        // distance: the points within it of a row are in at most two cells
+        // along each axis).
+        let dup_cell = 2.0 * spacing.iter().copied().fold(0.5 * rmax, f64::max);
+        let mut kept: Kept<Vec<(Vector3<f64>, Vector3<f64>)>> = Kept::default();
         // A capsule's span grown by a segment each way: the chords may pick
         // a capsule next to the one holding a crossing's touching point, and
         // a row held inside the chord's own span then pushes at a slant (a
@@ -320,13 +273,13 @@ impl ContactDetector for RodContacts {
             // One orientation for both (a, b) and (b, a): the lower (rod, u) first.
             let ((h0, p0, s0), (h1, p1, s1)) =
                 if (handles[0], c.ua) <= (handles[1], c.ub) { ((handles[0], pa, sa), (handles[1], pb, sb)) } else { ((handles[1], pb, sb), (handles[0], pa, sa)) };
-            let cell_of = |p: &Vector3<f64>| [(p.x / dup_cell).floor() as i64, (p.y / dup_cell).floor() as i64, (p.z / dup_cell).floor() as i64];
-            let k = cell_of(&p0);
+            let cell_of = |p: Vector3<f64>| [(p.x / dup_cell).floor() as i64, (p.y / dup_cell).floor() as i64, (p.z / dup_cell).floor() as i64];
+            let (lo, hi) = (cell_of(p0 - Vector3::repeat(s0)), cell_of(p0 + Vector3::repeat(s0)));
             let mut duplicate = false;
-            'search: for dx in -1..=1 {
-                for dy in -1..=1 {
-                    for dz in -1..=1 {
-                        let Some(list) = kept.get(&(h0, h1, Cell([k[0] + dx, k[1] + dy, k[2] + dz]))) else { continue };
+            'search: for x in lo[0]..=hi[0] {
+                for y in lo[1]..=hi[1] {
+                    for z in lo[2]..=hi[2] {
+                        let Some(list) = kept.get(&(h0, h1, Cell([x, y, z]))) else { continue };
                         if list.iter().any(|(q0, q1): &(Vector3<f64>, Vector3<f64>)| (q0 - p0).norm() < s0 && (q1 - p1).norm() < s1) {
                             duplicate = true;
                             break 'search;
@@ -335,7 +288,7 @@ impl ContactDetector for RodContacts {
                 }
             }
             if !duplicate {
-                kept.entry((h0, h1, Cell(k))).or_default().push((p0, p1));
+                kept.entry((h0, h1, Cell(cell_of(p0)))).or_default().push((p0, p1));
                 chosen.push((handles, c));
             }
         }

@@ -222,9 +222,19 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
     }
     let previous = if detectors.is_empty() { Vec::new() } else { std::mem::take(&mut contacts.pairs) };
     if !detectors.is_empty() {
-        let list: Vec<_> = rod_arena.iter().map(|(i, r)| (i.into(), r)).collect();
-        for d in detectors.iter() {
-            d.detect(&list, contacts)?;
+        let cache = &mut ws.detected;
+        if cache.reuse && cache.valid {
+            contacts.pairs.extend(cache.pairs.iter().cloned());
+        } else {
+            let list: Vec<_> = rod_arena.iter().map(|(i, r)| (i.into(), r)).collect();
+            for d in detectors.iter() {
+                d.detect(&list, contacts)?;
+            }
+            if cache.reuse {
+                cache.pairs.clear();
+                cache.pairs.extend(contacts.pairs.iter().cloned());
+                cache.valid = true;
+            }
         }
     } else {
         // Pairs added by hand (or restored) with no detector to refresh
@@ -251,10 +261,23 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
     }
     ws.carry = carry.order;
     // Friction: the anchor of the step and the stick rows of active pairs.
+    ws.stick.clear();
     for p in contacts.pairs.iter_mut() {
         if let (Some(f), Some(a), Some(b)) = (&mut p.friction, rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
             if p.active {
-                f.prepare(&crate::contact::friction::geometry(&p.kind, [a, b])?, [a, b], *steps, p.force)?;
+                let g = crate::contact::friction::geometry(&p.kind, [a, b])?;
+                let mut compliance = |h: crate::handles::RodHandle, rod: &Rod| -> Result<f64> {
+                    let k = h.index as usize;
+                    if ws.stick.len() <= k {
+                        ws.stick.resize(k + 1, f64::NAN);
+                    }
+                    if ws.stick[k].is_nan() {
+                        ws.stick[k] = crate::contact::friction::stick_compliance(rod)?;
+                    }
+                    Ok(ws.stick[k])
+                };
+                let c = compliance(p.rods[0], a)? + if g.ub.is_some() { compliance(p.rods[1], b)? } else { 0.0 };
+                f.prepare(&g, [a, b], *steps, p.force, c)?;
             } else {
                 f.reset();
             }

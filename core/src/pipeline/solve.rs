@@ -104,6 +104,15 @@ fn involved(world: &World, unknown: &Unknown, out: &mut Vec<crate::handles::Cons
 /// push through its gap enters it, and the system is solved again. Returns
 /// the elastic energy and the solve.
 pub(crate) fn assemble_and_solve(world: &mut World, regime: Regime) -> Result<(f64, Solved)> {
+    // The rods stay where they are through the rounds: one detection.
+    world.ws.detected = crate::system::workspace::Detected { reuse: true, valid: false, pairs: std::mem::take(&mut world.ws.detected.pairs) };
+    let out = settle_and_solve(world, regime);
+    world.ws.detected.reuse = false;
+    world.ws.detected.valid = false;
+    out
+}
+
+fn settle_and_solve(world: &mut World, regime: Regime) -> Result<(f64, Solved)> {
     world.ws.blocked.clear();
     if !world.contacts.is_empty() {
         activate_touching(world)?;

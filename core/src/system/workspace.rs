@@ -63,6 +63,12 @@ pub struct Workspace {
     pub(crate) radii: Vec<f64>,
     /// The contact carry-over's buffer (`pipeline::assemble::Carry`).
     pub(crate) carry: Vec<(crate::handles::RodHandle, crate::handles::RodHandle, f64, usize)>,
+    /// Detected pairs kept across the active-set rounds of one
+    /// [`crate::pipeline::solve::assemble_and_solve`] (see [`Detected`]).
+    pub(crate) detected: Detected,
+    /// Each rod's stick compliance this assembly, by arena slot (NaN: not
+    /// yet computed; it scans the rod's sections).
+    pub(crate) stick: Vec<f64>,
     /// Sliders that left their rod in the last solve.
     pub(crate) left: Vec<Index>,
     /// Averaged break measures of this step, written back after the
@@ -97,4 +103,15 @@ impl Clone for Workspace {
     fn clone(&self) -> Self {
         Workspace::default()
     }
+}
+
+/// The contact pairs as the detectors found them, before the active set's
+/// carry-over. Between the rounds of one assemble-and-solve the rods do not
+/// move, so detection would find the same pairs again: `reuse` is on only
+/// within such a call, `pairs` valid once its first assembly has detected.
+#[derive(Debug, Default)]
+pub(crate) struct Detected {
+    pub(crate) reuse: bool,
+    pub(crate) valid: bool,
+    pub(crate) pairs: Vec<crate::contact::ContactPair>,
 }
