@@ -132,6 +132,11 @@ impl Runs {
         self.runs[a].0..self.runs[a].1
     }
 
+    /// Run `a`'s box.
+    pub fn bounds(&self, a: usize) -> &Bounds {
+        &self.runs[a].2
+    }
+
     /// The runs `b ≥ a` whose boxes overlap run `a`'s (`a` itself
     /// included), into `out`: over all `a`, each overlapping pair once.
     pub fn partners(&self, a: usize, out: &mut Vec<usize>) {

@@ -19,7 +19,7 @@
 //! are never paired.
 use super::capsule::closest_on_segments;
 use super::{ContactDetector, ContactPair, ContactSet};
-use crate::constraint::kinds::contact::closest_points_within;
+use crate::constraint::kinds::contact::closest_points_and_positions_within;
 use crate::constraint::kinds::Contact;
 use crate::constraint::ConstraintKind;
 use crate::error::Result;
@@ -179,12 +179,21 @@ impl ContactDetector for RodContacts {
         // approach moves from 0.94 to 0.80 diameters with them).
         let mut local: Vec<(usize, i64, usize, f64, f64, f64)> = Vec::new();
         let mut local_found = Vec::new();
-        let mut partners = Vec::new();
+        let (mut partners, mut near_b) = (Vec::new(), Vec::new());
         for a in 0..runs.len() {
             runs.partners(a, &mut partners);
+            let rod_a = caps[runs.capsules(a).start].rod;
             for &b in &partners {
-                for i in runs.capsules(a) {
-                    for j in runs.capsules(b).filter(|&j| b != a || j > i) {
+                let same = rod_a == caps[runs.capsules(b).start].rod;
+                if (same && !self.self_contact) || (!same && !self.between_rods) {
+                    continue;
+                }
+                // Only the capsules of each run within the other's box.
+                let (box_a, box_b) = (runs.bounds(a), runs.bounds(b));
+                near_b.clear();
+                near_b.extend(runs.capsules(b).filter(|&j| boxes[j].overlaps(box_a)));
+                for i in runs.capsules(a).filter(|&i| boxes[i].overlaps(box_b)) {
+                    for &j in near_b.iter().filter(|&&j| b != a || j > i) {
                         test(i, j, &mut local_found);
                     }
                 }
@@ -244,9 +253,8 @@ impl ContactDetector for RodContacts {
             let (ra, rb) = (rods[a.rod].1, rods[b.rod].1);
             // Started unwrapped, inside the windows (a ring's last capsule
             // runs past the period end); the result comes back wrapped.
-            let (ua, ub) = closest_points_within(ra, rb, a.ua + s * (a.ub - a.ua), b.ua + t * (b.ub - b.ua), window(ra, a), window(rb, b))?;
+            let (ua, ub, pa, pb) = closest_points_and_positions_within(ra, rb, a.ua + s * (a.ub - a.ua), b.ua + t * (b.ub - b.ua), window(ra, a), window(rb, b))?;
             let c = Contact { ua, ub, distance: a.radius + b.radius };
-            let (pa, pb) = (ra.position(c.ua)?, rb.position(c.ub)?);
             if a.rod == b.rod {
                 // The projection may slide a self pair along the rod onto
                 // itself: keep it only if it still closes a loop.

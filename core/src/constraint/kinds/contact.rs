@@ -77,24 +77,36 @@ pub fn closest_points(a: &Rod, b: &Rod, ua: f64, ub: f64) -> Result<(f64, f64)> 
 /// strands lying side by side the distance is nearly flat, and an unbounded
 /// search slid every row to the few places where the strands sag most,
 /// leaving them to sag into each other between (SPEC §7).
-pub fn closest_points_within(a: &Rod, b: &Rod, mut ua: f64, mut ub: f64, wa: (f64, f64), wb: (f64, f64)) -> Result<(f64, f64)> {
+pub fn closest_points_within(a: &Rod, b: &Rod, ua: f64, ub: f64, wa: (f64, f64), wb: (f64, f64)) -> Result<(f64, f64)> {
+    closest_points_and_positions_within(a, b, ua, ub, wa, wb).map(|(ua, ub, _, _)| (ua, ub))
+}
+
+/// [`closest_points_within`] with the two points' positions: each
+/// evaluation of a rod serves both its own Newton step and the other
+/// rod's target.
+pub fn closest_points_and_positions_within(a: &Rod, b: &Rod, mut ua: f64, mut ub: f64, wa: (f64, f64), wb: (f64, f64)) -> Result<(f64, f64, Vector3<f64>, Vector3<f64>)> {
     let v3 = |d: [f64; 4]| Vector3::new(d[0], d[1], d[2]);
     let at = |rod: &Rod, u: f64| if rod.is_closed() { rod.knots().wrap(u) } else { u };
-    let newton = |rod: &Rod, u: f64, w: (f64, f64), target: Vector3<f64>| -> Result<f64> {
-        let [r0, r1, r2] = rod.eval_012(at(rod, u))?;
-        let (d, r1, r2) = (v3(r0) - target, v3(r1), v3(r2));
+    // One Newton step of `u` towards `target`, from the rod's position and
+    // first two derivatives `e` at u.
+    let newton = |e: &[[f64; 4]; 3], u: f64, w: (f64, f64), target: Vector3<f64>| {
+        let (d, r1, r2) = (v3(e[0]) - target, v3(e[1]), v3(e[2]));
         let h = r1.dot(&r1) + d.dot(&r2);
-        Ok(if h > 0.0 { (u - d.dot(&r1) / h).clamp(w.0, w.1) } else { u })
+        if h > 0.0 { (u - d.dot(&r1) / h).clamp(w.0, w.1) } else { u }
     };
     ua = ua.clamp(wa.0, wa.1);
     ub = ub.clamp(wb.0, wb.1);
+    let mut ea = a.eval_012(at(a, ua))?;
+    let mut eb = b.eval_012(at(b, ub))?;
     for _ in 0..30 {
         let (oa, ob) = (ua, ub);
-        ua = newton(a, ua, wa, v3(b.eval(at(b, ub), 0)?))?;
-        ub = newton(b, ub, wb, v3(a.eval(at(a, ua), 0)?))?;
+        ua = newton(&ea, ua, wa, v3(eb[0]));
+        ea = a.eval_012(at(a, ua))?;
+        ub = newton(&eb, ub, wb, v3(ea[0]));
+        eb = b.eval_012(at(b, ub))?;
         if (ua - oa).abs() + (ub - ob).abs() < 1e-14 * (1.0 + ua.abs() + ub.abs()) {
             break;
         }
     }
-    Ok((at(a, ua), at(b, ub)))
+    Ok((at(a, ua), at(b, ub), v3(ea[0]), v3(eb[0])))
 }
