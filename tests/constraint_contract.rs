@@ -96,6 +96,10 @@ fn examples(name: &str) -> Vec<Example> {
             ex(Two, RelativeAxis { ua: 2.1, ub: 5.4, offset: [0.1, -0.2, 0.05], direction: d }),
             ex(SameRod, RelativeAxis { ua: 0.9, ub: 3.7, offset: [0.0; 3], direction: d }),
         ],
+        "RelativePlane" => vec![
+            ex(Two, RelativePlane { ua: 2.1, ub: 5.4, offset: [0.1, -0.2, 0.05], normal: d }),
+            ex(SameRod, RelativePlane { ua: 0.9, ub: 3.7, offset: [0.0; 3], normal: d }),
+        ],
         "RelativeOrientation" => vec![
             ex(Two, RelativeOrientation { ua: 2.5, ub: 1.5, roll: true }),
             ex(SameRod, RelativeOrientation { ua: 1.0, ub: 1.8, roll: false }),
@@ -396,6 +400,10 @@ fn bad_parameters(k: &ConstraintKind) -> Vec<ConstraintKind> {
         ConstraintKind::RelativeAxis(r) => {
             push(RelativeAxis { direction: [0.0; 3], ..r.clone() }.into());
             push(RelativeAxis { offset: [0.0, nan, 0.0], ..r.clone() }.into());
+        }
+        ConstraintKind::RelativePlane(r) => {
+            push(RelativePlane { normal: [0.0; 3], ..r.clone() }.into());
+            push(RelativePlane { offset: [0.0, nan, 0.0], ..r.clone() }.into());
         }
         ConstraintKind::RelativeOrientation(_) => {} // no parameter beyond abscissae and a flag
         ConstraintKind::RelativeDistance(r) => {

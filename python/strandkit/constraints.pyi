@@ -6,7 +6,7 @@ from ._catalogue import Kind as Kind
 from ._native import ConstraintHandle, Rod, World
 
 CATALOGUE: List[dict]
-__all__ = ['Kind', 'kind', 'clamp', 'position', 'tangent', 'material_roll', 'distance', 'plane', 'axis', 'curvature', 'relative_position', 'relative_orientation', 'relative_distance', 'relative_axis', 'sliding_point', 'oriented_sliding_point', 'contact', 'coplanar_clamp', 'barycentric', 'base_pair_step', 'pair_stagger']
+__all__ = ['Kind', 'kind', 'clamp', 'position', 'tangent', 'material_roll', 'distance', 'plane', 'axis', 'curvature', 'relative_position', 'relative_orientation', 'relative_distance', 'relative_axis', 'relative_plane', 'sliding_point', 'oriented_sliding_point', 'contact', 'coplanar_clamp', 'barycentric', 'base_pair_step', 'pair_stagger']
 
 def kind(name: str, **fields) -> Kind:
     """Any core constraint kind by its Rust name, fields as given (numpy values become lists), e.g."""
@@ -42,6 +42,8 @@ def relative_distance(ua: float, ub: float, distance: float) -> Kind:
     """|r_a(ua) − r_b(ub)| = `distance` (length, > 0)."""
 def relative_orientation(ua: float, ub: float, roll: bool = False) -> Kind:
     """Tangents of rod a at ua and rod b at ub aligned (two rows), plus equal roll coordinates when `roll`."""
+def relative_plane(ua: float, ub: float, offset: Sequence[float] = (0.0, 0.0, 0.0), *, normal: Sequence[float]) -> Kind:
+    """Two points (rods a and b of World.add_link) move relative to each other only in the plane ⟂ `normal`: (r_a(ua) − r_b(ub) − `offset`)·normal = 0 (length; one row)."""
 def relative_position(ua: float, ub: float, offset: Sequence[float] = (0.0, 0.0, 0.0), *, axes: Union[str, Sequence[bool]] = 'xyz', roll_offset: Optional[float] = None) -> Kind:
     """Two points (rods a and b of World.add_link): q_a(ua) − q_b(ub) = `offset` (length) on the selected `axes` ("r": roll)."""
 def sliding_point(u: float, point: Sequence[float], friction: float = 0.0) -> Kind:

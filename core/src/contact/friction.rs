@@ -4,16 +4,19 @@
 //!   the normal, where it was at the start of the step (an
 //!   [`Axis`] against an obstacle, a [`RelativeAxis`] between rods); their
 //!   multipliers are the friction force;
-//! - **slip**: the rows go and the force −μ N ŝ (ŝ the direction of the
-//!   relative tangential motion, N the normal force) acts on rod a, its
-//!   opposite on rod b.
+//! - **slip**: the force −μ N ŝ (ŝ the direction of the relative
+//!   tangential motion, N the normal force) acts on rod a, its opposite on
+//!   rod b, and one compliant row across ŝ ([`RelativePlane`], or a
+//!   [`Plane`] against an obstacle) stands for the Coulomb force's
+//!   stiffness there, μ N / (the slide over the step): the direction is
+//!   then solved with the motion instead of lagging a solve behind.
 //!
 //! After each solve a sticking pair whose friction force leaves the cone
 //! |F_t| ≤ μ N starts slipping (ŝ opposite that force); a slipping pair
 //! whose motion over the step turned against ŝ sticks again; a slipping
 //! pair whose direction or normal force moved is solved again with them,
 //! so that the friction of a slipping pair is μ N of the same solve.
-use crate::constraint::kinds::{Axis, RelativeAxis};
+use crate::constraint::kinds::{Axis, Plane, RelativeAxis, RelativePlane};
 use crate::constraint::ConstraintKind;
 use crate::error::{Error, Result};
 use crate::rod::Rod;
@@ -55,12 +58,17 @@ pub struct Friction {
     /// (length/force; see [`stick_compliance`]).
     pub rows: Option<ConstraintKind>,
     pub compliance: f64,
+    /// While slipping: the length the pair slid over the step in the last
+    /// solve (length unit; 0 before its first), which sets the compliance
+    /// of its row across the slip direction (see [`Friction::prepare`]).
+    #[serde(default)]
+    pub slip_length: f64,
 }
 
 impl Friction {
     pub fn new(mu: f64) -> Result<Friction> {
         check_mu(mu)?;
-        Ok(Friction { mu, slip: None, anchor: None, start: None, force: [0.0; 3], normal: 0.0, rows: None, compliance: 0.0 })
+        Ok(Friction { mu, slip: None, anchor: None, start: None, force: [0.0; 3], normal: 0.0, rows: None, compliance: 0.0, slip_length: 0.0 })
     }
     /// Forgets the motion state (the pair left the active set).
     pub fn reset(&mut self) {
@@ -128,11 +136,27 @@ impl Friction {
         if self.start.is_none_or(|a| a.1 != step) {
             self.start = Some((g.relative.into(), step, [g.ua, g.ub.unwrap_or(0.0)]));
         }
-        if self.slip.is_some() {
+        if let Some(s) = self.slip {
+            let s = Vector3::from(s);
             self.anchor = None;
-            self.rows = None;
             self.normal = normal.max(0.0);
-            self.force = (-self.mu * self.normal * Vector3::from(self.slip.unwrap_or_default())).into();
+            let limit = self.mu * self.normal;
+            self.force = (-limit * s).into();
+            // Across the slip direction ŝ the Coulomb force −μN v/|v|
+            // linearised is a stiffness μN/|Δx| (Δx the slide over the
+            // step): one compliant row there, so that the direction is
+            // solved with the motion. Taken from the last solve, ŝ
+            // overshoots the true direction by a factor 1/ε when the drive
+            // exceeds μN by ε, and the rounds never settle.
+            let across = g.normal.cross(&s);
+            self.rows = (limit > 0.0 && across.norm() > 0.5).then(|| {
+                let e = across.normalize();
+                match g.ub {
+                    Some(ub) => RelativePlane { ua: g.ua, ub, offset: g.relative.into(), normal: e.into() }.into(),
+                    None => Plane { u: g.ua, origin: g.relative.into(), normal: e.into() }.into(),
+                }
+            });
+            self.compliance = if self.slip_length > 0.0 { self.slip_length / limit } else { compliance };
             return Ok(());
         }
         let ub = g.ub.unwrap_or(0.0);
@@ -195,6 +219,7 @@ impl Friction {
                 self.force = ft.into();
                 if ft.norm() > limit * (1.0 + 1e-9) {
                     self.slip = Some((-ft / ft.norm()).into());
+                    self.slip_length = 0.0;
                     return true;
                 }
                 false
@@ -206,12 +231,14 @@ impl Friction {
                     // The friction turned the motion back: it holds (from
                     // where the step started).
                     self.slip = None;
+                    self.slip_length = 0.0;
                     self.anchor = self.start.map(|(a, _, at)| (a, at));
                     return true;
                 }
                 let dir = mt / mt.norm();
                 let turned = (dir - s).norm() > SLIP_TOLERANCE;
                 self.slip = Some(dir.into());
+                self.slip_length = mt.norm();
                 turned || (normal - self.normal).abs() > SLIP_TOLERANCE * self.normal.max(f64::MIN_POSITIVE)
             }
             (None, None) => false,

@@ -114,7 +114,7 @@ fn place(
         if let Some(k) = p.friction.as_ref().and_then(|f| f.rows.as_ref()) {
             let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
             let t = k.touched(&[rods[a], rods[b]])?;
-            ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 2, n_extra: 0, touched: t.items, held: t.held, len: t.len });
+            ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: k.n_rows(), n_extra: 0, touched: t.items, held: t.held, len: t.len });
             ws.stick_ids.push(i);
         }
     }
@@ -247,7 +247,8 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
         }
     }
     // A pair detected again keeps its place in the active set (and its
-    // force): the active-set rounds re-assemble, and each assembly detects.
+    // force): the active-set rounds re-assemble (on the pairs of the first
+    // round's detection, `Workspace::detected`).
     // A pair taken out as dependent (see `solve::block_dependent_contact`) stays out.
     let carry = Carry::new(&previous, std::mem::take(&mut ws.carry));
     for p in contacts.pairs.iter_mut().filter(|p| !super::solve::is_blocked(rod_arena, &ws.blocked, p)) {
@@ -502,10 +503,10 @@ fn gather_and_assemble(
     for &i in &ws.stick_ids {
         let p = &contacts.pairs[i];
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
-        // Placed only for pairs with stick rows (see `place`).
-        let kind = p.friction.as_ref().and_then(|f| f.rows.as_ref()).expect("a sticking pair has its rows");
+        // Placed only for pairs with friction rows (see `place`).
+        let kind = p.friction.as_ref().and_then(|f| f.rows.as_ref()).expect("a placed pair has its friction rows");
         let compliance = p.friction.as_ref().map_or(0.0, |f| f.compliance);
-        crefs.push(ConstraintRef { rods: [a, b], kind, compliance, lambda: &[0.0, 0.0], slack: 0.0 });
+        crefs.push(ConstraintRef { rods: [a, b], kind, compliance, lambda: &[0.0, 0.0][..kind.n_rows()], slack: 0.0 });
     }
     let mut k = regime.coefficients();
     if params.overdamped && matches!(regime, Regime::Dynamic { .. } | Regime::Trapezoidal { .. }) {

@@ -10,7 +10,8 @@ use crate::world::World;
 
 /// Most re-solves one solve (a step, a Newton iterate) spends settling
 /// the contact active set. After [`crate::contact::friction::FREE_ROUNDS`]
-/// of them friction is held, and the rest go to the normal set alone.
+/// of them friction is held, and the rest go to the normal set alone, in
+/// which a pair that pulls leaves for good (see `Workspace::pulled`).
 const MAX_ACTIVE_SET_ROUNDS: usize = 15;
 
 /// Names unknown `g` of the system for error messages.
@@ -114,6 +115,7 @@ pub(crate) fn assemble_and_solve(world: &mut World, regime: Regime) -> Result<(f
 
 fn settle_and_solve(world: &mut World, regime: Regime) -> Result<(f64, Solved)> {
     world.ws.blocked.clear();
+    world.ws.pulled.clear();
     if !world.contacts.is_empty() {
         activate_touching(world)?;
     }
@@ -268,12 +270,19 @@ fn update_active_set(world: &mut World, freeze_friction: bool) -> Result<bool> {
         }
         Ok(d)
     };
+    let mut newly_pulled = Vec::new();
     for (i, p) in contacts.pairs.iter_mut().enumerate() {
         let (Some(a), Some(b)) = (rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) else { continue };
         if p.active {
             let force = -ws.sys.sol[row_of[i]];
             if force < 0.0 {
                 p.active = false;
+                // Held rounds settle the normal set alone; a pair pulling
+                // when in and pressed a little past its slack when out
+                // would go in and out until the rounds ran out.
+                if freeze_friction {
+                    newly_pulled.push(p.clone());
+                }
                 changed = true;
                 continue;
             }
@@ -282,8 +291,8 @@ fn update_active_set(world: &mut World, freeze_friction: bool) -> Result<bool> {
                 let g = crate::contact::friction::geometry(&p.kind, [a, b])?;
                 let stick = match (stick_of[i], &f.rows) {
                     (k, Some(kind)) if k != usize::MAX => {
-                        let lambda = [-ws.sys.sol[k], -ws.sys.sol[k + 1]];
-                        Some(nalgebra::Vector3::from(kind.reaction(&[a, b], &lambda)?.force))
+                        let lambda = [-ws.sys.sol[k], -ws.sys.sol.get(k + 1).copied().unwrap_or(0.0)];
+                        Some(nalgebra::Vector3::from(kind.reaction(&[a, b], &lambda[..kind.n_rows()])?.force))
                     }
                     _ => None,
                 };
@@ -298,7 +307,7 @@ fn update_active_set(world: &mut World, freeze_friction: bool) -> Result<bool> {
             }
             continue;
         }
-        if is_blocked(rods, &ws.blocked, p) {
+        if is_blocked(rods, &ws.blocked, p) || is_blocked(rods, &ws.pulled, p) {
             continue;
         }
         p.kind.linearize(&[a, b], &mut rows[..1])?;
@@ -310,6 +319,7 @@ fn update_active_set(world: &mut World, freeze_friction: bool) -> Result<bool> {
             changed = true;
         }
     }
+    ws.pulled.extend(newly_pulled);
     Ok(changed)
 }
 
@@ -572,15 +582,17 @@ pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) ->
     for (k, &i) in ws.contact_ids.iter().enumerate() {
         contacts.pairs[i].force = -ws.sys.sol[ws.layout.row_index[nc + k]];
     }
-    // Sticking pairs: their rows' multipliers are the friction force.
+    // Sticking pairs: their rows' multipliers are the friction force;
+    // slipping ones: −μ N ŝ plus their row's across ŝ.
     let np = ws.contact_ids.len();
     for (k, &i) in ws.stick_ids.iter().enumerate() {
         let p = &mut contacts.pairs[i];
         let r0 = ws.layout.row_index[nc + np + k];
-        let lambda = [-ws.sys.sol[r0], -ws.sys.sol[r0 + 1]];
+        let lambda = [-ws.sys.sol[r0], -ws.sys.sol.get(r0 + 1).copied().unwrap_or(0.0)];
         if let (Some(f), Some(a), Some(b)) = (&mut p.friction, rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) {
-            if let Some(Ok(r)) = f.rows.as_ref().map(|kind| kind.reaction(&[a, b], &lambda)) {
-                f.force = r.force;
+            if let Some(Ok(r)) = f.rows.as_ref().map(|kind| kind.reaction(&[a, b], &lambda[..kind.n_rows()])) {
+                let slip = f.slip.map_or(nalgebra::Vector3::zeros(), |s| -f.mu * f.normal * nalgebra::Vector3::from(s));
+                f.force = (slip + nalgebra::Vector3::from(r.force)).into();
             }
         }
     }

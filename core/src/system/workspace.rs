@@ -49,13 +49,17 @@ pub struct Workspace {
     /// Contact pairs in the system (indices into the contact set), after
     /// the constraints.
     pub(crate) contact_ids: Vec<usize>,
-    /// Sticking pairs (indices into the contact set), whose two friction
-    /// rows follow the contacts' normal rows.
+    /// Pairs with friction rows (indices into the contact set): two for a
+    /// sticking pair, one across the slip direction for a slipping one;
+    /// they follow the contacts' normal rows.
     pub(crate) stick_ids: Vec<usize>,
     /// Contact pairs whose row the factorisation found dependent on the
     /// others (a point an anchor already holds against an obstacle): kept
     /// out of the active set for the rest of the solve.
     pub(crate) blocked: Vec<crate::contact::ContactPair>,
+    /// Contact pairs that left the active set in the held rounds of the
+    /// current solve (their multiplier pulled): kept out for the rest of it.
+    pub(crate) pulled: Vec<crate::contact::ContactPair>,
     /// The last assembly let contact rows hold a slight penetration
     /// (`assemble::CONTACT_SLACK`: implicit Euler steps).
     pub(crate) contact_slack: bool,

@@ -105,6 +105,7 @@ constraint_kinds! {
     relative_orientation::RelativeOrientation,
     relative_distance::RelativeDistance,
     relative_axis::RelativeAxis,
+    relative_plane::RelativePlane,
     sliding_point::SlidingPoint,
     oriented_sliding_point::OrientedSlidingPoint,
     contact::Contact,
