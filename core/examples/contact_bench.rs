@@ -54,19 +54,16 @@ fn main() {
     with.add_contact_detector(detector.clone()).expect("valid detector");
     let capsules: usize = bare.rods().map(|(_, r)| r.sample_params().len() + 1).sum();
     let best = |f: &mut dyn FnMut() -> f64| (0..runs).map(|_| f()).fold(f64::INFINITY, f64::min);
-    let detect = best(&mut || {
-        let list: Vec<_> = bare.rods().collect();
+    // Detection alone on `w`'s rods (seconds) and the pairs it found.
+    let time_detection = |w: &World| {
+        let list: Vec<_> = w.rods().collect();
         let mut set = ContactSet::default();
         let t = Instant::now();
         detector.detect(&list, &mut set).expect("detection");
-        t.elapsed().as_secs_f64()
-    });
-    let pairs = {
-        let list: Vec<_> = bare.rods().collect();
-        let mut set = ContactSet::default();
-        detector.detect(&list, &mut set).expect("detection");
-        set.len()
+        (t.elapsed().as_secs_f64(), set.len())
     };
+    let detect = best(&mut || time_detection(&bare).0);
+    let pairs = time_detection(&bare).1;
     if std::env::args().any(|a| a == "--detect-only") {
         println!("{capsules} capsules, {pairs} pairs: detection {:.2} ms ({:.3} µs per capsule)", 1e3 * detect, 1e6 * detect / capsules as f64);
         return;
@@ -78,13 +75,7 @@ fn main() {
     });
     if std::env::args().any(|a| a == "--bare") {
         // Detection and the contact-free step, alternated in one run.
-        let detect = best(&mut || {
-            let list: Vec<_> = bare.rods().collect();
-            let mut set = ContactSet::default();
-            let t = Instant::now();
-            detector.detect(&list, &mut set).expect("detection");
-            t.elapsed().as_secs_f64()
-        });
+        let detect = best(&mut || time_detection(&bare).0);
         let step = best(&mut || {
             let t = Instant::now();
             bare.step().expect("step");

@@ -6,17 +6,17 @@
 //!   multipliers are the friction force;
 //! - **slip**: the force −μ N ŝ (ŝ the direction of the relative
 //!   tangential motion, N the normal force) acts on rod a, its opposite on
-//!   rod b, and one compliant row across ŝ ([`RelativePlane`], or a
-//!   [`Plane`] against an obstacle) stands for the Coulomb force's
-//!   stiffness there, μ N / (the slide over the step): the direction is
-//!   then solved with the motion instead of lagging a solve behind.
+//!   rod b; between two rods one compliant row across ŝ
+//!   ([`RelativePlane`]) stands for the Coulomb force's stiffness there,
+//!   μ N / (the slide over the step): the direction is then solved with
+//!   the motion instead of lagging a solve behind.
 //!
 //! After each solve a sticking pair whose friction force leaves the cone
 //! |F_t| ≤ μ N starts slipping (ŝ opposite that force); a slipping pair
 //! whose motion over the step turned against ŝ sticks again; a slipping
 //! pair whose direction or normal force moved is solved again with them,
 //! so that the friction of a slipping pair is μ N of the same solve.
-use crate::constraint::kinds::{Axis, Plane, RelativeAxis, RelativePlane};
+use crate::constraint::kinds::{Axis, RelativeAxis, RelativePlane};
 use crate::constraint::ConstraintKind;
 use crate::error::{Error, Result};
 use crate::rod::Rod;
@@ -147,16 +147,21 @@ impl Friction {
             // step): one compliant row there, so that the direction is
             // solved with the motion. Taken from the last solve, ŝ
             // overshoots the true direction by a factor 1/ε when the drive
-            // exceeds μN by ε, and the rounds never settle.
+            // exceeds μN by ε, and the rounds never settle. Between rods
+            // only: against an obstacle the row made the dependent rows of
+            // a rope and a plank tied together on a wall be found on the
+            // tie instead of on a contact (examples/bridge_fall.py).
             let across = g.normal.cross(&s);
-            self.rows = (limit > 0.0 && across.norm() > 0.5).then(|| {
-                let e = across.normalize();
-                match g.ub {
-                    Some(ub) => RelativePlane { ua: g.ua, ub, offset: g.relative.into(), normal: e.into() }.into(),
-                    None => Plane { u: g.ua, origin: g.relative.into(), normal: e.into() }.into(),
+            self.rows = match g.ub {
+                Some(ub) if limit > 0.0 && across.norm() > 0.5 => {
+                    Some(RelativePlane { ua: g.ua, ub, offset: g.relative.into(), normal: across.normalize().into() }.into())
                 }
-            });
-            self.compliance = if self.slip_length > 0.0 { self.slip_length / limit } else { compliance };
+                _ => None,
+            };
+            // Never stiffer than the stick rows: a point held by another
+            // constraint slides by nothing, and a row that rigid would
+            // repeat the other's.
+            self.compliance = compliance.max(self.slip_length / limit);
             return Ok(());
         }
         let ub = g.ub.unwrap_or(0.0);
