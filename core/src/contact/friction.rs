@@ -54,8 +54,10 @@ pub struct Friction {
     pub force: [f64; 3],
     /// The normal force the slip force was computed from (force unit).
     pub normal: f64,
-    /// The stick rows of the current assembly and their compliance
-    /// (length/force; see [`stick_compliance`]).
+    /// The friction rows of the current assembly and their compliance
+    /// (length/force): a sticking pair's two ([`stick_compliance`]), or a
+    /// slipping pair's one across its slip direction (see
+    /// [`Friction::prepare`]).
     pub rows: Option<ConstraintKind>,
     pub compliance: f64,
     /// While slipping: the length the pair slid over the step in the last
@@ -63,12 +65,16 @@ pub struct Friction {
     /// of its row across the slip direction (see [`Friction::prepare`]).
     #[serde(default)]
     pub slip_length: f64,
+    /// While slipping: the slip force −μ N ŝ the current assembly applies
+    /// to rod a (force unit).
+    #[serde(default)]
+    pub slip_applied: [f64; 3],
 }
 
 impl Friction {
     pub fn new(mu: f64) -> Result<Friction> {
         check_mu(mu)?;
-        Ok(Friction { mu, slip: None, anchor: None, start: None, force: [0.0; 3], normal: 0.0, rows: None, compliance: 0.0, slip_length: 0.0 })
+        Ok(Friction { mu, slip: None, anchor: None, start: None, force: [0.0; 3], normal: 0.0, rows: None, compliance: 0.0, slip_length: 0.0, slip_applied: [0.0; 3] })
     }
     /// Forgets the motion state (the pair left the active set).
     pub fn reset(&mut self) {
@@ -142,6 +148,7 @@ impl Friction {
             self.normal = normal.max(0.0);
             let limit = self.mu * self.normal;
             self.force = (-limit * s).into();
+            self.slip_applied = self.force;
             // Across the slip direction ŝ the Coulomb force −μN v/|v|
             // linearised is a stiffness μN/|Δx| (Δx the slide over the
             // step): one compliant row there, so that the direction is
@@ -161,7 +168,7 @@ impl Friction {
             // Never stiffer than the stick rows: a point held by another
             // constraint slides by nothing, and a row that rigid would
             // repeat the other's.
-            self.compliance = compliance.max(self.slip_length / limit);
+            self.compliance = if self.rows.is_some() { compliance.max(self.slip_length / limit) } else { compliance };
             return Ok(());
         }
         let ub = g.ub.unwrap_or(0.0);
@@ -191,7 +198,8 @@ impl Friction {
     pub(crate) fn slip_force(&self) -> Option<[f64; 3]> {
         self.slip.map(|_| self.force)
     }
-    /// After a solve: `stick` the stick rows' force on rod a, `moved` rod
+    /// After a solve: `stick` the friction rows' force on rod a (a
+    /// slipping pair's row across ŝ: not used), `moved` rod
     /// a's relative displacement since the anchor (this solve's included),
     /// `normal` the normal force. Returns whether the state changed enough
     /// to solve again.
@@ -254,6 +262,44 @@ impl Friction {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A slipping pair between two rods gets one row across its slip
+    /// direction (⟂ the normal and ŝ), of compliance slide/(μN), never
+    /// below the stick rows'; with no normal force, no row and a finite
+    /// compliance (it is saved in snapshots).
+    #[test]
+    fn a_slipping_pair_holds_a_row_across_its_slip_direction() {
+        let rod = || {
+            crate::RodBuilder::straight(nalgebra::Vector3::zeros(), nalgebra::Vector3::x())
+                .control_points(6)
+                .section(crate::Section::circle(0.01).unwrap())
+                .material(crate::Material::new("steel", 2e11, 0.3, 7800.0).unwrap())
+                .build()
+                .unwrap()
+        };
+        let (a, b) = (rod(), rod());
+        let g = Geometry { ua: 3.5, ub: Some(4.0), relative: Vector3::new(0.0, 0.0, 0.02), normal: Vector3::z() };
+        let stick = 1e-9;
+        let mut f = Friction { slip: Some([1.0, 0.0, 0.0]), slip_length: 2e-4, ..Friction::new(0.5).unwrap() };
+        f.prepare(&g, [&a, &b], 1, 4.0, stick).unwrap();
+        assert_eq!(f.slip_force(), Some([-2.0, 0.0, 0.0]));
+        assert_eq!(f.compliance, 2e-4 / 2.0);
+        match &f.rows {
+            Some(ConstraintKind::RelativePlane(r)) => {
+                assert_eq!((r.ua, r.ub, r.offset), (3.5, 4.0, [0.0, 0.0, 0.02]));
+                assert!((Vector3::from(r.normal).abs() - Vector3::y()).norm() < 1e-15, "{:?}", r.normal);
+            }
+            other => panic!("expected a RelativePlane row, got {other:?}"),
+        }
+        // A slide too short to give: the stick rows' compliance.
+        f.slip_length = 1e-15;
+        f.prepare(&g, [&a, &b], 1, 4.0, stick).unwrap();
+        assert_eq!(f.compliance, stick);
+        // No normal force: no row, and nothing infinite.
+        f.slip_length = 2e-4;
+        f.prepare(&g, [&a, &b], 1, 0.0, stick).unwrap();
+        assert!(f.rows.is_none() && f.compliance == stick);
+    }
 
     /// A pair against a floor (normal +z) with μ = 0.5 and N = 2: a stick
     /// force of 1.5 (past μ N = 1) makes it slip against that force; held

@@ -12,7 +12,8 @@
 //! (g = |r_a − r_b| − distance), or [`ConstraintKind::Plane`] for a rod
 //! against an obstacle's tangent plane, its normal pointing out of the
 //! obstacle. Coulomb friction ([`friction`]) adds stick rows or a slip
-//! force to active pairs.
+//! force (with, between rods, a row across the slip direction) to active
+//! pairs.
 //!
 //! Why the queries are our own rather than parry3d-f64's (SPEC §7): the
 //! pairs need the segment parameters (s, t) to map back to spline

@@ -28,11 +28,11 @@ use crate::rod::Rod;
 use nalgebra::Vector3;
 use super::broad::{Bounds, Cell, CellHasher, Runs};
 use std::collections::HashMap;
+use std::f64::consts::PI;
 use std::hash::BuildHasherDefault;
 
 /// Rows kept, keyed by their rod pair and grid cell.
 type Kept<V> = HashMap<(RodHandle, RodHandle, Cell), V, BuildHasherDefault<CellHasher>>;
-use std::f64::consts::PI;
 
 /// Which contacts to detect, and how early (`margin`, length unit: pairs
 /// closer than their radii plus the margin enter the active-set candidates,

@@ -212,6 +212,13 @@ pub(crate) fn layout(world: &mut World, bead_unknowns: bool) -> Result<()> {
 /// Assembles the system for `regime`: contacts detected, forces gathered,
 /// layout placed. Returns the elastic energy.
 pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
+    assemble_with(world, regime, false)
+}
+
+/// [`assemble`]; `reuse`: the rods have not moved since the last
+/// assembly with `reuse` (a round of the same active set), whose detected
+/// pairs serve again (`Workspace::detected`).
+pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> Result<f64> {
     world.params.validate()?;
     let World { rods: rod_arena, constraints, loads, beads, contacts, detectors, interleave, params, ws, time, steps, .. } = world;
     // Contacts follow the closest points of their rods.
@@ -223,14 +230,15 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
     let previous = if detectors.is_empty() { Vec::new() } else { std::mem::take(&mut contacts.pairs) };
     if !detectors.is_empty() {
         let cache = &mut ws.detected;
-        if cache.reuse && cache.valid {
+        if reuse && cache.valid {
             contacts.pairs.extend(cache.pairs.iter().cloned());
         } else {
+            cache.valid = false;
             let list: Vec<_> = rod_arena.iter().map(|(i, r)| (i.into(), r)).collect();
             for d in detectors.iter() {
                 d.detect(&list, contacts)?;
             }
-            if cache.reuse {
+            if reuse {
                 cache.pairs.clear();
                 cache.pairs.extend(contacts.pairs.iter().cloned());
                 cache.valid = true;
@@ -261,7 +269,8 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
         }
     }
     ws.carry = carry.order;
-    // Friction: the anchor of the step and the stick rows of active pairs.
+    // Friction: the anchor of the step and the friction rows of active
+    // pairs (stick rows, or the row across a slip between rods).
     ws.stick.clear();
     for p in contacts.pairs.iter_mut() {
         if let (Some(f), Some(a), Some(b)) = (&mut p.friction, rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {

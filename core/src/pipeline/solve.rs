@@ -1,7 +1,7 @@
 //! Solve and apply: factorise along the chain of [`crate::system::Factorisation`],
 //! with the contact active set settled around it, then move the rods, store
 //! the multipliers and advance the sliders.
-use super::assemble::{assemble, Regime};
+use super::assemble::{assemble_with, Regime};
 use crate::constraint::{Row, MAX_ROWS};
 use crate::error::{Error, Result, Unknown};
 use crate::handles::Index;
@@ -105,10 +105,9 @@ fn involved(world: &World, unknown: &Unknown, out: &mut Vec<crate::handles::Cons
 /// push through its gap enters it, and the system is solved again. Returns
 /// the elastic energy and the solve.
 pub(crate) fn assemble_and_solve(world: &mut World, regime: Regime) -> Result<(f64, Solved)> {
-    // The rods stay where they are through the rounds: one detection.
-    world.ws.detected = crate::system::workspace::Detected { reuse: true, valid: false, pairs: std::mem::take(&mut world.ws.detected.pairs) };
     let out = settle_and_solve(world, regime);
-    world.ws.detected.reuse = false;
+    // What the rounds kept holds for them only.
+    world.ws.pulled.clear();
     world.ws.detected.valid = false;
     out
 }
@@ -120,8 +119,11 @@ fn settle_and_solve(world: &mut World, regime: Regime) -> Result<(f64, Solved)> 
         activate_touching(world)?;
     }
     let mut rounds = 0;
+    // The rods stay where they are through the rounds: one detection.
+    let mut reuse = false;
     loop {
-        let energy = assemble(world, regime)?;
+        let energy = assemble_with(world, regime, reuse)?;
+        reuse = true;
         let solved = match solve(world) {
             Err(e) if block_dependent_contact(world, &e) => continue,
             other => other?,
@@ -583,7 +585,7 @@ pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) ->
         contacts.pairs[i].force = -ws.sys.sol[ws.layout.row_index[nc + k]];
     }
     // Sticking pairs: their rows' multipliers are the friction force;
-    // slipping ones: −μ N ŝ plus their row's across ŝ.
+    // slipping ones: μ N along −μ N ŝ plus their row's reaction across ŝ.
     let np = ws.contact_ids.len();
     for (k, &i) in ws.stick_ids.iter().enumerate() {
         let p = &mut contacts.pairs[i];
@@ -591,8 +593,17 @@ pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) ->
         let lambda = [-ws.sys.sol[r0], -ws.sys.sol.get(r0 + 1).copied().unwrap_or(0.0)];
         if let (Some(f), Some(a), Some(b)) = (&mut p.friction, rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) {
             if let Some(Ok(r)) = f.rows.as_ref().map(|kind| kind.reaction(&[a, b], &lambda[..kind.n_rows()])) {
-                let slip = f.slip.map_or(nalgebra::Vector3::zeros(), |s| -f.mu * f.normal * nalgebra::Vector3::from(s));
-                f.force = (slip + nalgebra::Vector3::from(r.force)).into();
+                let force = nalgebra::Vector3::from(r.force);
+                f.force = match f.slip {
+                    None => force.into(),
+                    // The applied slip force turned by its row's reaction
+                    // (the linearisation's correction of ŝ), on the cone.
+                    Some(_) => {
+                        let total = nalgebra::Vector3::from(f.slip_applied) + force;
+                        let limit = f.mu * f.normal;
+                        (if total.norm() > 0.0 { total * (limit / total.norm()) } else { total }).into()
+                    }
+                };
             }
         }
     }

@@ -92,6 +92,7 @@ fn relax_iterate(world: &mut World, lambda: f64, mixed: bool) -> Result<RelaxRep
     let tol = world.params.relax_tolerance;
     let length = world.rods.iter().map(|(_, r)| r.rest_length()).fold(0.0, f64::max);
     world.ws.blocked.clear();
+    world.ws.pulled.clear();
     beads::static_load(world);
     // Statically defined? (rigid-body modes not held by constraints nor by
     // stiffness.) Checked before anything changes, so a refusal leaves the

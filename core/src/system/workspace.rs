@@ -111,11 +111,11 @@ impl Clone for Workspace {
 
 /// The contact pairs as the detectors found them, before the active set's
 /// carry-over. Between the rounds of one assemble-and-solve the rods do not
-/// move, so detection would find the same pairs again: `reuse` is on only
-/// within such a call, `pairs` valid once its first assembly has detected.
+/// move, so detection would find the same pairs again: its first round
+/// detects and keeps them (`valid`), the others reuse them
+/// (`pipeline::assemble::assemble_with`); any other assembly detects.
 #[derive(Debug, Default)]
 pub(crate) struct Detected {
-    pub(crate) reuse: bool,
     pub(crate) valid: bool,
     pub(crate) pairs: Vec<crate::contact::ContactPair>,
 }
