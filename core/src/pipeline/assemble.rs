@@ -188,6 +188,20 @@ fn place(
     Ok(())
 }
 
+/// Rod `h`'s stick compliance ([`crate::contact::friction::stick_compliance`],
+/// which scans its sections), once per assembly: `memo` by arena slot, NaN
+/// until computed.
+fn stick_compliance(memo: &mut Vec<f64>, h: crate::handles::RodHandle, rod: &Rod) -> Result<f64> {
+    let k = h.index as usize;
+    if memo.len() <= k {
+        memo.resize(k + 1, f64::NAN);
+    }
+    if memo[k].is_nan() {
+        memo[k] = crate::contact::friction::stick_compliance(rod)?;
+    }
+    Ok(memo[k])
+}
+
 /// Refreshes the rod and constraint ids and the handle → position map.
 fn index(ws: &mut Workspace, rods: &Arena<Rod>, constraints: &Arena<Constraint>) {
     ws.rod_ids.clear();
@@ -276,17 +290,7 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
         if let (Some(f), Some(a), Some(b)) = (&mut p.friction, rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
             if p.active {
                 let g = crate::contact::friction::geometry(&p.kind, [a, b])?;
-                let mut compliance = |h: crate::handles::RodHandle, rod: &Rod| -> Result<f64> {
-                    let k = h.index as usize;
-                    if ws.stick.len() <= k {
-                        ws.stick.resize(k + 1, f64::NAN);
-                    }
-                    if ws.stick[k].is_nan() {
-                        ws.stick[k] = crate::contact::friction::stick_compliance(rod)?;
-                    }
-                    Ok(ws.stick[k])
-                };
-                let c = compliance(p.rods[0], a)? + if g.ub.is_some() { compliance(p.rods[1], b)? } else { 0.0 };
+                let c = stick_compliance(&mut ws.stick, p.rods[0], a)? + if g.ub.is_some() { stick_compliance(&mut ws.stick, p.rods[1], b)? } else { 0.0 };
                 f.prepare(&g, [a, b], *steps, p.force, c)?;
             } else {
                 f.reset();

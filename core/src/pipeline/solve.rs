@@ -292,10 +292,7 @@ fn update_active_set(world: &mut World, freeze_friction: bool) -> Result<bool> {
             if let Some(f) = &mut p.friction {
                 let g = crate::contact::friction::geometry(&p.kind, [a, b])?;
                 let stick = match (stick_of[i], &f.rows) {
-                    (k, Some(kind)) if k != usize::MAX => {
-                        let lambda = [-ws.sys.sol[k], -ws.sys.sol.get(k + 1).copied().unwrap_or(0.0)];
-                        Some(nalgebra::Vector3::from(kind.reaction(&[a, b], &lambda[..kind.n_rows()])?.force))
-                    }
+                    (k, Some(kind)) if k != usize::MAX => Some(friction_reaction(&ws.sys.sol, k, kind, [a, b])?),
                     _ => None,
                 };
                 let mut moved = step_of(p.rods[0], a, g.ua)?;
@@ -323,6 +320,16 @@ fn update_active_set(world: &mut World, freeze_friction: bool) -> Result<bool> {
     }
     ws.pulled.extend(newly_pulled);
     Ok(changed)
+}
+
+/// The force on rod a of a pair's friction rows (`kind`, from row `r0` of
+/// the solution `sol`): a sticking pair's two rows, a slipping pair's one.
+fn friction_reaction(sol: &[f64], r0: usize, kind: &crate::constraint::ConstraintKind, rods: [&crate::rod::Rod; 2]) -> Result<nalgebra::Vector3<f64>> {
+    let mut lambda = [0.0; 2];
+    for (l, s) in lambda.iter_mut().zip(&sol[r0..r0 + kind.n_rows()]) {
+        *l = -s;
+    }
+    Ok(nalgebra::Vector3::from(kind.reaction(&rods, &lambda[..kind.n_rows()])?.force))
 }
 
 /// Applies the solution as [`apply`] does, but only if the new state is
@@ -590,10 +597,8 @@ pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) ->
     for (k, &i) in ws.stick_ids.iter().enumerate() {
         let p = &mut contacts.pairs[i];
         let r0 = ws.layout.row_index[nc + np + k];
-        let lambda = [-ws.sys.sol[r0], -ws.sys.sol.get(r0 + 1).copied().unwrap_or(0.0)];
         if let (Some(f), Some(a), Some(b)) = (&mut p.friction, rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) {
-            if let Some(Ok(r)) = f.rows.as_ref().map(|kind| kind.reaction(&[a, b], &lambda[..kind.n_rows()])) {
-                let force = nalgebra::Vector3::from(r.force);
+            if let Some(Ok(force)) = f.rows.as_ref().map(|kind| friction_reaction(&ws.sys.sol, r0, kind, [a, b])) {
                 f.force = match f.slip {
                     None => force.into(),
                     // The applied slip force turned by its row's reaction
