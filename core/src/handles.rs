@@ -86,6 +86,17 @@ impl<T> Arena<T> {
     pub fn get_mut(&mut self, i: Index) -> Option<&mut T> {
         self.slots.get_mut(i.0 as usize).filter(|s| s.generation == i.1).and_then(|s| s.item.as_mut())
     }
+    /// `f` of every live item on rayon's pool, into `out` in slot order
+    /// (the order of [`Arena::iter`]); a caller that sums `out` in order
+    /// gets the serial sum bit for bit.
+    pub(crate) fn par_map_into<U: Send>(&self, out: &mut Vec<U>, f: impl Fn(&T) -> U + Sync + Send)
+    where
+        T: Sync,
+    {
+        use rayon::prelude::*;
+        out.clear();
+        out.par_extend(self.slots.par_iter().filter_map(|s| s.item.as_ref()).map(f));
+    }
     /// Live items in slot order.
     pub fn iter(&self) -> impl Iterator<Item = (Index, &T)> {
         self.slots.iter().enumerate().filter_map(|(i, s)| s.item.as_ref().map(|t| (Index(i as u32, s.generation), t)))

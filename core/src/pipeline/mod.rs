@@ -126,6 +126,19 @@ impl World {
     }
 }
 
+/// Runs `f` on one of rayon's pool threads when `parallel` (and not there
+/// already). Called from outside the pool, the pool's idle workers spin
+/// while the calling thread does the serial part of a step: three threads
+/// on two cores. Measured (`step_probe --rods 400`, 2 cores): 0.77–0.95×
+/// against one thread from outside, 1.29× from inside.
+pub(crate) fn on_pool<T: Send>(parallel: bool, world: &mut World, f: fn(&mut World) -> Result<T>) -> Result<T> {
+    if parallel && rayon::current_thread_index().is_none() {
+        rayon::join(|| f(world), || ()).0
+    } else {
+        f(world)
+    }
+}
+
 /// The half-bandwidth the world's system has now (builds the layout).
 pub fn bandwidth(world: &mut World) -> Result<usize> {
     if world.rods.is_empty() {

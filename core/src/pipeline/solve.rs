@@ -230,14 +230,17 @@ fn activate_touching(world: &mut World) -> Result<()> {
     Ok(())
 }
 
-/// After a solve (for callers that assemble and solve themselves): settles
-/// the contact active set; true when it changed and the system must be
-/// assembled and solved again.
-pub(crate) fn settle_contacts(world: &mut World) -> Result<bool> {
-    if world.contacts.is_empty() {
+/// After a solve (for callers that assemble and solve themselves, round
+/// `round` of the active set for this iterate, from 0): settles the contact
+/// active set as the step's rounds do (friction held after
+/// [`crate::contact::friction::FREE_ROUNDS`], then a pulling pair leaves
+/// for the rest of the iterate); true when it changed and the system must
+/// be assembled and solved again, false also once the rounds ran out.
+pub(crate) fn settle_contacts(world: &mut World, round: usize) -> Result<bool> {
+    if world.contacts.is_empty() || round >= MAX_ACTIVE_SET_ROUNDS {
         return Ok(false);
     }
-    update_active_set(world, false)
+    update_active_set(world, round >= crate::contact::friction::FREE_ROUNDS)
 }
 
 /// After a solve: drop pulling pairs, add pairs the step would penetrate,
@@ -361,10 +364,27 @@ pub(crate) fn begin(world: &mut World, scale: f64, elastic_before: Option<f64>) 
 /// For a step applied in several parts: keeps each rod's kinetic energy
 /// now (for naming the rod whose energy grew) and returns their sum.
 pub(crate) fn kinetic_before(world: &mut World) -> f64 {
+    let parallel = parallel_per_rod(world);
     let World { rods, ws, .. } = world;
-    ws.energy_before.clear();
-    ws.energy_before.extend(rods.iter().map(|(_, r)| r.kinetic_energy()));
+    per_rod(rods, parallel, &mut ws.energy_before, |r| r.kinetic_energy());
     ws.energy_before.iter().sum()
+}
+
+/// Whether the per-rod energy passes run on rayon's pool: as the kernels
+/// do (`params.parallel` and enough segments in all to wake it).
+fn parallel_per_rod(world: &World) -> bool {
+    world.params.parallel && world.rods.iter().map(|(_, r)| r.n_segments()).sum::<usize>() >= crate::system::kkt::PAR_MIN_SEGMENTS
+}
+
+/// `f` of each rod in world order into `out` (on rayon's pool when
+/// `parallel`; the values are the same either way).
+fn per_rod(rods: &crate::handles::Arena<crate::rod::Rod>, parallel: bool, out: &mut Vec<f64>, f: impl Fn(&crate::rod::Rod) -> f64 + Sync + Send) {
+    if parallel {
+        rods.par_map_into(out, f);
+    } else {
+        out.clear();
+        out.extend(rods.iter().map(|(_, r)| f(r)));
+    }
 }
 
 /// Σ |Λ E| over the multiplier rows of the last solve: what the
@@ -392,6 +412,11 @@ pub(crate) fn finish(world: &mut World, budget: Option<f64>) -> Result<()> {
         })
     });
     let mut growth = world.growth;
+    if refused.is_none() && budget.is_some() {
+        let parallel = parallel_per_rod(world);
+        let World { rods, ws, .. } = world;
+        per_rod(rods, parallel, &mut ws.energy_after, |r| r.elastic_energy() + r.kinetic_energy());
+    }
     let refused = refused.or_else(|| budget.and_then(|b| divergence(world, b, &mut growth)));
     if let Some(e) = refused {
         undo(world);
@@ -407,12 +432,12 @@ pub(crate) fn finish(world: &mut World, budget: Option<f64>) -> Result<()> {
 /// (The per-rod figure, for naming the rod, leaves the elastic part out:
 /// the assembly gave it only in total.)
 fn energy_in(world: &mut World, scale: f64) -> f64 {
+    let parallel = parallel_per_rod(world);
     let World { rods, ws, .. } = world;
-    ws.energy_before.clear();
+    per_rod(rods, parallel, &mut ws.energy_before, |r| r.kinetic_energy());
     let mut total = 0.0;
     for (r, (_, rod)) in rods.iter().enumerate() {
-        let k = rod.kinetic_energy();
-        ws.energy_before.push(k);
+        let k = ws.energy_before[r];
         total += k;
         let d = rod.dofs();
         if let Some(f) = ws.ext.get(r) {
@@ -440,8 +465,7 @@ fn divergence(world: &World, budget: f64, growth: &mut crate::world::Growth) -> 
     let factor = world.params.divergence_factor;
     let (mut after, mut floor) = (0.0, 0.0);
     let mut worst: Option<(crate::handles::RodHandle, f64)> = None;
-    for ((h, rod), k0) in world.rods.iter().zip(&world.ws.energy_before) {
-        let e1 = rod.elastic_energy() + rod.kinetic_energy();
+    for (((h, rod), k0), &e1) in world.rods.iter().zip(&world.ws.energy_before).zip(&world.ws.energy_after) {
         // Energy of a 1e-6 strain: below it, nothing counts as growth.
         let f = 1e-12 * rod.cache().ea_ref() * rod.rest_length();
         after += e1;

@@ -31,6 +31,10 @@ use crate::world::{Event, World};
 /// the iteration continues until the offsets stop moving, while a break, a
 /// clip event or a rupture ends the solve with its events.
 pub fn relax(world: &mut World) -> Result<RelaxReport> {
+    super::on_pool(world.params.parallel, world, relax_here)
+}
+
+fn relax_here(world: &mut World) -> Result<RelaxReport> {
     world.params.validate()?;
     if world.rods.is_empty() {
         return Ok(RelaxReport::default()); // nothing to move
@@ -115,6 +119,9 @@ fn relax_iterate(world: &mut World, lambda: f64, mixed: bool) -> Result<RelaxRep
     let mut watchdog: Option<Watchdog> = None;
     let mut mixed = mixed && contact_reach(world).is_none();
     let mut forgiven = false;
+    // Active-set rounds of this iterate: without a bound a free fabric's
+    // pairs went in and out on every solve, and relax never moved.
+    let mut rounds = 0;
     for _ in 0..world.params.relax_max_iterations {
         // The mixed iteration moves on to this iterate (its merit is the
         // potential here); after a step only the merit accepted, the
@@ -186,9 +193,14 @@ fn relax_iterate(world: &mut World, lambda: f64, mixed: bool) -> Result<RelaxRep
                 return Err(e);
             }
         };
-        if solve::settle_contacts(world)? {
+        if solve::settle_contacts(world, rounds)? {
+            rounds += 1;
             continue; // the contact active set changed: solve again
         }
+        // The next iterate settles its own set (a pair that pulled here
+        // may press there).
+        rounds = 0;
+        world.ws.pulled.clear();
         report.factorisation = solved.factorisation;
         let slope = solve::directional_derivative(world);
         // The Newton solution z = (p, y): steps on the coordinates and

@@ -117,7 +117,7 @@ pub struct BeadRef {
 /// faster; with 4096, 10,000 points (one rod or 400 rods) 11–20 % faster.
 const SEQ_BATCH: usize = 16;
 const PAR_BATCH: usize = 4096;
-const PAR_MIN_SEGMENTS: usize = 2048;
+pub(crate) const PAR_MIN_SEGMENTS: usize = 2048;
 
 /// P = I − s sᵀ: what a sliding bead's mass acts on (s = 0: all of it).
 fn slide_projector(s: &[f64; 3]) -> [[f64; 3]; 3] {

@@ -83,6 +83,8 @@ pub struct Workspace {
     pub(crate) undo: Vec<f64>,
     /// Elastic + kinetic energy of each rod before the step being committed.
     pub(crate) energy_before: Vec<f64>,
+    /// Each rod's elastic + kinetic energy after the step (the guard's).
+    pub(crate) energy_after: Vec<f64>,
     /// Buffers of the bead passes.
     pub(crate) beads: crate::pipeline::beads::Scratch,
     /// The trapezoidal step's per-rod vectors.
