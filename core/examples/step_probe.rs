@@ -89,10 +89,18 @@ fn main() {
         .collect();
     // --rods N: N free pre-deformed table rods of 25 control points each
     // (10,000 control points at N = 400), one thread against rayon's pool
-    // (params.parallel), interleaved; the medians of 40 steps, best of runs.
+    // (params.parallel), interleaved step by step; 40 steps a run.
     if let Some(nr) = arg("--rods").and_then(|v| v.parse::<usize>().ok()) {
         let per = arg("--cp").and_then(|v| v.parse().ok()).unwrap_or(25);
-        let modes: &[bool] = if std::env::args().any(|a| a == "--par-only") { &[true] } else { &[false, true] };
+        // --par-only / --serial-only: one world (the other's pool threads,
+        // spinning after their work, would slow the serial world's steps).
+        let modes: &[bool] = if std::env::args().any(|a| a == "--par-only") {
+            &[true]
+        } else if std::env::args().any(|a| a == "--serial-only") {
+            &[false]
+        } else {
+            &[false, true]
+        };
         let mut worlds: Vec<(World, Vec<(RodHandle, Vec<f64>)>)> = modes
             .iter()
             .map(|&par| {
@@ -112,31 +120,41 @@ fn main() {
                 (w, hs)
             })
             .collect();
-        let mut best = [f64::INFINITY; 2];
+        // The two worlds step in turn, step by step, so that the machine's
+        // drift hits both alike; the median of the per-pair ratios.
+        let mut times: Vec<Vec<f64>> = vec![Vec::new(); worlds.len()];
         for _ in 0..runs {
-            for (k, (w, hs)) in worlds.iter_mut().enumerate() {
-                let k = if modes.len() == 1 { 1 } else { k };
+            for (w, hs) in worlds.iter_mut() {
                 for (h, q0) in hs.iter() {
                     reset(w, *h, q0);
                 }
                 let _ = w.step();
-                let mut t: Vec<f64> = (0..40)
-                    .map(|_| {
-                        let s = Instant::now();
-                        w.step().expect("the free rods step");
-                        s.elapsed().as_secs_f64()
-                    })
-                    .collect();
-                t.sort_by(|a, b| a.total_cmp(b));
-                best[k] = best[k].min(t[t.len() / 2]);
+            }
+            for _ in 0..40 {
+                for (k, (w, _)) in worlds.iter_mut().enumerate() {
+                    let s = Instant::now();
+                    w.step().expect("the free rods step");
+                    times[k].push(s.elapsed().as_secs_f64());
+                }
             }
         }
+        let median = |v: &mut Vec<f64>| {
+            v.sort_by(|a, b| a.total_cmp(b));
+            v[v.len() / 2]
+        };
+        if times.len() == 1 {
+            let threads = if modes[0] { rayon::current_num_threads() } else { 1 };
+            println!("{nr} rods × {per} cp: {threads} thread(s) {:.3} ms", median(&mut times[0]) * 1e3);
+            return;
+        }
+        let mut ratios: Vec<f64> = times[0].iter().zip(&times[1]).map(|(a, b)| a / b).collect();
         println!(
-            "{nr} rods × {per} cp: 1 thread {:.3} ms, {} threads {:.3} ms, speed-up {:.2}×",
-            best[0] * 1e3,
+            "{nr} rods × {per} cp: 1 thread {:.3} ms, {} threads {:.3} ms (medians), speed-up {:.2}× (median of {} paired steps)",
+            median(&mut times[0]) * 1e3,
             rayon::current_num_threads(),
-            best[1] * 1e3,
-            best[0] / best[1]
+            median(&mut times[1]) * 1e3,
+            median(&mut ratios),
+            ratios.len()
         );
         return;
     }

@@ -415,11 +415,40 @@ pub struct BandLdlt {
     rows: Vec<f64>,
     factored: bool,
     pivot_ratio: f64,
+    /// Whether a matrix that falls apart in two may be factored and solved
+    /// on rayon's pool ([`Self::set_parallel`]).
+    parallel: bool,
+    /// 0, or the column c at which the last matrix fell apart: no entry
+    /// couples columns < c with columns ≥ c (many free rods), so the two
+    /// diagonal blocks are factored and solved independently.
+    split: usize,
 }
+
+/// Smallest matrix (n · (kd + 1) stored entries) whose halves go to two
+/// threads: below it waking the pool costs more than half a factorisation.
+const PAR_MIN_ENTRIES: usize = 1 << 16;
 
 impl BandLdlt {
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Lets the factorisation and the solves of a matrix that falls apart in
+    /// two diagonal blocks run the blocks on rayon's pool. The result is the
+    /// serial one: eliminating a column never touches the other block, where
+    /// the serial loop only subtracts exact zeros.
+    pub fn set_parallel(&mut self, parallel: bool) {
+        self.parallel = parallel;
+    }
+
+    /// The column at which the last factored matrix fell apart (0: none, or
+    /// not looked for).
+    pub fn split(&self) -> usize {
+        if self.factored {
+            self.split
+        } else {
+            0
+        }
     }
 
     /// Negative pivots of the last factorisation: by Sylvester's law of
@@ -480,7 +509,13 @@ impl BandLdlt {
         // verdict on pivot j depends on columns ≤ j only, which later steps
         // do not touch, so it is the verdict of a check made in passing (a
         // declined factorisation has only wasted the rest of the work).
-        self.eliminate_all();
+        let c = self.split;
+        if c > 0 {
+            let (head, tail) = self.l.split_at_mut(c * ld);
+            rayon::join(|| eliminate_all(head, c, kd), || eliminate_all(tail, n - c, kd));
+        } else {
+            eliminate_all(&mut self.l, n, kd);
+        }
         for j in 0..n {
             let d = self.l[j * ld];
             let ajj = a.data[j * a.ldab + a.ku].abs();
@@ -519,11 +554,23 @@ impl BandLdlt {
         self.l.resize(n * ld, 0.0);
         self.rows.clear();
         self.rows.resize(n, 0.0);
+        // The split nearest the middle: a column c past the last row any
+        // column before it reaches (its last nonzero).
+        let look = self.parallel && n * ld >= PAR_MIN_ENTRIES;
+        let (mut reach, mut split) = (0usize, 0usize);
         for (j, dst) in self.l.chunks_exact_mut(ld).enumerate() {
             let m = kd.min(n - 1 - j);
             let src = &a.data[j * a.ldab + kv..=j * a.ldab + kv + m];
             dst[..=m].copy_from_slice(src);
             dst[m + 1..].fill(0.0);
+            if look {
+                if let Some(last) = src.iter().rposition(|&v| v != 0.0) {
+                    reach = reach.max(j + last);
+                }
+                if reach <= j && j + 1 < n && (j + 1).abs_diff(n / 2) < split.abs_diff(n / 2) {
+                    split = j + 1;
+                }
+            }
             // Row j gets the whole column (symmetry: row j's upper part is
             // column j's lower part); rows below get their entry in column j.
             let mut col_sum = 0.0;
@@ -542,35 +589,9 @@ impl BandLdlt {
             anorm = anorm.max(r);
         }
         self.anorm = anorm;
+        // Halves of very unequal size gain little on two threads.
+        self.split = if 4 * split.min(n - split) >= n { split } else { 0 };
         Ok(())
-    }
-
-    /// Step j of the right-looking LDLᵀ: D_j = updated a_jj; the trailing
-    /// block gets A[j+c..][j+c] −= A[j+c..][j] A[j+c][j] / D_j; column j is
-    /// then scaled to L[·][j] = A[·][j] / D_j (D_j stays at L[j][j],
-    /// unchecked).
-    #[inline]
-    fn eliminate(&mut self, j: usize) {
-        let (kd, ld) = (self.kd, self.ld);
-        let km = kd.min(self.n - 1 - j);
-        let (head, tail) = self.l.split_at_mut((j + 1) * ld);
-        let col = &mut head[j * ld..];
-        let d = col[0];
-        let inv = 1.0 / d;
-        // Column j + c of the trailing block starts (c − 1) * ld into `tail`;
-        // rows j + c ..= j + km of it are updated (lengths ≤ kd).
-        for c in 1..=km {
-            let t = col[c] * inv;
-            if t != 0.0 {
-                let dst = &mut tail[(c - 1) * ld..(c - 1) * ld + km - c + 1];
-                for (x, &v) in dst.iter_mut().zip(&col[c..=km]) {
-                    *x -= t * v;
-                }
-            }
-        }
-        for v in &mut col[1..=km] {
-            *v *= inv;
-        }
     }
 
     /// The growth max_c a_c² / |d_j| of elimination step j (column j of A
@@ -580,54 +601,6 @@ impl BandLdlt {
         let km = self.kd.min(self.n - 1 - j);
         let col = &self.l[j * self.ld..=j * self.ld + km];
         col[0].abs() * col[1..].iter().fold(0.0f64, |m, &l| m.max(l * l))
-    }
-
-    /// Every elimination step. Interior columns (j + kd < n) of the common
-    /// half-bandwidths (a rod with 3 or 4 coordinates per control point:
-    /// 11 or 15) run a kernel compiled for that width. (256-bit vectors
-    /// through runtime dispatch measured no faster here: the elimination
-    /// is bound by the pivot's division chain, not by vector width.)
-    fn eliminate_all(&mut self) {
-        let (n, kd) = (self.n, self.kd);
-        for j in 0..n {
-            match kd {
-                11 if j + kd < n => self.eliminate_fixed::<11, 12>(j),
-                15 if j + kd < n => self.eliminate_fixed::<15, 16>(j),
-                _ => self.eliminate(j),
-            }
-        }
-    }
-
-    /// [`Self::eliminate`] for a column with all KD sub-diagonal entries
-    /// (j + KD < n) at half-bandwidth KD = LD − 1. The same operations in
-    /// the same order, without the zero skip (0 · v leaves x unchanged for
-    /// the finite entries `copy_lower` admits).
-    #[inline(always)]
-    fn eliminate_fixed<const KD: usize, const LD: usize>(&mut self, j: usize) {
-        debug_assert!(LD == KD + 1 && self.ld == LD && self.kd == KD && j + KD < self.n);
-        let (head, tail) = self.l.split_at_mut((j + 1) * LD);
-        let col: &mut [f64; LD] = (&mut head[j * LD..]).try_into().expect("column j has LD entries (j < n)");
-        let d = col[0];
-        let inv = 1.0 / d;
-        // Column j + c gets rows j + c ..= j + KD: KD + 1 − c entries, a
-        // length known at compile time for each c (the macro unrolls c).
-        macro_rules! update {
-            ($($c:literal)*) => {$(
-                if $c < LD {
-                    let len = LD - $c;
-                    let t = col[$c] * inv;
-                    let dst = &mut tail[($c - 1) * LD..($c - 1) * LD + len];
-                    for (x, &v) in dst.iter_mut().zip(&col[$c..]) {
-                        *x -= t * v;
-                    }
-                }
-            )*};
-        }
-        // c up to 15: the widest KD `eliminate_all` dispatches here.
-        update!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15);
-        for v in &mut col[1..] {
-            *v *= inv;
-        }
     }
 
     /// Smallest |D_j| / largest |D_j| of the last successful factorisation.
@@ -667,28 +640,118 @@ impl BandLdlt {
         }
         let (n, kd, ld) = (self.n, self.kd, self.ld);
         super::check_rhs(b, n)?;
-        // Forward (column axpy: L's columns are contiguous).
-        for j in 0..n {
-            let km = kd.min(n - 1 - j);
-            let bj = b[j];
-            if bj != 0.0 {
-                let c = &self.l[j * ld + 1..=j * ld + km];
-                for (bi, &m) in b[j + 1..=j + km].iter_mut().zip(c) {
-                    *bi -= m * bj;
-                }
-            }
-        }
-        for (bj, col) in b.iter_mut().zip(self.l.chunks_exact(ld)) {
-            *bj /= col[0];
-        }
-        // Backward (dot products with the same columns, in four partial
-        // sums: one running sum is a chain of kd dependent additions).
-        for j in (0..n).rev() {
-            let km = kd.min(n - 1 - j);
-            let c = &self.l[j * ld + 1..=j * ld + km];
-            b[j] -= dot4(&b[j + 1..=j + km], c);
+        let c = self.split;
+        if c > 0 {
+            let (l0, l1) = self.l.split_at(c * ld);
+            let (b0, b1) = b.split_at_mut(c);
+            rayon::join(|| ldlt_solve(l0, c, kd, b0), || ldlt_solve(l1, n - c, kd, b1));
+        } else {
+            ldlt_solve(&self.l, n, kd, b);
         }
         Ok(())
+    }
+}
+
+/// Step j of the right-looking LDLᵀ on `l` (n columns, half-bandwidth kd,
+/// `pbtrf` 'L' layout): D_j = updated a_jj; the trailing block gets
+/// A[j+c..][j+c] −= A[j+c..][j] A[j+c][j] / D_j; column j is then scaled to
+/// L[·][j] = A[·][j] / D_j (D_j stays at L[j][j], unchecked).
+#[inline]
+fn eliminate(l: &mut [f64], n: usize, kd: usize, j: usize) {
+    let ld = kd + 1;
+    let km = kd.min(n - 1 - j);
+    let (head, tail) = l.split_at_mut((j + 1) * ld);
+    let col = &mut head[j * ld..];
+    let d = col[0];
+    let inv = 1.0 / d;
+    // Column j + c of the trailing block starts (c − 1) * ld into `tail`;
+    // rows j + c ..= j + km of it are updated (lengths ≤ kd).
+    for c in 1..=km {
+        let t = col[c] * inv;
+        if t != 0.0 {
+            let dst = &mut tail[(c - 1) * ld..(c - 1) * ld + km - c + 1];
+            for (x, &v) in dst.iter_mut().zip(&col[c..=km]) {
+                *x -= t * v;
+            }
+        }
+    }
+    for v in &mut col[1..=km] {
+        *v *= inv;
+    }
+}
+
+/// Every elimination step of `l` (n columns, half-bandwidth kd). Interior
+/// columns (j + kd < n) of the common half-bandwidths (a rod with 3 or 4
+/// coordinates per control point: 11 or 15) run a kernel compiled for that
+/// width. (256-bit vectors through runtime dispatch measured no faster
+/// here: the elimination is bound by the pivot's division chain, not by
+/// vector width.)
+fn eliminate_all(l: &mut [f64], n: usize, kd: usize) {
+    for j in 0..n {
+        match kd {
+            11 if j + kd < n => eliminate_fixed::<11, 12>(l, j),
+            15 if j + kd < n => eliminate_fixed::<15, 16>(l, j),
+            _ => eliminate(l, n, kd, j),
+        }
+    }
+}
+
+/// [`eliminate`] for a column with all KD sub-diagonal entries (j + KD < n)
+/// at half-bandwidth KD = LD − 1. The same operations in the same order,
+/// without the zero skip (0 · v leaves x unchanged for the finite entries
+/// `copy_lower` admits).
+#[inline(always)]
+fn eliminate_fixed<const KD: usize, const LD: usize>(l: &mut [f64], j: usize) {
+    debug_assert!(LD == KD + 1 && (j + KD + 1) * LD <= l.len());
+    let (head, tail) = l.split_at_mut((j + 1) * LD);
+    let col: &mut [f64; LD] = (&mut head[j * LD..]).try_into().expect("column j has LD entries (j < n)");
+    let d = col[0];
+    let inv = 1.0 / d;
+    // Column j + c gets rows j + c ..= j + KD: KD + 1 − c entries, a
+    // length known at compile time for each c (the macro unrolls c).
+    macro_rules! update {
+        ($($c:literal)*) => {$(
+            if $c < LD {
+                let len = LD - $c;
+                let t = col[$c] * inv;
+                let dst = &mut tail[($c - 1) * LD..($c - 1) * LD + len];
+                for (x, &v) in dst.iter_mut().zip(&col[$c..]) {
+                    *x -= t * v;
+                }
+            }
+        )*};
+    }
+    // c up to 15: the widest KD `eliminate_all` dispatches here.
+    update!(1 2 3 4 5 6 7 8 9 10 11 12 13 14 15);
+    for v in &mut col[1..] {
+        *v *= inv;
+    }
+}
+
+/// Overwrites `b` with the solution of L D Lᵀ x = b for the factor `l` (n
+/// columns, half-bandwidth kd): L y = b, y /= D, Lᵀ x = y.
+fn ldlt_solve(l: &[f64], n: usize, kd: usize, b: &mut [f64]) {
+    let ld = kd + 1;
+    // Forward (column axpy: L's columns are contiguous).
+    for j in 0..n {
+        let km = kd.min(n - 1 - j);
+        let bj = b[j];
+        if bj != 0.0 {
+            let c = &l[j * ld + 1..=j * ld + km];
+            for (bi, &m) in b[j + 1..=j + km].iter_mut().zip(c) {
+                *bi -= m * bj;
+            }
+        }
+    }
+    for (bj, col) in b.iter_mut().zip(l.chunks_exact(ld)) {
+        *bj /= col[0];
+    }
+    // Backward (dot products with the same columns, in four partial
+    // sums: one running sum is a chain of kd dependent additions).
+    for j in (0..n).rev() {
+        let km = kd.min(n - 1 - j);
+        let c = &l[j * ld + 1..=j * ld + km];
+        b[j] -= dot4(&b[j + 1..=j + km], c);
     }
 }
 
@@ -1187,6 +1250,60 @@ mod tests {
                     }
                 }
             }
+        }
+    }
+
+    /// A random symmetric diagonally dominant band matrix of half-bandwidth
+    /// k, built in band storage only, in which every entry coupling columns
+    /// below `cut` with columns from `cut` on is zero when `apart`.
+    fn random_blocks(rng: &mut Lcg, n: usize, k: usize, cut: usize, apart: bool) -> BandMatrix {
+        let mut m = BandMatrix::new(n, k, k);
+        let mut off = vec![0.0; n];
+        for i in 0..n {
+            for j in i.saturating_sub(k)..i {
+                let v = if apart && j < cut && i >= cut { 0.0 } else { rng.next() };
+                m.set(i, j, v);
+                m.set(j, i, v);
+                off[i] += v.abs();
+                off[j] += v.abs();
+            }
+        }
+        for (i, o) in off.iter().enumerate() {
+            m.set(i, i, o + 0.5 * (1.0 + rng.next().abs()));
+        }
+        m
+    }
+
+    /// A matrix that falls apart in two is factored and solved as two
+    /// blocks on the pool, with the serial answer bit for bit; a coupled one
+    /// is not split (or split where it does fall apart).
+    #[test]
+    fn split_ldlt_is_the_serial_one_bit_for_bit() {
+        let mut rng = Lcg(8);
+        let (n, k) = (6000, 11);
+        for (cut, apart) in [(3000, true), (2600, true), (3000, false), (500, true)] {
+            let a = random_blocks(&mut rng, n, k, cut, apart);
+            let b: Vec<f64> = (0..n).map(|_| rng.next()).collect();
+            let (mut serial, mut pooled) = (BandLdlt::new(), BandLdlt::new());
+            pooled.set_parallel(true);
+            serial.factor(&a).unwrap();
+            pooled.factor(&a).unwrap();
+            // Halves under a quarter of the matrix are not worth a thread.
+            let expected = if apart && 4 * cut.min(n - cut) >= n { cut } else { 0 };
+            assert_eq!(pooled.split(), expected, "cut {cut}, apart {apart}");
+            assert_eq!(serial.split(), 0);
+            for (x, y) in serial.l.iter().zip(&pooled.l) {
+                assert_eq!(x, y, "factor entries (cut {cut})");
+            }
+            let (mut xs, mut xp) = (b.clone(), b.clone());
+            serial.solve_in_place(&mut xs).unwrap();
+            pooled.solve_in_place(&mut xp).unwrap();
+            assert_eq!(xs, xp, "solutions (cut {cut})");
+            // And it is a solution: the residual against A.
+            let mut ax = vec![0.0; n];
+            a.matvec(&xs, &mut ax);
+            let err = ax.iter().zip(&b).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+            assert!(err < 1e-12, "residual {err:e}");
         }
     }
 

@@ -119,6 +119,29 @@ const SEQ_BATCH: usize = 16;
 const PAR_BATCH: usize = 4096;
 pub(crate) const PAR_MIN_SEGMENTS: usize = 2048;
 
+/// The next kernel batch into `ranges`: up to `batch` segments from rod
+/// `at.0`'s segment `at.1` on, spanning rods; `at` moves past them. Returns
+/// the number of segments.
+fn next_batch(rods: &[&Rod], batch: usize, at: &mut (usize, usize), ranges: &mut Vec<SegRange>) -> usize {
+    ranges.clear();
+    let mut filled = 0;
+    let (r, first) = at;
+    while filled < batch && *r < rods.len() {
+        let nseg = rods[*r].n_segments();
+        let m = (batch - filled).min(nseg - *first);
+        if m > 0 {
+            ranges.push(SegRange { rod: *r, first: *first, offset: filled, len: m });
+        }
+        filled += m;
+        *first += m;
+        if *first == nseg {
+            *r += 1;
+            *first = 0;
+        }
+    }
+    filled
+}
+
 /// P = I − s sᵀ: what a sliding bead's mass acts on (s = 0: all of it).
 fn slide_projector(s: &[f64; 3]) -> [[f64; 3]; 3] {
     let mut p = [[0.0f64; 3]; 3];
@@ -233,6 +256,9 @@ pub struct KktSystem {
     blocks: Vec<SegBlock>,
     /// The (rod, segments) pieces of the current kernel batch.
     ranges: Vec<SegRange>,
+    /// The next batch's, computed while the current one is scattered.
+    next_blocks: Vec<SegBlock>,
+    next_ranges: Vec<SegRange>,
     rows: Vec<Row>,
     mv: Vec<f64>,
     /// When set, `assemble` keeps each rod's elastic forces P (rod-local
@@ -312,50 +338,63 @@ impl KktSystem {
         let mut energy = 0.0;
         let mut blocks = std::mem::take(&mut self.blocks);
         let mut ranges = std::mem::take(&mut self.ranges);
+        let mut next_blocks = std::mem::take(&mut self.next_blocks);
+        let mut next_ranges = std::mem::take(&mut self.next_ranges);
         let total: usize = rods.iter().map(|r| r.n_segments()).sum();
         let parallel = parallel && total >= PAR_MIN_SEGMENTS;
+        self.ldlt.set_parallel(parallel);
         let batch = if parallel { PAR_BATCH } else { SEQ_BATCH };
         blocks.resize(batch.min(total), SegBlock::default());
+        next_blocks.resize(batch.min(total), SegBlock::default());
         let need = if k.step_stiffness { Need::StepHessian } else { Need::Hessian };
-        let (mut r, mut first) = (0, 0);
         let mut pm_order = std::mem::take(&mut self.pm_order);
         pm_order.clear();
         pm_order.extend(0..point_masses.len());
         pm_order.sort_unstable_by_key(|&p| (point_masses[p].rod, point_masses[p].seg, p));
         let mut next_pm = 0;
-        while r < rods.len() {
-            ranges.clear();
-            let mut filled = 0;
-            while filled < batch && r < rods.len() {
-                let nseg = rods[r].n_segments();
-                let m = (batch - filled).min(nseg - first);
-                if m > 0 {
-                    ranges.push(SegRange { rod: r, first, offset: filled, len: m });
-                }
-                filled += m;
-                first += m;
-                if first == nseg {
-                    r += 1;
-                    first = 0;
-                }
-            }
-            assemble_ranges(rods, &ranges, &mut blocks[..filled], need, parallel);
-            for g in &ranges {
-                for (s, blk) in (g.first..).zip(blocks[g.offset..g.offset + g.len].iter_mut()) {
-                    energy += blk.energy;
-                    let drag = drags.get(g.rod).filter(|d| k.drag != 0.0 && **d != Drag::default());
-                    // The beads on this segment: their mass joins its block.
-                    let start = next_pm;
-                    while pm_order.get(next_pm).is_some_and(|&p| (point_masses[p].rod, point_masses[p].seg) <= (g.rod, s)) {
-                        next_pm += 1;
+        let mut at = (0, 0);
+        let mut filled = next_batch(rods, batch, &mut at, &mut ranges);
+        assemble_ranges(rods, &ranges, &mut blocks[..filled], need, parallel);
+        loop {
+            let more = at.0 < rods.len();
+            let next_filled = if more { next_batch(rods, batch, &mut at, &mut next_ranges) } else { 0 };
+            // This batch is scattered (in rod and segment order) while the
+            // next one's kernels run: on two threads the scatter, a fifth
+            // of a many-rod step, no longer waits for them nor they for it.
+            let mut scatter = |this: &mut Self| {
+                for g in &ranges {
+                    for (s, blk) in (g.first..).zip(blocks[g.offset..g.offset + g.len].iter_mut()) {
+                        energy += blk.energy;
+                        let drag = drags.get(g.rod).filter(|d| k.drag != 0.0 && **d != Drag::default());
+                        // The beads on this segment: their mass joins its block.
+                        let start = next_pm;
+                        while pm_order.get(next_pm).is_some_and(|&p| (point_masses[p].rod, point_masses[p].seg) <= (g.rod, s)) {
+                            next_pm += 1;
+                        }
+                        let on_segment = pm_order[start..next_pm].iter().map(|&p| &point_masses[p]).filter(|pm| (pm.rod, pm.seg) == (g.rod, s));
+                        this.scatter_segment(layout, g.rod, rods[g.rod], s, blk, k, drag, on_segment);
                     }
-                    let on_segment = pm_order[start..next_pm].iter().map(|&p| &point_masses[p]).filter(|pm| (pm.rod, pm.seg) == (g.rod, s));
-                    self.scatter_segment(layout, g.rod, rods[g.rod], s, blk, k, drag, on_segment);
                 }
+            };
+            if !more {
+                scatter(self);
+                break;
             }
+            if parallel {
+                rayon::join(|| scatter(self), || assemble_ranges(rods, &next_ranges, &mut next_blocks[..next_filled], need, true));
+            } else {
+                scatter(self);
+                assemble_ranges(rods, &next_ranges, &mut next_blocks[..next_filled], need, false);
+            }
+            std::mem::swap(&mut blocks, &mut next_blocks);
+            std::mem::swap(&mut ranges, &mut next_ranges);
+            filled = next_filled;
         }
+        let _ = filled;
         self.blocks = blocks;
         self.ranges = ranges;
+        self.next_blocks = next_blocks;
+        self.next_ranges = next_ranges;
         self.pm_order = pm_order;
         // Point masses (beads): c_m m b_i b_j P and c_v m b_i P v(u), with
         // P = I − s sᵀ (s the unit sliding direction of a sliding bead, whose
