@@ -7,7 +7,8 @@
 //! Env: T=298.15 adds thermal noise (K); DT the step (ns, default 0.01);
 //! STEPS the steps per length; SCHEME=trapezoidal (default implicit Euler:
 //! with noise it freezes the stiff modes, docs/dna_calibration.md); VISC the
-//! viscosity (pN·ns/nm², default water's 1).
+//! viscosity (pN·ns/nm², default water's 1); PARALLEL=0 one thread (default:
+//! rayon's pool, as `IntegrationParameters::default()`).
 use std::time::Instant;
 use strandkit::prelude::*;
 use strandkit_builders::dna::{duplex, Duplex};
@@ -32,7 +33,8 @@ fn main() -> Result<()> {
         let temperature = env("T", 0.0);
         let scheme = if env("SCHEME", String::new()) == "trapezoidal" { Scheme::Trapezoidal } else { Scheme::ImplicitEuler };
         let viscosity = env("VISC", 1.0);
-        let mut w = World::new(IntegrationParameters { dt, viscosity, temperature, seed: 7, scheme, units: Units::Molecular, ..Default::default() });
+        let parallel = env("PARALLEL", 1) != 0;
+        let mut w = World::new(IntegrationParameters { dt, viscosity, temperature, seed: 7, scheme, units: Units::Molecular, parallel, ..Default::default() });
         w.insert(&asm)?;
         let cps: usize = w.rods().map(|(_, r)| r.n_ctrl()).sum();
         w.step()?;

@@ -10,8 +10,12 @@ pub struct IntegrationParameters {
     pub dt: f64,
     /// Gravity (length/time²); the body force is μ g per unit length.
     pub gravity: [f64; 3],
-    /// Assemble segments in parallel (rayon) when the world has enough of
-    /// them (≥ 2048 segments) to pay for waking the pool.
+    /// Use rayon's pool when the world has enough segments (≥ 2048) to pay
+    /// for waking it: the step (and relax) runs on a pool thread, the
+    /// segment kernels in parallel, each batch scattered while the next
+    /// one's kernels run, the guard's per-rod energies in parallel, and a
+    /// band LDLᵀ whose system falls apart in two (free rods) factored and
+    /// solved as two blocks. The result is the one-thread one, bit for bit.
     pub parallel: bool,
     /// Quasi-static convergence: Newton increment ≤ tol × rod length (and
     /// tol radians on roll), constraint violation ≤ tol × rod length.
