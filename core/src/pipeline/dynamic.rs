@@ -13,7 +13,7 @@ use crate::world::{Scheme, World};
 
 /// Advances the world by one time step `params.dt`.
 pub fn step(world: &mut World) -> Result<StepReport> {
-    super::on_pool(world.params.parallel, world, step_here)
+    super::on_pool(world, step_here)
 }
 
 fn step_here(world: &mut World) -> Result<StepReport> {

@@ -126,13 +126,20 @@ impl World {
     }
 }
 
-/// Runs `f` on one of rayon's pool threads when `parallel` (and not there
-/// already). Called from outside the pool, the pool's idle workers spin
-/// while the calling thread does the serial part of a step: three threads
-/// on two cores. Measured (`step_probe --rods 400`, 2 cores): 0.77–0.95×
-/// against one thread from outside, 1.29× from inside.
-pub(crate) fn on_pool<T: Send>(parallel: bool, world: &mut World, f: fn(&mut World) -> Result<T>) -> Result<T> {
-    if parallel && rayon::current_thread_index().is_none() {
+/// Whether this world uses rayon's pool: `params.parallel` and enough
+/// segments in all (≥ 2048) to pay for waking it (below that the pool cost
+/// more than it saved on 2 cores, BENCHMARKS §16).
+pub(crate) fn uses_pool(world: &World) -> bool {
+    world.params.parallel && world.rods.iter().map(|(_, r)| r.n_segments()).sum::<usize>() >= crate::system::kkt::PAR_MIN_SEGMENTS
+}
+
+/// Runs `f` on one of rayon's pool threads when the world uses the pool
+/// (and not there already). Called from outside the pool, the pool's idle
+/// workers spin while the calling thread does the serial part of a step:
+/// three threads on two cores. Measured (BENCHMARKS §32, 400 rods, 2
+/// cores): 0.89–0.93× of one thread from outside.
+pub(crate) fn on_pool<T: Send>(world: &mut World, f: fn(&mut World) -> Result<T>) -> Result<T> {
+    if uses_pool(world) && rayon::current_thread_index().is_none() {
         rayon::join(|| f(world), || ()).0
     } else {
         f(world)
@@ -146,4 +153,40 @@ pub fn bandwidth(world: &mut World) -> Result<usize> {
     }
     assemble::layout(world, false)?;
     Ok(world.ws.layout.bandwidth)
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::{IntegrationParameters, Material, RodBuilder, Section, World};
+    use nalgebra::Vector3;
+
+    /// 100 free rods of 25 control points (2200 segments): the step runs on
+    /// the pool and its band LDLᵀ falls apart in two (`tests/parallel.rs`
+    /// checks that the answer is the serial one); one thread never splits.
+    #[test]
+    fn free_rods_factor_in_two_on_the_pool() {
+        for parallel in [true, false] {
+            let mut w = World::new(IntegrationParameters { dt: 2e-3, gravity: [0.0, -9.81, 0.0], parallel, ..Default::default() });
+            for i in 0..100 {
+                let z = 0.05 * i as f64;
+                let rod = RodBuilder::straight(Vector3::new(0.0, 0.0, z), Vector3::new(1.0, 0.0, z))
+                    .control_points(25)
+                    .section(Section::circle(0.01).unwrap())
+                    .material(Material::new("rubber", 1e7, 0.45, 1000.0).unwrap())
+                    .build()
+                    .unwrap();
+                w.add_rod(rod);
+            }
+            assert_eq!(super::uses_pool(&w), parallel);
+            let report = w.step().unwrap();
+            assert_eq!(report.factorisation, crate::system::Factorisation::BandLdlt);
+            let split = w.ws.sys.ldlt.split();
+            if parallel {
+                let n = report.n_unknowns;
+                assert!(4 * split.min(n - split) >= n, "split at {split} of {n}");
+            } else {
+                assert_eq!(split, 0);
+            }
+        }
+    }
 }

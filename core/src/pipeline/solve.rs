@@ -364,17 +364,12 @@ pub(crate) fn begin(world: &mut World, scale: f64, elastic_before: Option<f64>) 
 /// For a step applied in several parts: keeps each rod's kinetic energy
 /// now (for naming the rod whose energy grew) and returns their sum.
 pub(crate) fn kinetic_before(world: &mut World) -> f64 {
-    let parallel = parallel_per_rod(world);
+    let parallel = super::uses_pool(world);
     let World { rods, ws, .. } = world;
     per_rod(rods, parallel, &mut ws.energy_before, |r| r.kinetic_energy());
     ws.energy_before.iter().sum()
 }
 
-/// Whether the per-rod energy passes run on rayon's pool: as the kernels
-/// do (`params.parallel` and enough segments in all to wake it).
-fn parallel_per_rod(world: &World) -> bool {
-    world.params.parallel && world.rods.iter().map(|(_, r)| r.n_segments()).sum::<usize>() >= crate::system::kkt::PAR_MIN_SEGMENTS
-}
 
 /// `f` of each rod in world order into `out` (on rayon's pool when
 /// `parallel`; the values are the same either way).
@@ -413,7 +408,7 @@ pub(crate) fn finish(world: &mut World, budget: Option<f64>) -> Result<()> {
     });
     let mut growth = world.growth;
     if refused.is_none() && budget.is_some() {
-        let parallel = parallel_per_rod(world);
+        let parallel = super::uses_pool(world);
         let World { rods, ws, .. } = world;
         per_rod(rods, parallel, &mut ws.energy_after, |r| r.elastic_energy() + r.kinetic_energy());
     }
@@ -432,7 +427,7 @@ pub(crate) fn finish(world: &mut World, budget: Option<f64>) -> Result<()> {
 /// (The per-rod figure, for naming the rod, leaves the elastic part out:
 /// the assembly gave it only in total.)
 fn energy_in(world: &mut World, scale: f64) -> f64 {
-    let parallel = parallel_per_rod(world);
+    let parallel = super::uses_pool(world);
     let World { rods, ws, .. } = world;
     per_rod(rods, parallel, &mut ws.energy_before, |r| r.kinetic_energy());
     let mut total = 0.0;

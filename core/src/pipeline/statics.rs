@@ -31,7 +31,7 @@ use crate::world::{Event, World};
 /// the iteration continues until the offsets stop moving, while a break, a
 /// clip event or a rupture ends the solve with its events.
 pub fn relax(world: &mut World) -> Result<RelaxReport> {
-    super::on_pool(world.params.parallel, world, relax_here)
+    super::on_pool(world, relax_here)
 }
 
 fn relax_here(world: &mut World) -> Result<RelaxReport> {

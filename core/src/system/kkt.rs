@@ -353,7 +353,7 @@ impl KktSystem {
         pm_order.sort_unstable_by_key(|&p| (point_masses[p].rod, point_masses[p].seg, p));
         let mut next_pm = 0;
         let mut at = (0, 0);
-        let mut filled = next_batch(rods, batch, &mut at, &mut ranges);
+        let filled = next_batch(rods, batch, &mut at, &mut ranges);
         assemble_ranges(rods, &ranges, &mut blocks[..filled], need, parallel);
         loop {
             let more = at.0 < rods.len();
@@ -388,9 +388,7 @@ impl KktSystem {
             }
             std::mem::swap(&mut blocks, &mut next_blocks);
             std::mem::swap(&mut ranges, &mut next_ranges);
-            filled = next_filled;
         }
-        let _ = filled;
         self.blocks = blocks;
         self.ranges = ranges;
         self.next_blocks = next_blocks;
