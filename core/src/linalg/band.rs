@@ -435,8 +435,9 @@ impl BandLdlt {
 
     /// Lets the factorisation and the solves of a matrix that falls apart in
     /// two diagonal blocks run the blocks on rayon's pool. The result is the
-    /// serial one: eliminating a column never touches the other block, where
-    /// the serial loop only subtracts exact zeros.
+    /// serial one (an exact zero's sign aside): eliminating a column never
+    /// touches the other block, where the serial loop only subtracts exact
+    /// zeros.
     pub fn set_parallel(&mut self, parallel: bool) {
         self.parallel = parallel;
     }

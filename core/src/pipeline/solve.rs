@@ -370,7 +370,6 @@ pub(crate) fn kinetic_before(world: &mut World) -> f64 {
     ws.energy_before.iter().sum()
 }
 
-
 /// `f` of each rod in world order into `out` (on rayon's pool when
 /// `parallel`; the values are the same either way).
 fn per_rod(rods: &crate::handles::Arena<crate::rod::Rod>, parallel: bool, out: &mut Vec<f64>, f: impl Fn(&crate::rod::Rod) -> f64 + Sync + Send) {

@@ -81,7 +81,8 @@ pub struct Workspace {
     /// What the last `apply` overwrote (coordinates, velocities,
     /// multipliers, slider abscissae), to undo a step refused after it.
     pub(crate) undo: Vec<f64>,
-    /// Elastic + kinetic energy of each rod before the step being committed.
+    /// Kinetic energy of each rod before the step being committed (the
+    /// guard's, naming the rod whose energy grew).
     pub(crate) energy_before: Vec<f64>,
     /// Each rod's elastic + kinetic energy after the step (the guard's).
     pub(crate) energy_after: Vec<f64>,
