@@ -181,3 +181,56 @@ fn relax_and_quasi_static_frames_settle_on_a_stop() {
     println!("quasi-static frames: stop force {n:.5} N ({:+.3} %)", 100.0 * (n / expected - 1.0));
     assert!((n / expected - 1.0).abs() < 1e-2);
 }
+
+/// What the detector returns (issue 15's rows): rods crossing at angles
+/// from 20° to 90°, at heights from touching to the margin's edge, give one
+/// row each, at the centrelines' closest points (found here by fine
+/// sampling, to its resolution); two rods lying side by side give about
+/// two rows per spline segment along their overlap (`rods.rs`: rows closer
+/// than half a segment on both rods collapse; 1.56 measured, 1.78 before
+/// the seeds of 2026-11-28), none outside it.
+#[test]
+fn a_crossing_gives_one_row_at_its_closest_points_and_strands_side_by_side_two_per_segment() {
+    use strandkit::contact::{ContactDetector, ContactSet};
+    let det = RodContacts::new(0.005, false, true).unwrap();
+    let detect = |a: &Rod, b: &Rod| {
+        let mut w = World::new(IntegrationParameters::default());
+        w.add_rod(a.clone());
+        w.add_rod(b.clone());
+        let list: Vec<_> = w.rods().collect();
+        let mut set = ContactSet::default();
+        det.detect(&list, &mut set).unwrap();
+        set.pairs.iter().map(|p| match &p.kind {
+            ConstraintKind::Contact(c) => (c.ua, c.ub),
+            k => panic!("rod pairs should be contacts, got {k:?}"),
+        }).collect::<Vec<_>>()
+    };
+    for (k, deg) in [20.0f64, 35.0, 50.0, 71.0, 90.0].into_iter().enumerate() {
+        let th = deg.to_radians();
+        // Off the segments' middles and off the grid axes.
+        let c = Vector3::new(0.013 * k as f64 - 0.02, 0.007, 0.0);
+        let lift = 2.0 * R + 0.004 * k as f64 / 4.0;
+        let a = rod(c + Vector3::new(-0.5, -0.1, 0.0), c + Vector3::new(0.5, 0.1, 0.0));
+        let dir = Vector3::new((th + 0.2f64.atan()).cos(), (th + 0.2f64.atan()).sin(), 0.0);
+        let b = rod(c + Vector3::new(0.0, 0.0, lift) - 0.5 * dir, c + Vector3::new(0.0, 0.0, lift) + 0.5 * dir);
+        let rows = detect(&a, &b);
+        assert_eq!(rows.len(), 1, "crossing at {deg}°: {rows:?}");
+        let (ua, ub) = rows[0];
+        let d = (a.position(ua).unwrap() - b.position(ub).unwrap()).norm();
+        let fine = gap(&a, &b);
+        println!("crossing at {deg}°: row at distance {d:.7} m, finely sampled closest {fine:.7} m");
+        assert!(d <= fine + 1e-9 && d > fine - 1e-5, "crossing at {deg}°: row at {d}, closest {fine}");
+    }
+    // Side by side over half their length: rods of 11 segments each.
+    let a = rod(Vector3::new(-0.5, 0.0, 0.0), Vector3::new(0.5, 0.0, 0.0));
+    let b = rod(Vector3::new(0.0, 2.0 * R, 0.0), Vector3::new(1.0, 2.0 * R, 0.0));
+    let rows = detect(&a, &b);
+    let seg = 1.0 / a.n_segments() as f64;
+    let per_segment = rows.len() as f64 * seg / 0.5;
+    println!("side by side: {} rows over 0.5 m, {per_segment:.2} per segment", rows.len());
+    assert!((1.4..=2.5).contains(&per_segment), "{} rows over half a metre of {seg} m segments", rows.len());
+    for &(ua, ub) in &rows {
+        let (pa, pb) = (a.position(ua).unwrap(), b.position(ub).unwrap());
+        assert!(pa.x > -0.02 && pb.x < 0.52 && ((pa - pb).norm() - 2.0 * R).abs() < 1e-9, "row off the overlap: {pa} {pb}");
+    }
+}

@@ -81,8 +81,12 @@ pub(crate) struct Runs {
     runs: Vec<(usize, usize, Bounds)>,
     /// Runs sorted by cell; `cells` maps a cell to its range here.
     order: Vec<(Cell, usize)>,
-    cells: CellMap<(usize, usize)>,
-    cell: f64,
+    /// Each run's cell (an index into `around`), and for each occupied
+    /// cell the ranges of `order` in it and its 26 neighbours (looked up
+    /// once per cell, not once per run).
+    cell_of: Vec<usize>,
+    around: Vec<std::ops::Range<usize>>,
+    ranges: Vec<(usize, usize)>,
 }
 
 impl Runs {
@@ -105,21 +109,44 @@ impl Runs {
         if !(cell > 0.0) || !cell.is_finite() {
             return Err(Error::input("contact detection: the rods have no extent (zero capsule length and radius)"));
         }
-        let mut out = Runs { runs, order: Vec::new(), cells: CellMap::default(), cell };
-        out.order = out.runs.iter().enumerate().map(|(i, r)| (out.key(&r.2), i)).collect();
-        out.order.sort_unstable();
+        let mut order: Vec<(Cell, usize)> = Vec::with_capacity(runs.len());
+        let key = |b: &Bounds| Runs::key_of(b, cell);
+        order.extend(runs.iter().enumerate().map(|(i, r)| (key(&r.2), i)));
+        order.sort_unstable();
+        let mut cells: CellMap<(usize, usize)> = CellMap::default();
         let mut first = 0;
-        for k in 1..=out.order.len() {
-            if k == out.order.len() || out.order[k].0 != out.order[first].0 {
-                out.cells.insert(out.order[first].0, (first, k));
+        for k in 1..=order.len() {
+            if k == order.len() || order[k].0 != order[first].0 {
+                cells.insert(order[first].0, (first, k));
                 first = k;
             }
+        }
+        let mut out = Runs { cell_of: vec![0; runs.len()], runs, order, around: Vec::with_capacity(cells.len()), ranges: Vec::new() };
+        let mut k = 0;
+        while k < out.order.len() {
+            let (c, _) = out.order[k];
+            let (_, end) = cells[&c];
+            let start = out.ranges.len();
+            for dx in -1..=1 {
+                for dy in -1..=1 {
+                    for dz in -1..=1 {
+                        if let Some(&r) = cells.get(&Cell([c.0[0] + dx, c.0[1] + dy, c.0[2] + dz])) {
+                            out.ranges.push(r);
+                        }
+                    }
+                }
+            }
+            for m in k..end {
+                out.cell_of[out.order[m].1] = out.around.len();
+            }
+            out.around.push(start..out.ranges.len());
+            k = end;
         }
         Ok(out)
     }
 
-    fn key(&self, b: &Bounds) -> Cell {
-        let m = 0.5 * (b.lo + b.hi) / self.cell;
+    fn key_of(b: &Bounds, cell: f64) -> Cell {
+        let m = 0.5 * (b.lo + b.hi) / cell;
         Cell([m.x.floor() as i64, m.y.floor() as i64, m.z.floor() as i64])
     }
 
@@ -142,14 +169,8 @@ impl Runs {
     pub fn partners(&self, a: usize, out: &mut Vec<usize>) {
         out.clear();
         let ra = &self.runs[a];
-        let k = self.key(&ra.2).0;
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for dz in -1..=1 {
-                    let Some(&(lo, hi)) = self.cells.get(&Cell([k[0] + dx, k[1] + dy, k[2] + dz])) else { continue };
-                    out.extend(self.order[lo..hi].iter().map(|&(_, b)| b).filter(|&b| b >= a && ra.2.overlaps(&self.runs[b].2)));
-                }
-            }
+        for &(lo, hi) in &self.ranges[self.around[self.cell_of[a]].clone()] {
+            out.extend(self.order[lo..hi].iter().map(|&(_, b)| b).filter(|&b| b >= a && ra.2.overlaps(&self.runs[b].2)));
         }
     }
 }

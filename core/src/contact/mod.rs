@@ -30,6 +30,7 @@ pub mod friction;
 pub mod mesh;
 pub mod obstacle;
 pub(crate) mod broad;
+pub(crate) mod nearest;
 pub mod rods;
 
 use crate::constraint::ConstraintKind;

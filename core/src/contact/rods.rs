@@ -8,7 +8,10 @@
 //! closest points within a segment of the two capsules. A pair is kept
 //! when one of its capsules is the other's nearest on that strand (every
 //! pass of a rod by a capsule has its nearest: a knot's braid brings
-//! three), and of those landing within half a segment of each other on
+//! three); the pairs whose capsules' closest points lie inside both
+//! capsules are moved onto the splines (a pair closest at a capsule's end
+//! leaves that to the pair across it: a crossing's ten or so pairs give one
+//! projection), and of those landing within half a segment of each other on
 //! both rods only the closest: one crossing gives one row (two identical
 //! rows would make the system singular), strands lying side by side about
 //! two rows per segment (more would outnumber what the control points can
@@ -27,6 +30,7 @@ use crate::handles::RodHandle;
 use crate::rod::Rod;
 use nalgebra::Vector3;
 use super::broad::{Bounds, Cell, CellHasher, Runs};
+use super::nearest::Nearest;
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::hash::BuildHasherDefault;
@@ -125,17 +129,29 @@ impl ContactDetector for RodContacts {
         // capsules can be within reach only if their boxes overlap.
         let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
         let boxes: Vec<Bounds> = caps.iter().map(|c| Bounds { lo: c.p.inf(&c.q) - grow(c), hi: c.p.sup(&c.q) + grow(c) }).collect();
+        // And in the sphere about its middle through its grown ends: a
+        // crossing's corner pairs, whose boxes overlap, are out of reach.
+        let spheres: Vec<(Vector3<f64>, f64)> = caps.iter().map(|c| (0.5 * (c.p + c.q), 0.5 * (c.q - c.p).norm() + c.radius + 0.5 * self.margin)).collect();
         // Arc length between two capsules of one rod (around a ring).
         let along = |a: &Capsule, b: &Capsule| {
             let d = (b.sa - a.sa).abs();
             if rods[a.rod].1.is_closed() { d.min(chain[a.rod] - d) } else { d }
         };
-        // The exact test of one capsule pair (i < j): boxes, which pairs are
-        // asked for, a rod's own neighbourhood, the closest points.
-        let mut found: Vec<(usize, usize, f64, f64, f64)> = Vec::new();
-        let test = |i: usize, j: usize, found: &mut Vec<(usize, usize, f64, f64, f64)>| {
+        // Two partners of capsule `i` on one rod closer along it than the
+        // shortest loop are on the same pass of that rod. A knot's braid
+        // brings three passes: keeping one nearest over all of them left the
+        // third without rows, and a tightening overhand knot pulled it
+        // through. Equal distances (strands side by side) keep the first
+        // pair tested.
+        let same_strand = |i: usize, k: usize, j: usize| caps[k].rod == caps[j].rod && along(&caps[k], &caps[j]) < exclusion(caps[i].radius + caps[j].radius);
+        // The exact test of one capsule pair: boxes, which pairs are asked
+        // for, a rod's own neighbourhood, the closest points; a pair within
+        // reach is offered to both capsules' nearest partners.
+        let mut nearest = Nearest::new(caps.len());
+        let mut test = |i: usize, j: usize| {
             let (a, b) = (&caps[i], &caps[j]);
-            if !boxes[i].overlaps(&boxes[j]) {
+            let ((ci, ri), (cj, rj)) = (spheres[i], spheres[j]);
+            if !boxes[i].overlaps(&boxes[j]) || (ci - cj).norm_squared() > (ri + rj) * (ri + rj) {
                 return;
             }
             let same = a.rod == b.rod;
@@ -149,36 +165,15 @@ impl ContactDetector for RodContacts {
             if same && (along(a, b) < exclusion(reach) || j == i + 1) {
                 return;
             }
-            let (s, t, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
+            let (_, _, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
             if dist < reach + self.margin {
-                found.push((i, j, s, t, dist));
+                nearest.offer(i, j, dist, |k| same_strand(i, k, j));
+                nearest.offer(j, i, dist, |k| same_strand(j, k, i));
             }
         };
         let runs = Runs::new(&boxes, &rod_ranges)?;
-        // The capsules' own cells, as large as any capsule plus the reach:
-        // the order of the pairs reads the direction from one to the other
-        // in this grid (the one they were once found on).
-        let rmax = caps.iter().map(|c| c.radius).fold(0.0, f64::max);
-        let lmax = caps.iter().map(|c| (c.q - c.p).norm()).fold(0.0, f64::max);
-        let fine = lmax + 2.0 * rmax + self.margin;
-        let fine_key = |c: &Capsule| {
-            let m = 0.5 * (c.p + c.q) / fine;
-            [m.x.floor() as i64, m.y.floor() as i64, m.z.floor() as i64]
-        };
-        let fine_keys: Vec<[i64; 3]> = caps.iter().map(fine_key).collect();
-        let direction = |i: usize, j: usize| {
-            let (a, b) = (fine_keys[i], fine_keys[j]);
-            (b[0] - a[0] + 1) * 9 + (b[1] - a[1] + 1) * 3 + (b[2] - a[2] + 1)
-        };
         // Run by run in the capsules' order, with itself and the later runs
-        // whose boxes overlap it (each pair of runs once): the pairs come
-        // out along the first capsule's rod; within a run they are put in
-        // a deterministic order — by the direction of the partner's cell,
-        // then along the partner's rod (the order of a scan capsule by
-        // capsule; it decides ties below, and the plectoneme's closest
-        // approach moves from 0.94 to 0.80 diameters with them).
-        let mut local: Vec<(usize, i64, usize, f64, f64, f64)> = Vec::new();
-        let mut local_found = Vec::new();
+        // whose boxes overlap it (each pair of runs once).
         let (mut partners, mut near_b) = (Vec::new(), Vec::new());
         for a in 0..runs.len() {
             runs.partners(a, &mut partners);
@@ -194,39 +189,68 @@ impl ContactDetector for RodContacts {
                 near_b.extend(runs.capsules(b).filter(|&j| boxes[j].overlaps(box_a)));
                 for i in runs.capsules(a).filter(|&i| boxes[i].overlaps(box_b)) {
                     for &j in near_b.iter().filter(|&&j| b != a || j > i) {
-                        test(i, j, &mut local_found);
+                        test(i, j);
                     }
                 }
             }
-            local.extend(local_found.drain(..).map(|(i, j, s, t, d)| (i, direction(i, j), j, s, t, d)));
-            local.sort_unstable_by(|x, y| (x.0, x.1, x.2).cmp(&(y.0, y.1, y.2)));
-            found.extend(local.drain(..).map(|(i, _, j, s, t, d)| (i, j, s, t, d)));
         }
-        // Each capsule's nearest partner on every strand passing by, ties to
-        // the first in that order (parallel strands give equal distances).
-        // Partners on one rod farther apart along it than the shortest loop
-        // are different passes (a knot's braid brings three): keeping one
-        // nearest over all of them left the third strand without rows, and
-        // a tightening overhand knot pulled it through.
-        let mut best: Vec<Vec<(usize, f64)>> = (0..caps.len()).map(|_| Vec::new()).collect();
-        let mut offer = |i: usize, j: usize, dist: f64| {
-            let strand = best[i].iter_mut().find(|(k, _)| caps[*k].rod == caps[j].rod && along(&caps[*k], &caps[j]) < exclusion(caps[i].radius + caps[j].radius));
-            match strand {
-                Some(e) if dist < e.1 => *e = (j, dist),
-                Some(_) => {}
-                None => best[i].push((j, dist)),
+        // A pair is a candidate when one capsule is the other's nearest on
+        // that strand (every pass of a rod by a capsule has its nearest).
+        let candidate = |i: usize, j: usize| nearest.get(i, j).or_else(|| nearest.get(j, i));
+        // The capsules before and after one along its rod (around a ring).
+        let step_along = |k: usize, forward: bool| {
+            let (first, end) = rod_ranges[caps[k].rod];
+            let closed = rods[caps[k].rod].1.is_closed();
+            match (forward, k) {
+                (true, k) if k + 1 < end => Some(k + 1),
+                (true, _) => closed.then_some(first),
+                (false, k) if k > first => Some(k - 1),
+                (false, _) => closed.then_some(end - 1),
             }
         };
-        for &(i, j, _, _, dist) in &found {
-            offer(i, j, dist);
-            offer(j, i, dist);
+        // Seeds for the projection onto the splines: a candidate whose
+        // closest point lies at the end of one of its capsules is left to
+        // the candidate across that end, which holds that point too and so
+        // is as close (ties go to the lower pair). A crossing's capsules off
+        // it all end on its side: about ten candidates leave one seed, the
+        // pair whose closest points lie inside both capsules. A strand
+        // wrapping round another, or lying beside it, has its closest
+        // points inside its capsules and keeps a seed at each.
+        let mut seeds: Vec<(usize, usize, f64, f64)> = Vec::new();
+        for i in 0..caps.len() {
+            for (j, d) in nearest.of(i) {
+                let (lo, hi) = (i.min(j), i.max(j));
+                // Once per pair: from the lower capsule when it names the
+                // higher one, else from the higher.
+                if i == hi && nearest.get(lo, hi).is_some() {
+                    continue;
+                }
+                let (a, b) = (&caps[lo], &caps[hi]);
+                let (s, t, _) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
+                let across = [
+                    (s == 0.0).then(|| (step_along(lo, false), Some(hi))),
+                    (s == 1.0).then(|| (step_along(lo, true), Some(hi))),
+                    (t == 0.0).then(|| (Some(lo), step_along(hi, false))),
+                    (t == 1.0).then(|| (Some(lo), step_along(hi, true))),
+                ];
+                let left = across.iter().flatten().any(|pair| match *pair {
+                    (Some(x), Some(y)) if x != y => {
+                        let (x, y) = (x.min(y), x.max(y));
+                        candidate(x, y).is_some_and(|e| (e, x, y) < (d, lo, hi))
+                    }
+                    _ => false,
+                });
+                if !left {
+                    seeds.push((lo, hi, s, t));
+                }
+            }
         }
-        let nearest = |i: usize, j: usize| best[i].iter().any(|(k, _)| *k == j);
         // Half a segment's length along each rod (its chain over its segments).
         let spacing: Vec<f64> = rods.iter().zip(&chain).map(|((_, r), l)| 0.5 * l / r.n_segments().max(1) as f64).collect();
         // Rows kept, by rod pair and grid cell (twice the largest duplicate
         // distance: the points within it of a row are in at most two cells
         // along each axis).
+        let rmax = caps.iter().map(|c| c.radius).fold(0.0, f64::max);
         let dup_cell = 2.0 * spacing.iter().copied().fold(0.5 * rmax, f64::max);
         let mut kept: Kept<Vec<(Vector3<f64>, Vector3<f64>)>> = Kept::default();
         // A capsule's span grown by a segment each way: the chords may pick
@@ -245,10 +269,7 @@ impl ContactDetector for RodContacts {
         // Each kept capsule pair moved to the splines' closest points
         // within those windows.
         let mut rows: Vec<(f64, usize, usize, Contact, Vector3<f64>, Vector3<f64>)> = Vec::new();
-        for (i, j, s, t, _) in found {
-            if !nearest(i, j) && !nearest(j, i) {
-                continue;
-            }
+        for (i, j, s, t) in seeds {
             let (a, b) = (&caps[i], &caps[j]);
             let (ra, rb) = (rods[a.rod].1, rods[b.rod].1);
             // Started unwrapped, inside the windows (a ring's last capsule
