@@ -170,7 +170,10 @@ impl Runs {
         out.clear();
         let ra = &self.runs[a];
         for &(lo, hi) in &self.ranges[self.around[self.cell_of[a]].clone()] {
-            out.extend(self.order[lo..hi].iter().map(|&(_, b)| b).filter(|&b| b >= a && ra.2.overlaps(&self.runs[b].2)));
+            // A cell's runs are in index order: skip those before `a`.
+            let cell = &self.order[lo..hi];
+            let from = cell.partition_point(|&(_, b)| b < a);
+            out.extend(cell[from..].iter().map(|&(_, b)| b).filter(|&b| ra.2.overlaps(&self.runs[b].2)));
         }
     }
 }

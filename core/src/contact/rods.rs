@@ -114,7 +114,8 @@ impl ContactDetector for RodContacts {
         }
         // Arc length below which a rod's own points are not paired.
         let exclusion = |reach: f64| (PI * reach).max(0.5 * PI * (reach + self.margin));
-        let mut caps = Vec::new();
+        // Samples and ends: at most two capsules more than samples per rod.
+        let mut caps = Vec::with_capacity(rods.iter().map(|(_, r)| r.n_samples() + 2).sum());
         let mut chain = Vec::with_capacity(rods.len());
         let mut rod_ranges = Vec::with_capacity(rods.len());
         for (i, (_, rod)) in rods.iter().enumerate() {
@@ -144,16 +145,13 @@ impl ContactDetector for RodContacts {
         // through. Equal distances (strands side by side) keep the first
         // pair tested.
         let same_strand = |i: usize, k: usize, j: usize| caps[k].rod == caps[j].rod && along(&caps[k], &caps[j]) < exclusion(caps[i].radius + caps[j].radius);
-        // The exact test of one capsule pair: boxes, which pairs are asked
-        // for, a rod's own neighbourhood, the closest points; a pair within
-        // reach is offered to both capsules' nearest partners.
+        // The exact test of one capsule pair whose boxes and spheres
+        // overlap: which pairs are asked for, a rod's own neighbourhood, the
+        // closest points; a pair within reach is offered to both capsules'
+        // nearest partners.
         let mut nearest = Nearest::new(caps.len());
         let mut test = |i: usize, j: usize| {
             let (a, b) = (&caps[i], &caps[j]);
-            let ((ci, ri), (cj, rj)) = (spheres[i], spheres[j]);
-            if !boxes[i].overlaps(&boxes[j]) || (ci - cj).norm_squared() > (ri + rj) * (ri + rj) {
-                return;
-            }
             let same = a.rod == b.rod;
             if (same && !self.self_contact) || (!same && !self.between_rods) {
                 return;
@@ -186,10 +184,13 @@ impl ContactDetector for RodContacts {
                 // Only the capsules of each run within the other's box.
                 let (box_a, box_b) = (runs.bounds(a), runs.bounds(b));
                 near_b.clear();
-                near_b.extend(runs.capsules(b).filter(|&j| boxes[j].overlaps(box_a)));
+                near_b.extend(runs.capsules(b).filter(|&j| boxes[j].overlaps(box_a)).map(|j| (j, spheres[j], boxes[j])));
                 for i in runs.capsules(a).filter(|&i| boxes[i].overlaps(box_b)) {
-                    for &j in near_b.iter().filter(|&&j| b != a || j > i) {
-                        test(i, j);
+                    let ((ci, ri), box_i) = (spheres[i], boxes[i]);
+                    for &(j, (cj, rj), box_j) in near_b.iter().filter(|x| b != a || x.0 > i) {
+                        if (ci - cj).norm_squared() <= (ri + rj) * (ri + rj) && box_i.overlaps(&box_j) {
+                            test(i, j);
+                        }
                     }
                 }
             }

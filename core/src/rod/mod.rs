@@ -606,6 +606,11 @@ impl Rod {
             .collect()
     }
 
+    /// Number of samples (Gauss points).
+    pub fn n_samples(&self) -> usize {
+        self.cache.samples.len()
+    }
+
     /// Parameter u of every sample (Gauss point), in sample order.
     pub fn sample_params(&self) -> Vec<f64> {
         self.cache.samples.iter().map(|s| s.u).collect()
