@@ -188,7 +188,7 @@ fn relax_and_quasi_static_frames_settle_on_a_stop() {
 /// sampling, to its resolution); two rods lying side by side give about
 /// two rows per spline segment along their overlap (`rods.rs`: rows closer
 /// than half a segment on both rods collapse; 1.56 measured, 1.78 before
-/// the seeds of 2026-11-28), none outside it.
+/// the seeds of 2026-11-28), none outside it, and so do two at 2 mrad.
 #[test]
 fn a_crossing_gives_one_row_at_its_closest_points_and_strands_side_by_side_two_per_segment() {
     use strandkit::contact::{ContactDetector, ContactSet};
@@ -233,4 +233,12 @@ fn a_crossing_gives_one_row_at_its_closest_points_and_strands_side_by_side_two_p
         let (pa, pb) = (a.position(ua).unwrap(), b.position(ub).unwrap());
         assert!(pa.x > -0.02 && pb.x < 0.52 && ((pa - pb).norm() - 2.0 * R).abs() < 1e-9, "row off the overlap: {pa} {pb}");
     }
+    // At a shallow angle (2 mrad: the gap opens by 1 mm over the overlap,
+    // within the 5 mm margin) the rows still run along the whole overlap.
+    let b = rod(Vector3::new(0.0, 2.0 * R, 0.0), Vector3::new(1.0, 2.0 * R + 2e-3, 0.0));
+    let rows = detect(&a, &b);
+    let xs: Vec<f64> = rows.iter().map(|&(ua, _)| a.position(ua).unwrap().x).collect();
+    let per_segment = rows.len() as f64 * seg / 0.5;
+    println!("at 2 mrad: {} rows over 0.5 m, {per_segment:.2} per segment, at x = {xs:.3?}", rows.len());
+    assert!((1.4..=2.5).contains(&per_segment), "{} rows over half a metre of {seg} m segments at 2 mrad", rows.len());
 }

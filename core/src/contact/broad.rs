@@ -79,7 +79,7 @@ type CellMap<V> = HashMap<Cell, V, BuildHasherDefault<CellHasher>>;
 pub(crate) struct Runs {
     /// First capsule, one past the last, box.
     runs: Vec<(usize, usize, Bounds)>,
-    /// Runs sorted by cell; `cells` maps a cell to its range here.
+    /// Runs sorted by cell, then by index.
     order: Vec<(Cell, usize)>,
     /// Each run's cell (an index into `around`), and for each occupied
     /// cell the ranges of `order` in it and its 26 neighbours (looked up

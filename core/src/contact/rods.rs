@@ -8,10 +8,10 @@
 //! closest points within a segment of the two capsules. A pair is kept
 //! when one of its capsules is the other's nearest on that strand (every
 //! pass of a rod by a capsule has its nearest: a knot's braid brings
-//! three); the pairs whose capsules' closest points lie inside both
-//! capsules are moved onto the splines (a pair closest at a capsule's end
-//! leaves that to the pair across it: a crossing's ten or so pairs give one
-//! projection), and of those landing within half a segment of each other on
+//! three); those pairs are moved onto the splines (where strands cross
+//! steeply, a pair closest at a capsule's end leaves that to the pair
+//! across it: a crossing's ten or so pairs give one projection), and of
+//! those landing within half a segment of each other on
 //! both rods only the closest: one crossing gives one row (two identical
 //! rows would make the system singular), strands lying side by side about
 //! two rows per segment (more would outnumber what the control points can
@@ -209,14 +209,27 @@ impl ContactDetector for RodContacts {
                 (false, _) => closed.then_some(end - 1),
             }
         };
-        // Seeds for the projection onto the splines: a candidate whose
-        // closest point lies at the end of one of its capsules is left to
-        // the candidate across that end, which holds that point too and so
-        // is as close (ties go to the lower pair). A crossing's capsules off
-        // it all end on its side: about ten candidates leave one seed, the
-        // pair whose closest points lie inside both capsules. A strand
-        // wrapping round another, or lying beside it, has its closest
-        // points inside its capsules and keeps a seed at each.
+        // Seeds for the projection onto the splines. A candidate whose
+        // closest point lies at the end of one of its capsules may leave it
+        // to the candidate across that end, which holds that point too and
+        // so is at least as close (ties go to the lower pair): a crossing's
+        // ten or so candidates then leave one seed, the pair whose closest
+        // points lie inside both capsules. It may do so only where the
+        // strands cross steeply enough that all the crossing's candidates
+        // lie within a segment of it, the reach of a projection's window
+        // (sin θ ≥ (r_a + r_b + margin) / segment): every projection would
+        // land on the seed's row. Strands at a shallow angle, beside each
+        // other or sagging onto each other, keep a seed at every candidate
+        // as before: their projections stop at their windows' ends and give
+        // rows along the whole stretch in contact.
+        let segment: Vec<f64> = rods.iter().zip(&chain).map(|((_, r), l)| l / r.n_segments().max(1) as f64).collect();
+        let steep = |a: &Capsule, b: &Capsule| {
+            let (da, db) = (a.q - a.p, b.q - b.p);
+            let l = segment[a.rod].min(segment[b.rod]);
+            let reach = a.radius + b.radius + self.margin;
+            // |da × db|² ≥ (reach / l)² |da|² |db|², false for a point capsule.
+            da.cross(&db).norm_squared() * l * l >= reach * reach * da.norm_squared() * db.norm_squared()
+        };
         let mut seeds: Vec<(usize, usize, f64, f64)> = Vec::new();
         for i in 0..caps.len() {
             for (j, d) in nearest.of(i) {
@@ -228,6 +241,10 @@ impl ContactDetector for RodContacts {
                 }
                 let (a, b) = (&caps[lo], &caps[hi]);
                 let (s, t, _) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
+                if !steep(a, b) {
+                    seeds.push((lo, hi, s, t));
+                    continue;
+                }
                 let across = [
                     (s == 0.0).then(|| (step_along(lo, false), Some(hi))),
                     (s == 1.0).then(|| (step_along(lo, true), Some(hi))),
@@ -247,7 +264,7 @@ impl ContactDetector for RodContacts {
             }
         }
         // Half a segment's length along each rod (its chain over its segments).
-        let spacing: Vec<f64> = rods.iter().zip(&chain).map(|((_, r), l)| 0.5 * l / r.n_segments().max(1) as f64).collect();
+        let spacing: Vec<f64> = segment.iter().map(|l| 0.5 * l).collect();
         // Rows kept, by rod pair and grid cell (twice the largest duplicate
         // distance: the points within it of a row are in at most two cells
         // along each axis).
