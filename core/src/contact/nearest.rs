@@ -63,11 +63,9 @@ mod tests {
     /// `partner / 10`, more strands than the inline slots, equal distances.
     #[test]
     fn keeps_the_first_closest_per_strand() {
-        let mut seed = 7u64;
-        let mut rnd = || {
-            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407);
-            (seed >> 33) as usize
-        };
+        let mut lcg = crate::linalg::synthetic::Lcg(7);
+        // An integer in [0, 2^20) from the project's generator in [−1, 1).
+        let mut rnd = || ((lcg.next() + 1.0) * (1 << 19) as f64) as usize;
         let n = 5;
         let mut near = Nearest::new(n);
         let mut plain: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
