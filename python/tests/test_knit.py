@@ -9,7 +9,7 @@ import pytest
 
 import strandkit as sk
 from strandkit.knit import experiments as ex
-from strandkit.knit.geometry import clearance, curl
+from strandkit.knit.geometry import Interlocks, clearance, curl
 
 
 def test_fabric_prints_usefully_and_lays_out_every_loop():
@@ -95,6 +95,10 @@ def test_relaxation_lowers_the_energy_without_yarn_passing_through():
     d = r.dimensions
     assert all(math.isfinite(d[k]) and d[k] > 0 for k in ("k_c", "k_w", "k_s"))
     assert "NOT converged" in repr(r) and r.steps == 80
+    # Inside, every loop stays through the one below; at the sides, where
+    # the yarn turns, loops (0, 1) and (3, 2) come out by step 70
+    # (measured: both pairs of crossings met).
+    assert r.interlocks.held[:, 1:-1].all(), r.interlocks
     assert set(r.curl) == {"bottom", "top", "left", "right"}
 
 
@@ -151,3 +155,46 @@ def test_bad_stretch_requests_are_refused(kwargs, match):
         ex.stretch("not a fabric")
     with pytest.raises(sk.InvalidInputError, match="max_steps"):
         ex.relax(f, max_steps=0)
+
+
+@pytest.mark.parametrize("pattern", ["jersey", "rib1x1", "rib2x2", "garter", "seed"])
+def test_every_interlock_is_found_as_built(pattern):
+    # Each loop crosses the loop below four times (the loop model: legs in
+    # front of its head, sinkers behind its legs, or the other way round);
+    # a continuous 1x1 rib's turn leaves three at some.
+    for continuous in (True, False):
+        f = sk.knit.fabric(pattern, wales=6, courses=6, continuous=continuous)
+        w = f.world()
+        il = Interlocks(w, f)
+        n = np.bincount(il.owner, minlength=30)
+        assert n.min() >= 3 and n.max() <= 4, (pattern, continuous, n)
+        assert il.update(w).all() and il.parted == [], il
+
+
+def test_a_loop_lifted_out_of_the_loop_below_is_seen_parted():
+    f = sk.knit.fabric("jersey", wales=6, courses=6, continuous=False)
+    c, d = f.model["course_spacing"], f.model["depth"]
+    for lift, push, parted_rows in ((0.2 * c, 0.0, set()), (c, 0.0, {2}), (0.0, 2 * d, {2, 3})):
+        w = f.world()
+        il = Interlocks(w, f)
+        rod = w.rods()[3]  # course 3, moved in ten increments as yarn would slide
+        q = rod.control_points.copy()
+        for s in np.linspace(0.1, 1.0, 10):
+            rod.control_points = q + s * np.array([0.0, lift, push])
+            il.update(w)
+        # A fifth of a course up keeps course 3's loops through course 2's; a
+        # whole course lifts them out (row 2: loops (i, 2) with (i, 3)
+        # above); pushed 2 crossing depths to the front, course 3 passes
+        # in front of both its neighbours' loops.
+        assert {j for _, j in il.parted} == parted_rows, (lift, push, il.parted)
+        assert all(sum(1 for _, j in il.parted if j == row) == 6 for row in parted_rows)
+
+
+def test_relax_reports_a_swatch_unravelling_from_its_edge():
+    # Measured: a free 6 × 6 jersey of 10 mm loops, r = 0.2 mm, without
+    # friction: the last loop (wale 0, course 5) leaves the one below it
+    # by step 160, where the yarn ends (README, issue 18).
+    f = sk.knit.fabric("jersey", wales=6, courses=6, loop_length=10e-3, yarn_radius=2e-4)
+    r = ex.relax(f, max_steps=300, record_every=10)
+    assert (0, 4) in r.interlocks.parted, r.interlocks
+    assert not r.converged and "interlocks parted" in repr(r)

@@ -21,7 +21,7 @@ import numpy as np
 
 from .. import errors
 from . import Fabric
-from .geometry import clearance, curl
+from .geometry import Interlocks, clearance, curl
 
 __all__ = ["Relaxed", "relax", "Stretched", "stretch"]
 
@@ -60,12 +60,15 @@ class _Flow:
 @dataclass
 class Relaxed:
     """Result of :func:`relax`: the world at the end, whether the energy
-    and the stitch dimensions had settled (``converged``), the number of
-    steps, ``history`` (arrays ``step``, ``energy`` J, ``k_c``, ``k_w``),
+    and the stitch dimensions had settled with every interlock holding
+    (``converged``), the number of steps, ``history`` (arrays ``step``, ``energy`` J, ``k_c``, ``k_w``),
     the final ``dimensions`` (see :meth:`Fabric.dimensions`), the smallest
     yarn ``clearance`` seen at the records (distance/2r), the edge
-    ``curl`` (m; None for a tube or a swatch under 3 × 3) and the wall
-    time (s)."""
+    ``curl`` (m; None for a tube or a swatch under 3 × 3), the wall
+    time (s) and ``interlocks`` (:class:`~strandkit.knit.geometry.Interlocks`,
+    followed every 10 steps: ``interlocks.parted`` lists the loops (wale,
+    course) that came out of the loop above at some point — a swatch
+    unravelling from an edge — and ``dimensions`` then measure a tangle)."""
 
     world: object
     fabric: Fabric
@@ -77,12 +80,15 @@ class Relaxed:
     curl: dict
     wall_time: float
     fails: int = 0
+    interlocks: Interlocks = field(default=None, repr=False)
 
     def __repr__(self) -> str:
         d = self.dimensions
+        parted = len(self.interlocks.parted) if self.interlocks is not None else 0
         return (f"Relaxed({'converged' if self.converged else 'NOT converged'} after {self.steps} steps, "
                 f"k_c={d['k_c']:.3f}, k_w={d['k_w']:.3f}, courses/cm={d['courses_per_cm']:.2f}, "
-                f"wales/cm={d['wales_per_cm']:.2f}, clearance={self.clearance:.3f})")
+                f"wales/cm={d['wales_per_cm']:.2f}, clearance={self.clearance:.3f}"
+                f"{f', {parted} interlocks parted' if parted else ''})")
 
 
 def _first_dt(fabric: Fabric, viscosity: float) -> float:
@@ -105,7 +111,7 @@ def _check(name, x, low=0.0, integer=False):
 
 def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: float = 2e-4, window: int = 100,
           step_fraction: float = 0.25, viscosity: float = 1.0, record_every: int = 10, world=None,
-          progress_bar: bool = False) -> Relaxed:
+          interlocks: Interlocks = None, progress_bar: bool = False) -> Relaxed:
     """Dry relaxation of ``fabric`` (free of loads) to equilibrium.
 
     friction: Coulomb μ at yarn–yarn contacts; max_steps: step budget;
@@ -114,7 +120,11 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
     ``tol``; step_fraction: largest control-point move per step in yarn
     radii; viscosity: the fluid's (Pa·s), the drag of the gradient flow;
     world: continue relaxing this world (made by ``fabric.world``)
-    instead of a new one. Records every ``record_every`` steps.
+    instead of a new one, with ``interlocks`` the ones followed so far
+    (``Relaxed.interlocks``; without, they are found anew in ``world``,
+    which needs the yarn not to have slid far from where it was built).
+    Records every ``record_every`` steps. Not ``converged`` once an
+    interlock has parted, however settled the energy.
     """
     max_steps = _check("max_steps", max_steps, integer=True)
     window = _check("window", window, integer=True)
@@ -125,6 +135,10 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
     else:
         world.set_params(viscosity=_check("viscosity", viscosity))
     flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=_first_dt(fabric, world.params["viscosity"]))
+    if interlocks is None:
+        interlocks = Interlocks(world, fabric)
+    elif not isinstance(interlocks, Interlocks) or interlocks.fabric is not fabric:
+        raise errors.InvalidInputError("interlocks: the Relaxed.interlocks of a relaxation of this fabric")
     hist = {"step": [], "energy": [], "k_c": [], "k_w": []}
     least = clearance(world, fabric)
     t0 = time.perf_counter()
@@ -137,6 +151,8 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
         flow.step()
         if bar is not None:
             bar.update(1)
+        if k % 10 == 0:
+            interlocks.update(world)
         if k % record_every == 0:
             d = fabric.dimensions(world)
             hist["step"].append(k), hist["energy"].append(world.energy()["elastic"])
@@ -147,17 +163,19 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
             if len(hist["step"]) > back:
                 e, kc, kw = (np.array(hist[x][-back - 1:]) for x in ("energy", "k_c", "k_w"))
                 if (abs(e[-1] - e[0]) <= tol * abs(e[-1]) and abs(kc[-1] - kc[0]) <= tol * kc[-1]
-                        and abs(kw[-1] - kw[0]) <= tol * kw[-1]):
+                        and abs(kw[-1] - kw[0]) <= tol * kw[-1]) and not interlocks.ever_parted.any():
                     converged = True
                     break
     if bar is not None:
         bar.close()
+    if k % 10:
+        interlocks.update(world)
     least = min(least, clearance(world, fabric))
     flat = fabric.tube_radius == 0 and fabric.courses >= 3 and fabric.wales >= 3
     return Relaxed(world=world, fabric=fabric, converged=converged, steps=k,
                    history={key: np.array(v) for key, v in hist.items()}, dimensions=fabric.dimensions(world),
                    clearance=least, curl=curl(world, fabric) if flat else None,
-                   wall_time=time.perf_counter() - t0, fails=flow.fails)
+                   wall_time=time.perf_counter() - t0, fails=flow.fails, interlocks=interlocks)
 
 
 @dataclass
