@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field
+from typing import Optional
 import numpy as np
 
 from .. import errors
@@ -80,7 +81,7 @@ class Relaxed:
     curl: dict
     wall_time: float
     fails: int = 0
-    interlocks: Interlocks = field(default=None, repr=False)
+    interlocks: Optional[Interlocks] = field(default=None, repr=False)
 
     def __repr__(self) -> str:
         d = self.dimensions
@@ -111,7 +112,7 @@ def _check(name, x, low=0.0, integer=False):
 
 def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: float = 2e-4, window: int = 100,
           step_fraction: float = 0.25, viscosity: float = 1.0, record_every: int = 10, world=None,
-          interlocks: Interlocks = None, progress_bar: bool = False) -> Relaxed:
+          interlocks: Optional[Interlocks] = None, progress_bar: bool = False) -> Relaxed:
     """Dry relaxation of ``fabric`` (free of loads) to equilibrium.
 
     friction: Coulomb μ at yarn–yarn contacts; max_steps: step budget;

@@ -110,8 +110,9 @@ class Interlocks:
     each side: a loop that came out of the one below, or that lies wholly
     on one side of it, has none on the other. Call :meth:`update` often
     enough that no yarn slides a sixth of a loop between calls (``relax``
-    does every 10 steps: at most 2.5
-    radii at its default step cap)."""
+    does every 10 steps: at most 2.5 radii at its default step cap). A
+    tube's abscissae wrap round, so two crossings either side of a ring's
+    seam are not seen to meet."""
 
     def __init__(self, world, fabric, *, samples: int = 60):
         self.fabric = fabric
