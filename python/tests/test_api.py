@@ -310,3 +310,11 @@ def test_clamp_follows_the_frame_model():
     e = sk.clamp(w, straight, straight.u_end, target=(1, 0, 0), direction=(1, 0, 0))
     assert kinds(e) == ["Position", "Tangent"] and e[1].kind["Tangent"]["direction"] == [1.0, 0.0, 0.0]
     assert w.relax().violation < 1e-8
+
+
+def test_an_empty_world_steps():
+    # Nothing to move: the divergence guard's 0/0 once refused it as Diverged (NaN).
+    w = sk.World(dt=2e-3)
+    for _ in range(3):
+        w.step()
+    assert w.n_steps == 3 and abs(w.time - 6e-3) < 1e-15

@@ -178,3 +178,31 @@ def test_contacts_that_cannot_be_met_are_named_and_leave_the_world_as_it_was():
         w.step()
     assert "cannot all be met" in str(e.value) and "Contact" in e.value.unknown
     assert np.array_equal(rod.control_points, before) and w.n_steps == 0
+
+
+def test_a_fast_rod_passes_through_a_bar_unless_its_steps_are_held_within_the_margin():
+    # 50 m/s over 2 ms steps: 10 radii per step, past the bar (radius R,
+    # margin R/2) between two detections. max_move = margin refuses such a
+    # step (the world unchanged); adaptive_dt then takes it in sub-steps.
+    def run(max_move, adaptive_dt=True):
+        w = sk.World(dt=2e-3, gravity=(0, 0, 0), adaptive_dt=adaptive_dt, max_move=max_move)
+        rod = w.add_rod(_rod(z=3 * R, tilt=0.0))
+        w.add_obstacle(sk.obstacles.capsule(a=(0, -0.3, 0), b=(0, 0.3, 0), radius=R), margin=0.5 * R)
+        rod.velocities = np.tile([0.0, 0.0, -50.0], (10, 1))
+        substeps = [w.step().substeps for _ in range(5)]
+        u0, u1 = rod.domain
+        return w, rod, rod.position(0.5 * (u0 + u1))[2], substeps
+
+    _, _, z, substeps = run(None)
+    assert z < -40 * R and substeps == [1] * 5  # through the bar (measured -47 R)
+    _, rod, z, substeps = run(0.5 * R)
+    assert z > 2 * R and min(substeps) >= 16, (z, substeps)  # stopped on top of it, then bounced off (measured 6.6 R)
+    w2 = sk.World(dt=2e-3, gravity=(0, 0, 0), max_move=0.5 * R)
+    r2 = w2.add_rod(_rod(z=3 * R, tilt=0.0))
+    r2.velocities = np.tile([0.0, 0.0, -50.0], (10, 1))
+    before = r2.control_points.copy()
+    with pytest.raises(sk.DivergedError, match="max_move"):
+        w2.step()
+    assert np.array_equal(r2.control_points, before) and w2.n_steps == 0
+    with pytest.raises(sk.InvalidInputError, match="max_move"):
+        sk.World(max_move=-1.0)

@@ -150,6 +150,7 @@ fn advance(world: &mut World, h: f64) -> Result<(f64, crate::system::Solved, usi
     Ok(match world.params.scheme {
         Scheme::ImplicitEuler => {
             let (energy, solved) = solve::assemble_and_solve(world, Regime::Dynamic { h })?;
+            solve::check_reach(world, 1.0)?;
             // Brownian dynamics has no velocity to update (zeroed after the step).
             let velocity = (!world.params.overdamped).then_some(1.0 / h);
             solve::commit(world, 1.0, velocity, Some(energy))?;

@@ -469,7 +469,8 @@ fn divergence(world: &World, budget: f64, growth: &mut crate::world::Growth) -> 
             worst = Some((h.into(), ratio));
         }
     }
-    let ratio = after / (budget + floor);
+    // A world with nothing in it has nothing to grow (0/0).
+    let ratio = if after == 0.0 && budget + floor == 0.0 { 1.0 } else { after / (budget + floor) };
     // The growth is a leaky product: a dissipating step takes back what it
     // dissipates, never below 1, and the run ends only when the factor is
     // back to 1 — so a blow-up that alternates growth and partial
@@ -521,6 +522,31 @@ pub(crate) fn check_finite(world: &World, scale: f64, set_velocity: Option<f64>)
     }
     if let Some(x) = ws.sys.sol.iter().find(|x| !x.is_finite()) {
         return Err(Error::NonFinite { rod: None, detail: format!("the solution holds {x}; the world is unchanged") });
+    }
+    Ok(())
+}
+
+/// The reach guard (`IntegrationParameters::max_move`): Diverged, before
+/// anything is applied, when the solution would move a control point
+/// (its position, not its roll) farther than `max_move`.
+pub(crate) fn check_reach(world: &World, scale: f64) -> Result<()> {
+    let Some(limit) = world.params.max_move else { return Ok(()) };
+    let ws = &world.ws;
+    for (r, (h, rod)) in world.rods.iter().enumerate() {
+        for i in 0..rod.n_ctrl() {
+            let k = ws.layout.cp_index[r][i];
+            let d = scale * (ws.sys.sol[k].powi(2) + ws.sys.sol[k + 1].powi(2) + ws.sys.sol[k + 2].powi(2)).sqrt();
+            if d > limit {
+                return Err(Error::Diverged {
+                    step: world.steps + 1,
+                    rod: Some(h.into()),
+                    factor: d / limit,
+                    detail: format!(
+                        "the step would move control point {i} by {d:.3e}, more than max_move = {limit:.3e}; the world is unchanged (reduce dt, or World(adaptive_dt=True))"
+                    ),
+                });
+            }
+        }
     }
     Ok(())
 }

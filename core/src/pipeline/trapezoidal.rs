@@ -63,6 +63,7 @@ pub(crate) fn step(world: &mut World, h: f64) -> Result<(f64, Solved, usize)> {
 fn guarded(world: &mut World, h1: f64, rest: impl FnOnce(&mut World, Solved) -> Result<(Solved, usize)>) -> Result<(f64, Solved, usize)> {
     let (energy, solved) = solve::assemble_and_solve(world, Regime::Trapezoidal { h: h1, first: true })?;
     solve::check_finite(world, 1.0, None)?;
+    solve::check_reach(world, 1.0)?;
     let kinetic = start(world);
     solve::begin(world, 1.0, None);
     match rest(world, solved) {
@@ -99,6 +100,7 @@ pub(crate) fn tr_bdf2(world: &mut World, h: f64) -> Result<(f64, Solved, usize)>
         bdf2_velocity(world, h2);
         let (_, solved) = solve::assemble_and_solve(world, Regime::Bdf2 { h2, h })?;
         solve::check_finite(world, 1.0, Some(1.0 / h2))?;
+        solve::check_reach(world, 1.0)?;
         solve::apply(world, 1.0, Some(1.0 / h2));
         bdf2_finish(world, h2);
         accumulate(world);
@@ -178,6 +180,7 @@ fn iterate(world: &mut World, h: f64, mut solved: Solved) -> Result<(Solved, usi
     let longest = world.rods.iter().fold(0.0f64, |m, (_, r)| m.max(r.rest_length()));
     for solves in 1..=MAX_ITERATIONS {
         solve::check_finite(world, 1.0, None)?;
+        solve::check_reach(world, 1.0)?;
         let [step_x, step_th, total_x, total_th] = accumulate(world);
         solve::apply(world, 1.0, None);
         let converged = step_x <= TOLERANCE * total_x + FLOOR * longest && step_th <= TOLERANCE * total_th + ROLL_FLOOR;

@@ -61,6 +61,15 @@ pub struct IntegrationParameters {
     pub adaptive_dt: bool,
     #[serde(default = "default_max_halvings")]
     pub max_halvings: u32,
+    /// Reach guard of dynamic steps (length unit; None: off): a solve that
+    /// would move any control point farther than this is refused as
+    /// `Diverged`, the world unchanged (and, with `adaptive_dt`, retried as
+    /// sub-steps). Contact pairs are found within the detection margin at
+    /// the start of a step, so with `max_move` ≤ margin no step carries a
+    /// rod through another unseen. The trapezoidal schemes check each of
+    /// their solves, so a step of several can move farther.
+    #[serde(default)]
+    pub max_move: Option<f64>,
     /// Time integration of dynamic steps (SPEC §3): implicit Euler (the
     /// thesis' method, the default) or the trapezoidal rule.
     #[serde(default)]
@@ -183,6 +192,7 @@ impl Default for IntegrationParameters {
             divergence_factor: default_divergence_factor(),
             adaptive_dt: false,
             max_halvings: default_max_halvings(),
+            max_move: None,
             scheme: Scheme::ImplicitEuler,
             temperature: 0.0,
             viscosity: 0.0,
@@ -234,6 +244,9 @@ impl IntegrationParameters {
         crate::error::non_negative("viscosity", self.viscosity)?;
         if !(self.divergence_factor > 1.0) {
             return Err(Error::invalid("divergence_factor", self.divergence_factor, "> 1 (inf: no guard)"));
+        }
+        if let Some(m) = self.max_move {
+            crate::error::positive("max_move", m)?;
         }
         if self.max_halvings > 30 {
             return Err(Error::invalid("max_halvings", self.max_halvings, "at most 30"));

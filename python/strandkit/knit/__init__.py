@@ -103,14 +103,19 @@ class Fabric:
         """A new World (gravity off unless given in ``params``) with this
         fabric inserted and yarn–yarn contact on: Coulomb ``friction`` μ
         (dimensionless), detection ``margin`` (m, default half the yarn
-        radius). Other keywords are World parameters."""
+        radius). Steps that would move the yarn farther than the margin
+        are refused (``max_move``, so no yarn passes through another
+        between two detections; the relaxation retries them shorter).
+        Other keywords are World parameters."""
         from .. import World
 
+        margin = 0.5 * self.yarn_radius if margin is None else margin
         params.setdefault("gravity", (0.0, 0.0, 0.0))
         w = World(**params)
         w.insert(self.assembly)
-        w.contact(margin=0.5 * self.yarn_radius if margin is None else margin, friction=friction,
-                  self_contact=True, between_rods=True)
+        w.contact(margin=margin, friction=friction, self_contact=True, between_rods=True)
+        if "max_move" not in params:
+            w.set_params(max_move=margin)
         return w
 
     def heads(self, world) -> np.ndarray:

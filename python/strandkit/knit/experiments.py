@@ -5,10 +5,11 @@ The fabric is relaxed by overdamped (Brownian, T = 0) dynamics — every
 yarn moves at drag⁻¹ × its net force, a gradient flow of the elastic
 energy under the contacts — with implicit Euler steps whose length adapts
 after each step towards moving the farthest control point by
-``step_fraction`` yarn radii (a step carrying a yarn farther than the
-contact margin could pass it through another; the control is a posteriori:
+``step_fraction`` yarn radii. A step carrying a yarn farther than the
+contact margin could pass it through another between two detections: the
+fabric's world refuses such a step (``max_move`` = margin; without it
 single steps were measured to reach 4× the aim, about one radius, twice
-the default margin). Friction acts at the contacts as in any step. The
+the default margin), and the flow retries it a quarter as long. Friction acts at the contacts as in any step. The
 drag (the world's ``viscosity``) sets the time scale only: the equilibrium
 does not depend on it, and the first step, 100 ηr⁴/B, makes the flow's
 steps the same for every yarn stiffness and scale (``examples/knit_sweep.py``).
@@ -34,6 +35,8 @@ class _Flow:
     def __init__(self, world, radius: float, step_fraction: float, dt: float):
         self.world, self.cap, self.dt, self.first = world, step_fraction * radius, dt, dt
         self.fails = 0
+        self.forced = 0
+        self._reach = None  # the last refusal's move over max_move
         world.set_params(dt=dt, overdamped=True)
 
     def _coords(self):
@@ -44,18 +47,38 @@ class _Flow:
         before = self._coords()
         try:
             self.world.step()
-        except (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError):
+        except (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError) as e:
             # The world is unchanged by a refused step: retry shorter.
             self.fails += 1
-            if self.dt < 1e-12 * self.first:
-                raise
-            self.dt *= 0.25
-            self.world.set_params(dt=self.dt)
-            return 0.0
+            reach = e.factor if isinstance(e, errors.DivergedError) and "max_move" in str(e) else None
+            if reach is not None and self._reach is not None and reach > 0.5 * self._reach:
+                # A quarter of the step moved as far: the move is a
+                # constraint's correction (contacts pushing yarns that sag
+                # into each other apart, a clamp's drift), which no shorter
+                # step shortens and which moves yarns apart, not through
+                # each other: taken once without the guard.
+                self._forced_step()
+            else:
+                self._reach = reach
+                if self.dt < 1e-12 * self.first:
+                    raise
+                self.dt *= 0.25
+                self.world.set_params(dt=self.dt)
+                return 0.0
+        self._reach = None
         move = max(float(np.linalg.norm(a - b, axis=1).max()) for a, b in zip(self._coords(), before))
         self.dt *= min(2.0, max(0.5, np.sqrt(self.cap / max(move, 1e-300))))
         self.world.set_params(dt=self.dt)
         return move
+
+    def _forced_step(self):
+        limit = self.world.params["max_move"]
+        self.world.set_params(max_move=None)
+        try:
+            self.world.step()
+        finally:
+            self.world.set_params(max_move=limit)
+        self.forced += 1
 
 
 @dataclass
@@ -240,7 +263,7 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     fabric settles between them for ``settle_steps`` (the rest state
     between bars); strain: largest grip strain; increments: steps of grip
     displacement up (and down again if ``unload``), the bar moving by at
-    most the step cap per step; each increment relaxes for at most
+    most half the step cap per step; each increment relaxes for at most
     ``steps_per_increment`` steps, stopping once the pulled force changed
     by less than ``tol`` of itself over 20 steps. The first point is the
     force after settling (the bars' pull at zero strain).
@@ -306,8 +329,11 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
             world.set_constraint(h, position(u, target=tuple(np.asarray(p) + e * gap * axis)))
 
     for n, e in enumerate(levels):
-        # The bar moves by at most the step cap per step.
-        moves = max(1, int(np.ceil(abs(e - previous) * abs(gap) / flow.cap)))
+        # The bar moves by at most half the step cap per step: the control
+        # points about a grip move up to twice as far as the grip (measured
+        # 2.1×), and no shorter step makes up for a constraint's jump
+        # beyond the world's max_move (the contact margin, twice the cap).
+        moves = max(1, int(np.ceil(abs(e - previous) * abs(gap) / (0.5 * flow.cap))))
         last = None
         for k in range(max(steps_per_increment, moves)):
             if k < moves:

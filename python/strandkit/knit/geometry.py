@@ -89,30 +89,50 @@ def _projected_crossings(a, b):
     return i, t[i, j], j, u[i, j]
 
 
+def _crossings_of_fan(loop, arc) -> int:
+    """How many segments of the polyline ``arc`` (m, 3) cross the fan of
+    triangles spanning the closed polygon ``loop`` (n, 3) from its
+    centroid (Möller–Trumbore, every segment against every triangle)."""
+    c = loop.mean(axis=0)
+    v0, v1 = loop, np.roll(loop, -1, axis=0)
+    e1, e2 = v0 - c, v1 - c  # triangles (c, v0, v1)
+    o, d = arc[:-1], arc[1:] - arc[:-1]
+    pv = np.cross(d[:, None], e2[None])
+    det = np.einsum("tk,stk->st", e1, pv)
+    ok = np.abs(det) > 1e-300  # a segment in the triangle's plane does not cross it
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+        tv = o[:, None] - c
+        u = np.einsum("stk,stk->st", tv, pv) * inv
+        qv = np.cross(tv, e1[None])
+        v = np.einsum("sk,stk->st", d, qv) * inv
+        t = np.einsum("tk,stk->st", e2, qv) * inv
+    hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t >= 0) & (t < 1)
+    return int(hit.sum())
+
+
 class Interlocks:
-    """Every loop's interlock with the loop pulled through it, tracked as
+    """Every loop's interlock with the loop pulled through it, followed as
     the yarn slides (``relax`` keeps one; ``Relaxed.interlocks``).
 
-    A loop U pulled through the loop L below crosses it four times: U's
-    legs pass in front of L's head on U's stitch side and U's sinkers
-    behind L's legs the other way (the loop model's crossings). They are
-    found once, as the projections of L and U on L's own plane cross, each
-    kept as a pair of yarn abscissae and its handedness det[t_L, t_U,
-    p_U − p_L] (which side of L U passes, independent of any frame). Each
-    :meth:`update` follows every crossing downhill to the nearest pair of
-    points, in four moves of up to a 24th of a loop along each yarn (the
-    yarn slides through loops, so abscissae are not material marks of a
-    loop; a search of a whole window would jump to the next crossing). A
-    crossing is lost when its yarns are more than two diameters apart
-    there, when its handedness flips (U slipped round L) or when two
-    crossings of one interlock meet (U's legs slid off L's head, or its
-    sinker off L's leg). An interlock holds while it keeps a crossing of
-    each side: a loop that came out of the one below, or that lies wholly
-    on one side of it, has none on the other. Call :meth:`update` often
-    enough that no yarn slides a sixth of a loop between calls (``relax``
-    does every 10 steps: at most 2.5 radii at its default step cap). A
-    tube's abscissae wrap round, so two crossings either side of a ring's
-    seam are not seen to meet."""
+    A loop U pulled through the loop L below crosses it four times (its
+    legs in front of L's head, its sinkers behind L's legs, or the other
+    way round). They are found once, where the projections of L and U on
+    L's own plane cross, each kept as a pair of yarn abscissae. Each
+    :meth:`update` follows every crossing to the nearest pair of points
+    by a damped Gauss–Newton descent (the yarn slides through loops, so
+    abscissae are not material marks of a loop), then asks whether U's
+    yarn about its crossings still passes through L: whether the arc of
+    U crosses a surface spanning the arc of L (a fan of triangles from its
+    centroid, the arc closed by its chord), both arcs reaching a sixth of
+    a loop beyond the outermost crossings. Held, U pierces it once or
+    twice; a loop that came out of the one below, or that lies wholly on
+    one side of it, not at all. (Counting the crossings instead fails:
+    where yarns wrap round each other, as in a tight rib, two tracked
+    crossings slide into one contact and the loops still hold.) Call
+    :meth:`update` often enough that no yarn slides a sixth of a loop
+    between calls (``relax`` does every 10 steps: at most 2.5 radii at
+    its default step cap)."""
 
     def __init__(self, world, fabric, *, samples: int = 60):
         self.fabric = fabric
@@ -120,7 +140,7 @@ class Interlocks:
         lp = fabric.loops
         nw, nc = fabric.wales, fabric.courses
         self.shape = (nc - 1, nw)
-        rows = []  # (interlock, rod L, u L, rod U, u U, handedness, side: +1 U in front of L along L's normal)
+        rows = []  # (interlock, rod L, u L, rod U, u U)
         for j in range(nc - 1):
             for i in range(nw):
                 lo, up = lp[j * nw + i], lp[(j + 1) * nw + i]
@@ -133,34 +153,44 @@ class Interlocks:
                 ex = a[-1] - a[0]
                 ex = ex - ey * (ex @ ey)
                 ex /= np.linalg.norm(ex)
-                n = np.cross(ex, ey)
                 plane = lambda x: np.stack([x @ ex, x @ ey], axis=1)  # noqa: E731
                 ia, t, ib, u = _projected_crossings(plane(a), plane(b))
                 sa = ua[ia] + t * (ua[ia + 1] - ua[ia])
                 sb = ub[ib] + u * (ub[ib + 1] - ub[ib])
-                pa, pb = rl.position(sa), ru.position(sb)
-                ta, tb = rl.tangent(sa), ru.tangent(sb)
-                hand = np.sign(np.einsum("ij,ij->i", np.cross(ta, tb), pb - pa))
-                side = np.sign((pb - pa) @ n)
                 for k in range(len(sa)):
-                    rows.append((j * nw + i, int(lo["rod"]), sa[k], int(up["rod"]), sb[k], hand[k], side[k]))
-        arr = np.array(rows, dtype=float).reshape(-1, 7)
+                    rows.append((j * nw + i, int(lo["rod"]), sa[k], int(up["rod"]), sb[k]))
+        arr = np.array(rows, dtype=float).reshape(-1, 5)
         self.owner = arr[:, 0].astype(int)
         self.rod_a, self.rod_b = arr[:, 1].astype(int), arr[:, 3].astype(int)
         self.u_a, self.u_b = arr[:, 2].copy(), arr[:, 4].copy()
-        self.hand, self.side = arr[:, 5], arr[:, 6]
         # Abscissa per loop: a 24th of a loop is a descent's move.
         self._window = {int(r): fabric.loop_length / 24.0 * (rods[int(r)].domain[1] - rods[int(r)].domain[0])
                         / rods[int(r)].rest_length for r in np.unique(lp["rod"])}
-        self.present = np.ones(len(self.owner), dtype=bool)
-        self.held = self._held()
+        self.held = self._pierced(rods)
         self.ever_parted = ~self.held
 
-    def _held(self) -> np.ndarray:
+    def _pierced(self, rods, samples: int = 48) -> np.ndarray:
+        """Whether U's yarn passes through L's loop: the arc of U about its
+        crossings with L against a surface spanning L's arc about them
+        (closed by its chord; a fan of triangles from its centroid). Both
+        arcs run a sixth of a loop beyond the outermost crossings, so they
+        follow the yarn as it slides. A loop through the one below pierces
+        it once or twice (in behind a leg, out in front of the head); one
+        that came out, or lies on one side, not at all."""
         n = self.shape[0] * self.shape[1]
-        front = np.bincount(self.owner, weights=(self.present & (self.side > 0)), minlength=n)
-        back = np.bincount(self.owner, weights=(self.present & (self.side < 0)), minlength=n)
-        return ((front > 0) & (back > 0)).reshape(self.shape)
+        held = np.zeros(n, dtype=bool)
+        for o in range(n):
+            idx = np.nonzero(self.owner == o)[0]
+            if len(idx) == 0:
+                continue
+            ra, rb = int(self.rod_a[idx[0]]), int(self.rod_b[idx[0]])
+            da, db = 4.0 * self._window[ra], 4.0 * self._window[rb]  # a sixth of a loop
+            ua = np.linspace(self.u_a[idx].min() - da, self.u_a[idx].max() + da, samples)
+            ub = np.linspace(self.u_b[idx].min() - db, self.u_b[idx].max() + db, samples)
+            loop = rods[ra].position(self._clip(rods, np.full(samples, ra), ua))
+            arc = rods[rb].position(self._clip(rods, np.full(samples, rb), ub))
+            held[o] = _crossings_of_fan(loop, arc) > 0
+        return held.reshape(self.shape)
 
     @staticmethod
     def _positions(rods, which, u):
@@ -187,46 +217,48 @@ class Interlocks:
         rods = world.rods()
         wa = np.array([self._window[int(r)] for r in self.rod_a])
         wb = np.array([self._window[int(r)] for r in self.rod_b])
-        g = np.linspace(-1.0, 1.0, 9)
-        ua, ub = self.u_a, self.u_b
-        rows = np.arange(len(ua))
-        # A local descent, not a search of the window: another crossing
-        # a few radii along would capture a window's minimum. Four moves
-        # of up to a 24th of a loop, then one of a 192nd.
-        for shrink in (1.0, 1.0, 1.0, 1.0, 0.125):
-            sa = self._clip(rods, self.rod_a, ua[:, None] + shrink * wa[:, None] * g)
-            sb = self._clip(rods, self.rod_b, ub[:, None] + shrink * wb[:, None] * g)
-            pa, pb = self._positions(rods, self.rod_a, sa), self._positions(rods, self.rod_b, sb)
-            d = np.linalg.norm(pa[:, :, None] - pb[:, None, :], axis=3)
-            ka, kb = np.divmod(d.reshape(len(d), -1).argmin(axis=1), len(g))
-            ua, ub = sa[rows, ka], sb[rows, kb]
-        dist = d[rows, ka, kb]
-        ua, ub = self._clip(rods, self.rod_a, ua), self._clip(rods, self.rod_b, ub)
-        self.u_a, self.u_b = ua, ub
+        ua, ub = self.u_a.copy(), self.u_b.copy()
+        # Gauss–Newton on the closest points of the two centrelines from
+        # where the crossing was (the nearest pair of the tangent lines),
+        # each move at most a 24th of a loop along either yarn and halved
+        # until the distance falls: a descent to the crossing's own minimum,
+        # never across a barrier to the next crossing (a search of a window
+        # jumps there: in contact, all lie 2r apart), nor to a saddle.
         pa, pb = self._positions(rods, self.rod_a, ua), self._positions(rods, self.rod_b, ub)
-        ta, tb = self._tangents(rods, self.rod_a, ua), self._tangents(rods, self.rod_b, ub)
-        hand = np.sign(np.einsum("ij,ij->i", np.cross(ta, tb), pb - pa))
-        present = (dist <= 4.0 * self.fabric.yarn_radius) & (hand == self.hand)
-        # Two crossings that met are gone: U's legs slid off L's head, or
-        # its sinker off L's leg.
-        for o in np.unique(self.owner):
-            idx = np.nonzero(self.owner == o)[0]
-            for x in range(len(idx)):
-                for y in range(x + 1, len(idx)):
-                    p, q = idx[x], idx[y]
-                    if abs(ua[p] - ua[q]) < 0.25 * wa[p] and abs(ub[p] - ub[q]) < 0.25 * wb[p]:
-                        present[p] = present[q] = False
-        self.present = present
-        self.held = self._held()
+        dist = np.linalg.norm(pa - pb, axis=1)
+        for _ in range(12):
+            da, db = self._derivatives(rods, self.rod_a, ua), self._derivatives(rods, self.rod_b, ub)
+            e = pa - pb
+            aa, bb, ab = (np.einsum("ij,ij->i", x, y) for x, y in ((da, da), (db, db), (da, db)))
+            ra, rb = -np.einsum("ij,ij->i", da, e), np.einsum("ij,ij->i", db, e)
+            det = aa * bb - ab * ab
+            ok = det > 1e-12 * aa * bb
+            safe = np.where(ok, det, 1.0)
+            step_a = np.clip(np.where(ok, (bb * ra + ab * rb) / safe, 0.0), -wa, wa)
+            step_b = np.clip(np.where(ok, (ab * ra + aa * rb) / safe, 0.0), -wb, wb)
+            todo = np.ones(len(ua), dtype=bool)
+            for _ in range(6):
+                na = self._clip(rods, self.rod_a, ua + step_a)
+                nb = self._clip(rods, self.rod_b, ub + step_b)
+                qa, qb = self._positions(rods, self.rod_a, na), self._positions(rods, self.rod_b, nb)
+                nd = np.linalg.norm(qa - qb, axis=1)
+                better = todo & (nd < dist)
+                ua, ub, dist = np.where(better, na, ua), np.where(better, nb, ub), np.where(better, nd, dist)
+                pa[better], pb[better] = qa[better], qb[better]
+                todo &= ~better
+                if not todo.any():
+                    break
+                step_a, step_b = 0.5 * step_a, 0.5 * step_b
+        self.u_a, self.u_b = ua, ub
+        self.held = self._pierced(rods)
         self.ever_parted |= ~self.held
         return self.held
 
-    def _tangents(self, rods, which, u):
-        out = np.empty(u.shape + (3,))
-        for r in np.unique(which):
-            sel = which == r
-            out[sel] = rods[int(r)].tangent(u[sel])
-        return out
+    def _derivatives(self, rods, which, u):
+        """dp/du (m per unit abscissa) of the yarns ``which`` at u, by central differences."""
+        h = 1e-4
+        lo, hi = self._clip(rods, which, u - h), self._clip(rods, which, u + h)
+        return (self._positions(rods, which, hi) - self._positions(rods, which, lo)) / (hi - lo)[:, None]
 
     @property
     def parted(self) -> list:

@@ -16,6 +16,8 @@ def _world_schema() -> dict:
             props[k] = {"type": "boolean", "default": d}
         elif isinstance(d, (int, float)):
             props[k] = {"type": "number" if isinstance(d, float) else "integer", "default": d}
+        elif d is None:  # an optional number (max_move), off unless given
+            props[k] = {"type": ["number", "null"], "exclusiveMinimum": 0, "default": None}
         elif isinstance(d, list):
             props[k] = {"type": "array", "items": {"type": "number"}, "minItems": len(d), "maxItems": len(d),
                         "default": d}
