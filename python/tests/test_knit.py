@@ -195,3 +195,22 @@ def test_relax_reports_a_swatch_unravelling_from_its_edge():
     r = ex.relax(f, max_steps=400, record_every=10)
     assert (0, 4) in r.interlocks.parted, r.interlocks
     assert not r.converged and "interlocks parted" in repr(r)
+
+
+def test_the_flow_takes_a_constraint_jump_that_no_shorter_step_shortens():
+    # A held point moved 5 max_moves away: a quarter of the step moves as
+    # far (the constraint is met whatever dt), so the flow takes it once
+    # without the guard instead of shrinking dt forever.
+    w = sk.World(gravity=(0, 0, 0), viscosity=1.0, max_move=1e-4)
+    rod = w.add_rod(sk.straight((0, 0, 0), (0.01, 0, 0), section=1e-4, material="nylon", n_control_points=6,
+                                with_roll=False))
+    h = w.add_constraint(rod, sk.position(0.0, target=(0.0, 0.0, 0.0)))
+    flow = ex._Flow(w, 1e-4, 0.25, dt=1e-3)
+    flow.step()
+    assert flow.forced == 0 and flow.fails == 0
+    w.set_constraint(h, sk.position(0.0, target=(0.0, 5e-4, 0.0)))
+    for _ in range(3):
+        flow.step()
+    assert flow.fails == 2 and flow.forced == 1, (flow.fails, flow.forced)
+    assert np.allclose(rod.position(0.0), (0.0, 5e-4, 0.0), atol=1e-9)
+    assert w.params["max_move"] == 1e-4  # the guard is back on
