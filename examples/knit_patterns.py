@@ -3,10 +3,11 @@ garter and seed (0.1 mm nylon monofilament, loop length 5 mm), each
 relaxed for 150 steps of the overdamped flow, drawn side by side (front
 view coloured by depth: red towards the technical face, blue away).
 
-Checks: the elastic energy of each swatch falls while it relaxes, and no
+Checks: the elastic energy of each swatch falls while it relaxes, no
 yarn enters another by more than a quarter of its diameter (clearance >
 0.75: the contact rows sit at sample points and yarns sag into each other
-between them; measured 0.79–0.92). The
+between them; measured 0.85–0.94), and every loop is still through the
+one below (``Relaxed.interlocks``). The
 stiffness ordering of Singal et al. 2024 needs converged stretch curves
 (see the README). Writes knit_patterns.png.
 
@@ -36,6 +37,8 @@ def main():
         checks.true(f"{pattern}: elastic energy falls", bool(np.all(np.diff(e) <= 1e-12 * e[0]) and e[-1] < e[0]),
                     f"{e[0]:.4e} → {e[-1]:.4e} J")
         checks.true(f"{pattern}: no yarn inside another (clearance > 0.75)", r.clearance > 0.75, f"{r.clearance:.3f}")
+        checks.true(f"{pattern}: every loop still through the one below", r.interlocks.parted == [],
+                    f"{r.interlocks}")
         draw_front(ax, r.world, fabric, point_size=1.2,
                    title=f"{pattern}: {' '.join(fabric.rows[0][:4])}… / {' '.join(fabric.rows[1][:4])}…")
     fig.tight_layout()

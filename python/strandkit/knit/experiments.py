@@ -9,8 +9,8 @@ after each step towards moving the farthest control point by
 contact margin could pass it through another between two detections: the
 fabric's world refuses such a step (``max_move`` = margin; without it
 single steps were measured to reach 4× the aim, about one radius, twice
-the default margin), and the flow retries it a quarter as long. Friction acts at the contacts as in any step. The
-drag (the world's ``viscosity``) sets the time scale only: the equilibrium
+the default margin), and the flow retries it a quarter as long. Friction
+acts at the contacts as in any step. The drag (the world's ``viscosity``) sets the time scale only: the equilibrium
 does not depend on it, and the first step, 100 ηr⁴/B, makes the flow's
 steps the same for every yarn stiffness and scale (``examples/knit_sweep.py``).
 """
@@ -51,13 +51,12 @@ class _Flow:
             # The world is unchanged by a refused step: retry shorter.
             self.fails += 1
             reach = e.factor if isinstance(e, errors.DivergedError) and "max_move" in str(e) else None
-            if reach is not None and self._reach is not None and reach > 0.5 * self._reach:
+            if reach is not None and self._reach is not None and reach > 0.5 * self._reach and self._forced_step():
                 # A quarter of the step moved as far: the move is a
                 # constraint's correction (contacts pushing yarns that sag
                 # into each other apart, a clamp's drift), which no shorter
-                # step shortens and which moves yarns apart, not through
-                # each other: taken once without the guard.
-                self._forced_step()
+                # step shortens: taken once without the guard.
+                pass
             else:
                 self._reach = reach
                 if self.dt < 1e-12 * self.first:
@@ -71,22 +70,26 @@ class _Flow:
         self.world.set_params(dt=self.dt)
         return move
 
-    def _forced_step(self):
+    def _forced_step(self) -> bool:
+        """One step without the reach guard; False if refused otherwise."""
         limit = self.world.params["max_move"]
         self.world.set_params(max_move=None)
         try:
             self.world.step()
+        except (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError):
+            return False
         finally:
             self.world.set_params(max_move=limit)
         self.forced += 1
+        return True
 
 
 @dataclass
 class Relaxed:
     """Result of :func:`relax`: the world at the end, whether the energy
     and the stitch dimensions had settled with every interlock holding
-    (``converged``), the number of steps, ``history`` (arrays ``step``, ``energy`` J, ``k_c``, ``k_w``),
-    the final ``dimensions`` (see :meth:`Fabric.dimensions`), the smallest
+    (``converged``), the number of steps, ``history`` (arrays ``step``,
+    ``energy`` J, ``k_c``, ``k_w``), the final ``dimensions`` (see :meth:`Fabric.dimensions`), the smallest
     yarn ``clearance`` seen at the records (distance/2r), the edge
     ``curl`` (m; None for a tube or a swatch under 3 × 3), the wall
     time (s) and ``interlocks`` (:class:`~strandkit.knit.geometry.Interlocks`,
