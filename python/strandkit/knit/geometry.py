@@ -89,26 +89,25 @@ def _projected_crossings(a, b):
     return i, t[i, j], j, u[i, j]
 
 
-def _crossings_of_fan(loop, arc) -> int:
-    """How many segments of the polyline ``arc`` (m, 3) cross the fan of
-    triangles spanning the closed polygon ``loop`` (n, 3) from its
-    centroid (Möller–Trumbore, every segment against every triangle)."""
-    c = loop.mean(axis=0)
-    v0, v1 = loop, np.roll(loop, -1, axis=0)
-    e1, e2 = v0 - c, v1 - c  # triangles (c, v0, v1)
-    o, d = arc[:-1], arc[1:] - arc[:-1]
-    pv = np.cross(d[:, None], e2[None])
-    det = np.einsum("tk,stk->st", e1, pv)
+def _crossings_of_fans(loops, arcs) -> np.ndarray:
+    """For each k, how many segments of the polyline ``arcs[k]`` (m, 3)
+    cross the fan of triangles spanning the closed polygon ``loops[k]``
+    (n, 3) from its centroid (Möller–Trumbore, every segment against every
+    triangle). loops (N, n, 3), arcs (N, m, 3); returns (N,) counts."""
+    c = loops.mean(axis=1, keepdims=True)
+    e1, e2 = loops - c, np.roll(loops, -1, axis=1) - c  # triangles (c, v0, v1)
+    o, d = arcs[:, :-1], arcs[:, 1:] - arcs[:, :-1]
+    pv = np.cross(d[:, :, None], e2[:, None])
+    det = np.einsum("ntk,nstk->nst", e1, pv)
     ok = np.abs(det) > 1e-300  # a segment in the triangle's plane does not cross it
-    with np.errstate(divide="ignore", invalid="ignore"):
-        inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
-        tv = o[:, None] - c
-        u = np.einsum("stk,stk->st", tv, pv) * inv
-        qv = np.cross(tv, e1[None])
-        v = np.einsum("sk,stk->st", d, qv) * inv
-        t = np.einsum("tk,stk->st", e2, qv) * inv
+    inv = np.where(ok, 1.0 / np.where(ok, det, 1.0), 0.0)
+    tv = o[:, :, None] - c[:, None]
+    u = np.einsum("nstk,nstk->nst", tv, pv) * inv
+    qv = np.cross(tv, e1[:, None])
+    v = np.einsum("nsk,nstk->nst", d, qv) * inv
+    t = np.einsum("ntk,nstk->nst", e2, qv) * inv
     hit = ok & (u >= 0) & (v >= 0) & (u + v <= 1) & (t >= 0) & (t < 1)
-    return int(hit.sum())
+    return hit.sum(axis=(1, 2))
 
 
 class Interlocks:
@@ -163,9 +162,16 @@ class Interlocks:
         self.owner = arr[:, 0].astype(int)
         self.rod_a, self.rod_b = arr[:, 1].astype(int), arr[:, 3].astype(int)
         self.u_a, self.u_b = arr[:, 2].copy(), arr[:, 4].copy()
-        # Abscissa per loop: a 24th of a loop is a descent's move.
-        self._window = {int(r): fabric.loop_length / 24.0 * (rods[int(r)].domain[1] - rods[int(r)].domain[0])
-                        / rods[int(r)].rest_length for r in np.unique(lp["rod"])}
+        # Per crossing, on each yarn: a descent's move (a 24th of a loop in
+        # abscissa) and the domain an open yarn's abscissae stay in (a
+        # tube's rings wrap round).
+        per_loop = {int(r): fabric.loop_length / 24.0 * (rods[int(r)].domain[1] - rods[int(r)].domain[0])
+                    / rods[int(r)].rest_length for r in np.unique(lp["rod"])}
+        ring = fabric.tube_radius > 0
+        dom = {r: (-np.inf, np.inf) if ring else rods[r].domain for r in per_loop}
+        self._wa, self._wb = (np.array([per_loop[int(r)] for r in x]) for x in (self.rod_a, self.rod_b))
+        self._lo_a, self._hi_a = (np.array([dom[int(r)][e] for r in self.rod_a]) for e in (0, 1))
+        self._lo_b, self._hi_b = (np.array([dom[int(r)][e] for r in self.rod_b]) for e in (0, 1))
         self.held = self._pierced(rods)
         self.ever_parted = ~self.held
 
@@ -178,18 +184,23 @@ class Interlocks:
         it once or twice (in behind a leg, out in front of the head); one
         that came out, or lies on one side, not at all."""
         n = self.shape[0] * self.shape[1]
+        first = np.full(n, -1)
+        first[self.owner[::-1]] = np.arange(len(self.owner))[::-1]  # a crossing of each interlock
+        lo_a, hi_a = np.full(n, np.inf), np.full(n, -np.inf)
+        lo_b, hi_b = np.full(n, np.inf), np.full(n, -np.inf)
+        np.minimum.at(lo_a, self.owner, self.u_a), np.maximum.at(hi_a, self.owner, self.u_a)
+        np.minimum.at(lo_b, self.owner, self.u_b), np.maximum.at(hi_b, self.owner, self.u_b)
+        some = np.nonzero(first >= 0)[0]
+        k = first[some]
+        g = np.linspace(0.0, 1.0, samples)
+        # Each arc a sixth of a loop (4 descent moves) beyond its outermost crossings.
+        pad_a, pad_b = 4.0 * self._wa[k], 4.0 * self._wb[k]
+        ua = (lo_a[some] - pad_a)[:, None] + (hi_a[some] - lo_a[some] + 2 * pad_a)[:, None] * g
+        ub = (lo_b[some] - pad_b)[:, None] + (hi_b[some] - lo_b[some] + 2 * pad_b)[:, None] * g
+        loops = self._positions(rods, self.rod_a[k], self._clip(ua, self._lo_a[k], self._hi_a[k]))
+        arcs = self._positions(rods, self.rod_b[k], self._clip(ub, self._lo_b[k], self._hi_b[k]))
         held = np.zeros(n, dtype=bool)
-        for o in range(n):
-            idx = np.nonzero(self.owner == o)[0]
-            if len(idx) == 0:
-                continue
-            ra, rb = int(self.rod_a[idx[0]]), int(self.rod_b[idx[0]])
-            da, db = 4.0 * self._window[ra], 4.0 * self._window[rb]  # a sixth of a loop
-            ua = np.linspace(self.u_a[idx].min() - da, self.u_a[idx].max() + da, samples)
-            ub = np.linspace(self.u_b[idx].min() - db, self.u_b[idx].max() + db, samples)
-            loop = rods[ra].position(self._clip(rods, np.full(samples, ra), ua))
-            arc = rods[rb].position(self._clip(rods, np.full(samples, rb), ub))
-            held[o] = _crossings_of_fan(loop, arc) > 0
+        held[some] = _crossings_of_fans(loops, arcs) > 0
         return held.reshape(self.shape)
 
     @staticmethod
@@ -202,21 +213,18 @@ class Interlocks:
             out[sel] = rods[int(r)].position(uu.ravel()).reshape(uu.shape + (3,))
         return out
 
-    def _clip(self, rods, which, u):
-        """u kept in each open yarn's domain (a tube's rings wrap round)."""
-        if self.fabric.tube_radius > 0:
-            return u
-        lo = np.array([rods[int(r)].domain[0] for r in which]).reshape((-1,) + (1,) * (u.ndim - 1))
-        hi = np.array([rods[int(r)].domain[1] for r in which]).reshape((-1,) + (1,) * (u.ndim - 1))
-        return np.clip(u, lo, hi)
+    @staticmethod
+    def _clip(u, lo, hi):
+        """u (one row per crossing) kept in its yarn's domain."""
+        shape = (-1,) + (1,) * (u.ndim - 1)
+        return np.clip(u, lo.reshape(shape), hi.reshape(shape))
 
     def update(self, world) -> np.ndarray:
         """Follow every crossing in ``world`` now; returns ``held``, a
         (courses − 1, wales) boolean array: loop (i, j)'s interlock with
         loop (i, j + 1) at [j, i]. ``ever_parted`` accumulates."""
         rods = world.rods()
-        wa = np.array([self._window[int(r)] for r in self.rod_a])
-        wb = np.array([self._window[int(r)] for r in self.rod_b])
+        wa, wb = self._wa, self._wb
         ua, ub = self.u_a.copy(), self.u_b.copy()
         # Gauss–Newton on the closest points of the two centrelines from
         # where the crossing was (the nearest pair of the tangent lines),
@@ -227,7 +235,8 @@ class Interlocks:
         pa, pb = self._positions(rods, self.rod_a, ua), self._positions(rods, self.rod_b, ub)
         dist = np.linalg.norm(pa - pb, axis=1)
         for _ in range(12):
-            da, db = self._derivatives(rods, self.rod_a, ua), self._derivatives(rods, self.rod_b, ub)
+            da = self._derivatives(rods, self.rod_a, ua, self._lo_a, self._hi_a)
+            db = self._derivatives(rods, self.rod_b, ub, self._lo_b, self._hi_b)
             e = pa - pb
             aa, bb, ab = (np.einsum("ij,ij->i", x, y) for x, y in ((da, da), (db, db), (da, db)))
             ra, rb = -np.einsum("ij,ij->i", da, e), np.einsum("ij,ij->i", db, e)
@@ -238,8 +247,8 @@ class Interlocks:
             step_b = np.clip(np.where(ok, (ab * ra + aa * rb) / safe, 0.0), -wb, wb)
             todo = np.ones(len(ua), dtype=bool)
             for _ in range(6):
-                na = self._clip(rods, self.rod_a, ua + step_a)
-                nb = self._clip(rods, self.rod_b, ub + step_b)
+                na = self._clip(ua + step_a, self._lo_a, self._hi_a)
+                nb = self._clip(ub + step_b, self._lo_b, self._hi_b)
                 qa, qb = self._positions(rods, self.rod_a, na), self._positions(rods, self.rod_b, nb)
                 nd = np.linalg.norm(qa - qb, axis=1)
                 better = todo & (nd < dist)
@@ -254,11 +263,12 @@ class Interlocks:
         self.ever_parted |= ~self.held
         return self.held
 
-    def _derivatives(self, rods, which, u):
-        """dp/du (m per unit abscissa) of the yarns ``which`` at u, by central differences."""
+    def _derivatives(self, rods, which, u, lo, hi):
+        """dp/du (m per unit abscissa) of the yarns ``which`` at u (within
+        [lo, hi]), by central differences."""
         h = 1e-4
-        lo, hi = self._clip(rods, which, u - h), self._clip(rods, which, u + h)
-        return (self._positions(rods, which, hi) - self._positions(rods, which, lo)) / (hi - lo)[:, None]
+        a, b = self._clip(u - h, lo, hi), self._clip(u + h, lo, hi)
+        return (self._positions(rods, which, b) - self._positions(rods, which, a)) / (b - a)[:, None]
 
     @property
     def parted(self) -> list:
