@@ -204,13 +204,15 @@ class Interlocks:
         return held.reshape(self.shape)
 
     @staticmethod
-    def _positions(rods, which, u):
-        """Points (..., 3) of the yarns ``which`` (one per row of u) at u."""
+    def _positions(rods, which, u, derivative: int = 0):
+        """Points (..., 3) of the yarns ``which`` (one per row of u) at u,
+        or their u-derivative dp/du (m per unit abscissa)."""
         out = np.empty(u.shape + (3,))
         for r in np.unique(which):
             sel = which == r
-            uu = u[sel]
-            out[sel] = rods[int(r)].position(uu.ravel()).reshape(uu.shape + (3,))
+            uu = u[sel].ravel()
+            p = rods[int(r)].position(uu) if derivative == 0 else rods[int(r)].eval(uu, derivative=derivative)[:, :3]
+            out[sel] = p.reshape(u[sel].shape + (3,))
         return out
 
     @staticmethod
@@ -235,8 +237,7 @@ class Interlocks:
         pa, pb = self._positions(rods, self.rod_a, ua), self._positions(rods, self.rod_b, ub)
         dist = np.linalg.norm(pa - pb, axis=1)
         for _ in range(12):
-            da = self._derivatives(rods, self.rod_a, ua, self._lo_a, self._hi_a)
-            db = self._derivatives(rods, self.rod_b, ub, self._lo_b, self._hi_b)
+            da, db = self._positions(rods, self.rod_a, ua, 1), self._positions(rods, self.rod_b, ub, 1)
             e = pa - pb
             aa, bb, ab = (np.einsum("ij,ij->i", x, y) for x, y in ((da, da), (db, db), (da, db)))
             ra, rb = -np.einsum("ij,ij->i", da, e), np.einsum("ij,ij->i", db, e)
@@ -262,13 +263,6 @@ class Interlocks:
         self.held = self._pierced(rods)
         self.ever_parted |= ~self.held
         return self.held
-
-    def _derivatives(self, rods, which, u, lo, hi):
-        """dp/du (m per unit abscissa) of the yarns ``which`` at u (within
-        [lo, hi]), by central differences."""
-        h = 1e-4
-        a, b = self._clip(u - h, lo, hi), self._clip(u + h, lo, hi)
-        return (self._positions(rods, which, b) - self._positions(rods, which, a)) / (b - a)[:, None]
 
     @property
     def parted(self) -> list:
