@@ -9,7 +9,7 @@ use strandkit_builders::knit::{fabric, Boundary, Fabric, Pattern, StitchGrid, Ya
 /// Weft-knit fabric (SPEC §9.3); see `strandkit.knit.fabric`. `rows`
 /// (custom K/P courses, bottom first) replaces `pattern`, `wales`, `courses`.
 #[pyfunction]
-#[pyo3(signature = (*, pattern, rows = None, wales, courses, loop_length, yarn, yarn_radius, bending_stiffness = None, continuous, boundary, spacing = None, control_points_per_loop, bind_off))]
+#[pyo3(signature = (*, pattern, rows = None, wales, courses, loop_length, yarn, yarn_radius, bending_stiffness = None, continuous, boundary, spacing = None, control_points_per_loop, bind_off, cast_on = true, selvedge = true, fasten_ends = true))]
 #[allow(clippy::too_many_arguments)]
 fn build_knit_fabric<'py>(
     py: Python<'py>,
@@ -26,6 +26,9 @@ fn build_knit_fabric<'py>(
     spacing: Option<[f64; 2]>,
     control_points_per_loop: usize,
     bind_off: bool,
+    cast_on: bool,
+    selvedge: bool,
+    fasten_ends: bool,
 ) -> PyResult<(PyAssembly, Bound<'py, PyDict>)> {
     let (p, layout) = guard(|| {
         let grid = match &rows {
@@ -34,7 +37,7 @@ fn build_knit_fabric<'py>(
         };
         let mut y = Yarn::preset(yarn, yarn_radius)?;
         y.bending_stiffness = bending_stiffness;
-        let p = Fabric { grid, loop_length, yarn: y, continuous, boundary: Boundary::from_name(boundary)?, spacing, control_points_per_loop, bind_off };
+        let p = Fabric { grid, loop_length, yarn: y, continuous, boundary: Boundary::from_name(boundary)?, spacing, control_points_per_loop, bind_off, cast_on, selvedge, fasten_ends };
         let built = fabric(&p)?;
         Ok((p, built))
     })?;
@@ -58,6 +61,9 @@ fn build_knit_fabric<'py>(
     d.set_item("loop_length", l.loop_length)?;
     d.set_item("clearance", l.clearance)?;
     d.set_item("bind_off", l.bind_off)?;
+    d.set_item("cast_on", l.cast_on)?;
+    d.set_item("selvedge", l.selvedge)?;
+    d.set_item("yarn_ends", l.yarn_ends)?;
     d.set_item("clamps", l.clamps)?;
     d.set_item("tube_radius", l.tube_radius)?;
     d.set_item("rows", p.grid.rows())?;

@@ -15,7 +15,7 @@ def build_duplex(*, sequence, complement, bp_per_turn, rise, radius, minor_groov
     """A B-DNA duplex (SPEC §9.1); see `strandkit.dna.duplex`."""
 def build_harness(*, branches, radii, junctions, connectors, bend_radius, young_modulus, density, control_points_per_metre):
     """A wiring harness (SPEC §9.5); see `strandkit.builders.harness`."""
-def build_knit_fabric(*, pattern, rows=None, wales, courses, loop_length, yarn, yarn_radius, bending_stiffness=None, continuous, boundary, spacing=None, control_points_per_loop, bind_off):
+def build_knit_fabric(*, pattern, rows=None, wales, courses, loop_length, yarn, yarn_radius, bending_stiffness=None, continuous, boundary, spacing=None, control_points_per_loop, bind_off, cast_on=True, selvedge=True, fasten_ends=True):
     """Weft-knit fabric (SPEC §9.3); see `strandkit.knit.fabric`."""
 def build_necklace(*, n_beads, bead_mass, bead_radius, string=None, length, closed, hang, peg, supports, friction, peg_friction, knotted, control_points):
     """Bead necklace (SPEC §9.4); see `strandkit.builders.necklace`."""

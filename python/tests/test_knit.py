@@ -187,14 +187,23 @@ def test_a_loop_lifted_out_of_the_loop_below_is_seen_parted():
         assert il.parted == ([(i, 4) for i in range(6)] if parted else []), (lift, push, il.parted)
 
 
-def test_relax_reports_a_swatch_unravelling_from_its_edge():
+def test_relax_reports_a_swatch_unravelling_from_its_open_edge_and_tied_edges_hold_it():
     # Measured: a free 6 × 6 jersey of 10 mm loops, r = 0.2 mm, without
-    # friction: the last loop (wale 0, course 5), where the yarn ends,
-    # leaves the one below it between steps 250 and 300 (README, issue 18).
-    f = sk.knit.fabric("jersey", wales=6, courses=6, loop_length=10e-3, yarn_radius=2e-4)
+    # friction, its only edge links the bind-off: the last loop (wale 0,
+    # course 5), where the yarn ends, leaves the one below it between steps
+    # 250 and 300, both bottom corners by step 500. With the cast-on,
+    # selvedge and fastened ends too (the defaults) all 30 hold to step 500;
+    # one of the top course parts by step 600 (README, issue 18).
+    kw = dict(wales=6, courses=6, loop_length=10e-3, yarn_radius=2e-4)
+    f = sk.knit.fabric("jersey", cast_on=False, selvedge=False, fasten_ends=False, **kw)
+    assert f.cast_on == f.selvedge == f.yarn_ends == () and len(f.bind_off) == 5
     r = ex.relax(f, max_steps=400, record_every=10)
     assert (0, 4) in r.interlocks.parted, r.interlocks
     assert not r.converged and "interlocks parted" in repr(r)
+    tied = sk.knit.fabric("jersey", **kw)
+    assert (len(tied.cast_on), len(tied.selvedge), len(tied.yarn_ends)) == (6, 5, 2)
+    t = ex.relax(tied, max_steps=400, record_every=10)
+    assert t.interlocks.parted == [] and t.interlocks.held.all(), t.interlocks
 
 
 def test_the_flow_takes_a_constraint_jump_that_no_shorter_step_shortens():

@@ -7,12 +7,20 @@
 //! ties the loops together: the interlocks are held by yarn–yarn contact,
 //! which the world must detect (`World::add_contact_detector` with the
 //! yarn's radius; Python `Fabric.world()`), so yarn slides through loops.
-//! Edges: the cast-on course is the start of the yarn; the last course is
-//! bound off by distance links between neighbouring heads (`bindoff[i]`, a
-//! chain bind-off, which keeps its loops from running back); the sides are
-//! the yarn turning round (one continuous yarn) or free yarn ends (one yarn
-//! per course, with a tail of half a wale). The periodic boundary is a tube
-//! knitted in the round, one ring per course: no side edges.
+//! Edges, each a set of distance links between material points of the
+//! yarn as built (a plain jersey unravels from every open edge, and a
+//! frictionless one does so under its own curl):
+//! - cast-on: neighbouring sinkers of the first course (`caston[i]`, the
+//!   chain a cast-on knits its first loops through);
+//! - bind-off: neighbouring heads of the last course (`bindoff[i]`, a chain
+//!   bind-off, which keeps its loops from running back);
+//! - selvedge: the sides are the yarn turning round (one continuous yarn:
+//!   each turn's two ends tied, `selvedge[j]`) or yarn ends (one yarn per
+//!   course, with a tail of half a wale);
+//! - fastened ends: each free yarn end tied to the head of the loop it
+//!   begins or ends (`yarn_end[k]`, an end pulled through its loop).
+//! The periodic boundary is a tube knitted in the round, one ring per
+//! course: no side edges and no yarn ends.
 pub mod loop_model;
 pub mod pattern;
 pub mod yarn;
@@ -80,6 +88,12 @@ pub struct Fabric {
     pub control_points_per_loop: usize,
     /// Bind off the last course (links between neighbouring heads).
     pub bind_off: bool,
+    /// Tie the first course's neighbouring sinkers (a cast-on chain).
+    pub cast_on: bool,
+    /// Tie each side turn's two ends (one continuous yarn).
+    pub selvedge: bool,
+    /// Tie each free yarn end to the head of its loop.
+    pub fasten_ends: bool,
 }
 
 impl Default for Fabric {
@@ -94,6 +108,9 @@ impl Default for Fabric {
             spacing: None,
             control_points_per_loop: 12,
             bind_off: true,
+            cast_on: true,
+            selvedge: true,
+            fasten_ends: true,
         }
     }
 }
@@ -128,6 +145,10 @@ pub struct FabricLayout {
     pub clearance: f64,
     /// Constraint indices of the bind-off links.
     pub bind_off: Vec<usize>,
+    /// Constraint indices of the cast-on, selvedge and yarn-end links.
+    pub cast_on: Vec<usize>,
+    pub selvedge: Vec<usize>,
+    pub yarn_ends: Vec<usize>,
     /// Constraint indices of the edge clamps (ClampedEdges).
     pub clamps: Vec<usize>,
     /// Tube radius (m) for the periodic boundary, else 0.
@@ -333,22 +354,54 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
         let label = if f.continuous { "yarn".to_string() } else { format!("course[{y}]") };
         yarns.push(asm.add_rod(rod, Some(&label)));
     }
-    let mut bind_off = Vec::new();
-    // Clamped edges hold the last course's heads already (links between
-    // held points would repeat the clamps).
-    if f.bind_off && f.boundary != Boundary::ClampedEdges {
+    let (mut bind_off, mut cast_on, mut selvedge, mut yarn_ends) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let clamped = f.boundary == Boundary::ClampedEdges;
+    // Clamped edges hold the first course's sinkers and the last course's
+    // heads already (links between held points would repeat the clamps).
+    if f.bind_off && !clamped {
         let top = &loops[(nc - 1) * nw..];
         let pairs = if periodic { nw } else { nw - 1 };
         for i in 0..pairs {
             let (a, b) = (&top[i], &top[(i + 1) % nw]);
-            let (ra, rb) = (asm_rod(&asm, a.rod), asm_rod(&asm, b.rod));
-            let distance = (ra.position(a.u_head)? - rb.position(b.u_head)?).norm();
-            asm.link(a.rod, b.rod, RelativeDistance { ua: a.u_head, ub: b.u_head, distance }).label(format!("bindoff[{i}]"));
-            bind_off.push(asm.constraints.len() - 1);
+            bind_off.push(tie(&mut asm, (a.rod, a.u_head), (b.rod, b.u_head), format!("bindoff[{i}]"))?);
+        }
+    }
+    if f.cast_on && !clamped {
+        // The sinkers before each loop of the first course (it runs left to
+        // right), and after the last one on a flat swatch.
+        let mut sinkers: Vec<(usize, f64)> = loops[..nw].iter().map(|l| (l.rod, l.u_start)).collect();
+        if !periodic {
+            sinkers.push((loops[nw - 1].rod, loops[nw - 1].u_end));
+        }
+        // nw links either way: a ring closes on its first sinker.
+        for i in 0..nw {
+            cast_on.push(tie(&mut asm, sinkers[i], sinkers[(i + 1) % sinkers.len()], format!("caston[{i}]"))?);
+        }
+    }
+    if f.selvedge && f.continuous {
+        // Course j ends and course j + 1 starts on the same side: right
+        // after an even course, left after an odd one.
+        for j in 0..nc - 1 {
+            let i = if j % 2 == 0 { nw - 1 } else { 0 };
+            let (a, b) = (&loops[j * nw + i], &loops[(j + 1) * nw + i]);
+            selvedge.push(tie(&mut asm, (a.rod, a.u_end), (b.rod, b.u_start), format!("selvedge[{j}]"))?);
+        }
+    }
+    if f.fasten_ends && !periodic {
+        // Each yarn's first and last loops along it (a reversed course
+        // runs right to left).
+        for &y in &yarns {
+            let on: Vec<&LoopSpan> = loops.iter().filter(|l| l.rod == y).collect();
+            let first = on.iter().min_by(|a, b| a.u_start.total_cmp(&b.u_start)).expect("every yarn carries loops");
+            let last = on.iter().max_by(|a, b| a.u_end.total_cmp(&b.u_end)).expect("every yarn carries loops");
+            let (u0, u1) = asm_rod(&asm, y).domain();
+            let k = yarn_ends.len();
+            yarn_ends.push(tie(&mut asm, (y, u0), (y, first.u_head), format!("yarn_end[{k}]"))?);
+            yarn_ends.push(tie(&mut asm, (y, u1), (y, last.u_head), format!("yarn_end[{}]", k + 1))?);
         }
     }
     let mut clamps = Vec::new();
-    if f.boundary == Boundary::ClampedEdges {
+    if clamped {
         let mut hold = |asm: &mut Assembly, rod: usize, u: f64, label: String| -> Result<()> {
             let target = asm_rod(asm, rod).position(u)?;
             asm.constrain(rod, Position { u, target: [target.x, target.y, target.z, 0.0], axes: [true, true, true, false] }).label(label);
@@ -365,7 +418,7 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
         }
     }
     let tube_radius = if periodic { model.tube_radius(&f.grid) } else { 0.0 };
-    Ok((asm, FabricLayout { yarns, loops, model, loop_length, clearance, bind_off, clamps, tube_radius }))
+    Ok((asm, FabricLayout { yarns, loops, model, loop_length, clearance, bind_off, cast_on, selvedge, yarn_ends, clamps, tube_radius }))
 }
 
 
@@ -455,6 +508,14 @@ fn mean_loop(rods: &[Rod], loops: &[LoopSpan]) -> Result<f64> {
 /// Rest arc length of a loop (m).
 fn loop_arc(rod: &Rod, l: &LoopSpan) -> Result<f64> {
     Ok(rod.rest_arc_length(l.u_end)? - rod.rest_arc_length(l.u_start)?)
+}
+
+/// A distance link between two material points (rod, u) at their distance
+/// as built; returns its constraint index.
+fn tie(asm: &mut Assembly, (ra, ua): (usize, f64), (rb, ub): (usize, f64), label: String) -> Result<usize> {
+    let distance = (asm_rod(asm, ra).position(ua)? - asm_rod(asm, rb).position(ub)?).norm();
+    asm.link(ra, rb, RelativeDistance { ua, ub, distance }).label(label);
+    Ok(asm.constraints.len() - 1)
 }
 
 fn asm_rod(asm: &Assembly, i: usize) -> &Rod {

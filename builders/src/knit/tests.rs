@@ -1,4 +1,5 @@
 use super::*;
+use strandkit_core::ConstraintKind;
 
 fn small(pattern: Pattern, wales: usize, courses: usize) -> Fabric {
     Fabric { grid: StitchGrid::new(pattern, wales, courses).unwrap(), ..Fabric::default() }
@@ -130,14 +131,45 @@ fn edges_and_tube() {
     // The clamps hold the last heads: no bind-off links besides.
     assert_eq!(lay.bind_off.len(), 0);
     assert_eq!(lay.clamps.len(), 2 * 5 + 1);
+    // They hold the first sinkers too; the turns and the yarn's ends are tied.
+    assert_eq!((lay.cast_on.len(), lay.selvedge.len(), lay.yarn_ends.len()), (0, 2, 2));
     let free = Fabric { boundary: Boundary::Free, ..f.clone() };
-    assert_eq!(fabric(&free).unwrap().1.bind_off.len(), 4);
+    let (fa, fl) = fabric(&free).unwrap();
+    assert_eq!((fl.bind_off.len(), fl.cast_on.len(), fl.selvedge.len(), fl.yarn_ends.len()), (4, 5, 2, 2));
+    // Every edge link joins the points it names at their distance as built:
+    // the cast-on's consecutive sinkers, each turn's ends on its side, each
+    // yarn end and the head of its loop.
+    let rod = &fa.rods[0].rod;
+    let (u0, u1) = rod.domain();
+    let at = |i: usize, j: usize| fl.loops[j * 5 + i];
+    let expect = |k: usize, ua: f64, ub: f64| {
+        let ConstraintKind::RelativeDistance(d) = &fa.constraints[k].kind else { panic!("edge {k} is a distance link") };
+        assert_eq!((d.ua, d.ub), (ua, ub), "edge {k}");
+        let built = (rod.position(ua).unwrap() - rod.position(ub).unwrap()).norm();
+        assert!((d.distance - built).abs() < 1e-15 && built > 0.1 * fl.model.wale_spacing, "edge {k}: {} vs {built}", d.distance);
+    };
+    for i in 0..4 {
+        expect(fl.cast_on[i], at(i, 0).u_start, at(i + 1, 0).u_start);
+    }
+    expect(fl.cast_on[4], at(4, 0).u_start, at(4, 0).u_end);
+    expect(fl.selvedge[0], at(4, 0).u_end, at(4, 1).u_start);
+    expect(fl.selvedge[1], at(0, 1).u_end, at(0, 2).u_start);
+    expect(fl.yarn_ends[0], u0, at(0, 0).u_head);
+    // Three courses: the last runs left to right and ends at wale 4.
+    expect(fl.yarn_ends[1], u1, at(4, 2).u_head);
+    // Switched off, none of them; one yarn per course has two ends each and no turns.
+    let bare = Fabric { cast_on: false, selvedge: false, fasten_ends: false, bind_off: false, ..free.clone() };
+    assert_eq!(fabric(&bare).unwrap().0.constraints.len(), 0);
+    let courses = fabric(&Fabric { continuous: false, ..free.clone() }).unwrap().1;
+    assert_eq!((courses.selvedge.len(), courses.yarn_ends.len()), (0, 6));
     assert_eq!(asm.rods.len(), 1);
     let t = Fabric { boundary: Boundary::Periodic, continuous: false, ..small(Pattern::Jersey, 8, 3) };
     let (asm, lay) = fabric(&t).unwrap();
     assert_eq!(asm.rods.len(), 3);
     assert!(asm.rods.iter().all(|r| r.rod.is_closed()));
     assert_eq!(lay.bind_off.len(), 8);
+    // A ring of cast-on links, no sides and no ends.
+    assert_eq!((lay.cast_on.len(), lay.selvedge.len(), lay.yarn_ends.len()), (8, 0, 0));
     // The rings' mean radius is the tube's, their loops' depth averaging out.
     let rod = &asm.rods[1].rod;
     let (u0, u1) = rod.domain();

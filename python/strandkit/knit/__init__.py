@@ -64,7 +64,9 @@ class Fabric:
     wale_spacing, course_spacing, loop_height, overhang and depth (m);
     ``clearance``: smallest centreline distance over 2r as built;
     ``loop_length``: the built yarn length per stitch (m, within 1e-4 of
-    the one asked for)."""
+    the one asked for); ``bind_off``, ``cast_on``, ``selvedge``,
+    ``yarn_ends``, ``clamps``: the assembly's constraint indices of each
+    edge's links (see :func:`fabric`)."""
 
     assembly: object
     rows: tuple
@@ -81,6 +83,9 @@ class Fabric:
     clamps: tuple
     tube_radius: float
     params: dict = field(default_factory=dict)
+    cast_on: tuple = ()
+    selvedge: tuple = ()
+    yarn_ends: tuple = ()
 
     @property
     def wales(self) -> int:
@@ -165,7 +170,8 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
            loop_length: float = 5e-3, yarn: str = "nylon", yarn_radius: float = 1e-4,
            bending_stiffness: Optional[float] = None, continuous: Optional[bool] = None,
            boundary: str = "free", spacing: Optional[Sequence[float]] = None,
-           control_points_per_loop: int = 12, bind_off: bool = True) -> Fabric:
+           control_points_per_loop: int = 12, bind_off: bool = True, cast_on: bool = True,
+           selvedge: bool = True, fasten_ends: bool = True) -> Fabric:
     """A weft-knit fabric (SPEC §9.3).
 
     pattern: "jersey", "rib1x1", "rib2x2", "garter", "seed", or a custom
@@ -184,8 +190,18 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
     spacing: initial (wale spacing, course spacing) in m (default: the
     loop model's proportions w : c = 4 : 3 scaled to ℓ);
     control_points_per_loop: spline control points per stitch;
+    Edges (each a set of distance links between points of the yarn as
+    built; a plain jersey unravels from any open edge — frictionless, under
+    its own curl):
     bind_off: tie the last course's heads to their neighbours (group
-    ``bindoff``) so its loops cannot run back.
+    ``bindoff``) so its loops cannot run back; cast_on: tie the first
+    course's neighbouring sinkers (group ``caston``, the chain a cast-on
+    knits its first loops through); selvedge: tie the two ends of each
+    turn of a continuous yarn at the sides (group ``selvedge``);
+    fasten_ends: tie each free yarn end to the head of the loop it begins
+    or ends (group ``yarn_end``). A tube has no sides and no ends; clamped
+    edges hold the first sinkers and last heads instead of cast-on and
+    bind-off links.
 
     Errors (``InvalidInputError``, before anything is built): a grid that
     cannot be knitted (ragged courses, letters other than K/P, zero wales,
@@ -221,7 +237,8 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
         yarn=str(yarn), yarn_radius=float(yarn_radius),
         bending_stiffness=None if bending_stiffness is None else float(bending_stiffness),
         continuous=bool(continuous), boundary=str(boundary), spacing=spacing,
-        control_points_per_loop=int(control_points_per_loop), bind_off=bool(bind_off))
+        control_points_per_loop=int(control_points_per_loop), bind_off=bool(bind_off),
+        cast_on=bool(cast_on), selvedge=bool(selvedge), fasten_ends=bool(fasten_ends))
     loops = np.zeros(len(d["loop_wale"]), dtype=[("wale", "i8"), ("course", "i8"), ("rod", "i8"),
                                                   ("u_start", "f8"), ("u_head", "f8"), ("u_end", "f8")])
     for k in loops.dtype.names:
@@ -229,9 +246,11 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
     params = dict(pattern=name, wales=int(wales), courses=int(courses), loop_length=float(loop_length), yarn=yarn,
                   yarn_radius=float(yarn_radius), bending_stiffness=bending_stiffness, continuous=bool(continuous),
                   boundary=boundary, spacing=spacing, control_points_per_loop=int(control_points_per_loop),
-                  bind_off=bool(bind_off))
+                  bind_off=bool(bind_off), cast_on=bool(cast_on), selvedge=bool(selvedge),
+                  fasten_ends=bool(fasten_ends))
     return Fabric(assembly=asm, rows=tuple(d["rows"]), loops=loops, model=dict(d["model"]),
                   loop_length=float(d["loop_length"]), yarn=d["yarn"], yarn_radius=float(yarn_radius),
                   bending_stiffness=float(d["bending_stiffness"]), continuous=bool(continuous), boundary=boundary,
                   clearance=float(d["clearance"]), bind_off=tuple(d["bind_off"]), clamps=tuple(d["clamps"]),
-                  tube_radius=float(d["tube_radius"]), params=params)
+                  tube_radius=float(d["tube_radius"]), params=params, cast_on=tuple(d["cast_on"]),
+                  selvedge=tuple(d["selvedge"]), yarn_ends=tuple(d["yarn_ends"]))
