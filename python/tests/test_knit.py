@@ -99,6 +99,10 @@ def test_relaxation_lowers_the_energy_without_yarn_passing_through():
     # step 200; the bottom corners' part by step 300).
     assert r.interlocks.held.all() and r.interlocks.parted == [], r.interlocks
     assert set(r.curl) == {"bottom", "top", "left", "right"}
+    # Continued, the flow goes on with its last step: none refused (a new
+    # flow's first step, 100 ηr⁴/B, is refused here), the energy still falling.
+    more = ex.relax(f, world=r.world, interlocks=r.interlocks, max_steps=10, record_every=10)
+    assert r.fails >= 1 and more.fails == 0 and more.history["energy"][-1] < e[-1]
 
 
 def test_stretch_pulls_back_and_reports_both_branches():

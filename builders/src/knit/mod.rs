@@ -19,6 +19,7 @@
 //!   course, with a tail of half a wale);
 //! - fastened ends: each free yarn end tied to the head of the loop it
 //!   begins or ends (`yarn_end[k]`, an end pulled through its loop).
+//!
 //! The periodic boundary is a tube knitted in the round, one ring per
 //! course: no side edges and no yarn ends.
 pub mod loop_model;

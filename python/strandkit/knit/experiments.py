@@ -151,8 +151,9 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
     fell by less than ``tol`` of itself and k_c, k_w moved by less than
     ``tol``; step_fraction: largest control-point move per step in yarn
     radii; viscosity: the fluid's (Pa·s), the drag of the gradient flow;
-    world: continue relaxing this world (made by ``fabric.world``)
-    instead of a new one, with ``interlocks`` the ones followed so far
+    world: continue relaxing this world (made by ``fabric.world``; a
+    world a relaxation left goes on with its last step) instead of a new
+    one, with ``interlocks`` the ones followed so far
     (``Relaxed.interlocks``; without, they are found anew in ``world``,
     which needs the yarn not to have slid far from where it was built).
     Records every ``record_every`` steps. Not ``converged`` once an
@@ -162,11 +163,19 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
     window = _check("window", window, integer=True)
     record_every = _check("record_every", record_every, integer=True)
     tol, step_fraction = _check("tol", tol), _check("step_fraction", step_fraction)
+    viscosity = _check("viscosity", viscosity)
+    dt = _first_dt(fabric, viscosity)
     if world is None:
-        world = fabric.world(friction=_check("friction", friction, low=-1e-300), viscosity=_check("viscosity", viscosity))
+        world = fabric.world(friction=_check("friction", friction, low=-1e-300), viscosity=viscosity)
     else:
-        world.set_params(viscosity=_check("viscosity", viscosity))
-    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=_first_dt(fabric, world.params["viscosity"]))
+        # A relaxation continued goes on with its last step (the world's dt
+        # under the flow): a new flow's first step is far from the one the
+        # flow had adapted to (refused and shortened several times over, or
+        # a fraction of it).
+        if world.params["overdamped"] and world.params["viscosity"] == viscosity:
+            dt = world.params["dt"]
+        world.set_params(viscosity=viscosity)
+    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=dt)
     if interlocks is None:
         interlocks = Interlocks(world, fabric)
     elif not isinstance(interlocks, Interlocks) or interlocks.fabric is not fabric:
