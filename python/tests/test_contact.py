@@ -206,3 +206,15 @@ def test_a_fast_rod_passes_through_a_bar_unless_its_steps_are_held_within_the_ma
     assert np.array_equal(r2.control_points, before) and w2.n_steps == 0
     with pytest.raises(sk.InvalidInputError, match="max_move"):
         sk.World(max_move=-1.0)
+    # The refusal reports the step's farthest move (a retry is sized from
+    # it), not the first control point past the limit: both ends of a rod
+    # held and moved, by 1.2 and 5 max_moves.
+    w3 = sk.World(gravity=(0, 0, 0), viscosity=1.0, overdamped=True, dt=1e-3, max_move=1e-4)
+    r3 = w3.add_rod(sk.straight((0, 0, 0), (0.01, 0, 0), section=1e-4, material="nylon", n_control_points=6,
+                                with_roll=False))
+    u1 = r3.domain[1]
+    w3.add_constraint(r3, sk.position(0.0, target=(0.0, 1.2e-4, 0.0)))
+    w3.add_constraint(r3, sk.position(u1, target=(0.01, 5e-4, 0.0)))
+    with pytest.raises(sk.DivergedError, match="control point 5 ") as e:
+        w3.step()
+    assert e.value.factor == pytest.approx(5.0, rel=1e-9)

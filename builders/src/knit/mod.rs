@@ -146,9 +146,11 @@ pub struct FabricLayout {
     pub clearance: f64,
     /// Constraint indices of the bind-off links.
     pub bind_off: Vec<usize>,
-    /// Constraint indices of the cast-on, selvedge and yarn-end links.
+    /// Constraint indices of the cast-on links (first course's sinkers).
     pub cast_on: Vec<usize>,
+    /// Constraint indices of the selvedge links (each side turn's ends).
     pub selvedge: Vec<usize>,
+    /// Constraint indices of the yarn-end links (an end to its loop's head).
     pub yarn_ends: Vec<usize>,
     /// Constraint indices of the edge clamps (ClampedEdges).
     pub clamps: Vec<usize>,

@@ -532,23 +532,30 @@ pub(crate) fn check_finite(world: &World, scale: f64, set_velocity: Option<f64>)
 pub(crate) fn check_reach(world: &World, scale: f64) -> Result<()> {
     let Some(limit) = world.params.max_move else { return Ok(()) };
     let ws = &world.ws;
+    // The farthest move over every rod, so that the refusal's factor is
+    // the step's reach (callers size a retry from it), not the first
+    // control point past the limit.
+    let mut far = None;
     for (r, (h, rod)) in world.rods.iter().enumerate() {
         for i in 0..rod.n_ctrl() {
             let k = ws.layout.cp_index[r][i];
             let d = scale * (ws.sys.sol[k].powi(2) + ws.sys.sol[k + 1].powi(2) + ws.sys.sol[k + 2].powi(2)).sqrt();
-            if d > limit {
-                return Err(Error::Diverged {
-                    step: world.steps + 1,
-                    rod: Some(h.into()),
-                    factor: d / limit,
-                    detail: format!(
-                        "the step would move control point {i} by {d:.3e}, more than max_move = {limit:.3e}; the world is unchanged (reduce dt, or World(adaptive_dt=True))"
-                    ),
-                });
+            if d > limit && far.is_none_or(|(_, _, m): (_, usize, f64)| d > m) {
+                far = Some((h, i, d));
             }
         }
     }
-    Ok(())
+    match far {
+        None => Ok(()),
+        Some((h, i, d)) => Err(Error::Diverged {
+            step: world.steps + 1,
+            rod: Some(h.into()),
+            factor: d / limit,
+            detail: format!(
+                "the step would move control point {i} by {d:.3e} (its farthest move), more than max_move = {limit:.3e}; the world is unchanged (reduce dt, or World(adaptive_dt=True))"
+            ),
+        }),
+    }
 }
 
 /// Saves what [`apply`] overwrites.

@@ -51,11 +51,15 @@ class _Flow:
             # The world is unchanged by a refused step: retry shorter.
             self.fails += 1
             reach = e.factor if isinstance(e, errors.DivergedError) and "max_move" in str(e) else None
-            if reach is not None and self._reach is not None and reach > 0.5 * self._reach and self._forced_step(reach):
-                # A quarter of the step moved as far: the move is a
+            if (reach is not None and self._reach is not None and 0.5 * self._reach < reach <= 2.0 * self._reach
+                    and self._forced_step(reach)):
+                # A quarter of the step moved about as far: the move is a
                 # constraint's correction (contacts pushing yarns that sag
                 # into each other apart, a clamp's drift), which no shorter
                 # step shortens: taken once with the guard let out to it.
+                # Farther than the whole step is no such correction (a seed
+                # swatch's first quarter step reached 121 max_moves where
+                # the whole reached 20): shortened again.
                 pass
             else:
                 self._reach = reach
@@ -72,11 +76,11 @@ class _Flow:
 
     def _forced_step(self, reach: float) -> bool:
         """One step with the reach guard let out to 1.5 × the refused
-        ``reach`` (in max_moves); False if refused. Not lifted altogether:
-        the refusal measures the step's first solve, and the active set's
-        later rounds may carry it much farther (measured: a seed stitch's
-        first step refused at 1.03 max_moves moved a yarn 120 of them, its
-        energy 0.16 → 8.6 J, when taken unguarded)."""
+        ``reach`` (the step's farthest move over max_move); False if
+        refused. Not lifted altogether: the step may move other points
+        farther than the correction that triggered it (measured: a seed
+        swatch's first steps, taken unguarded, moved a yarn 120 max_moves,
+        its energy 0.16 → 8.6 J)."""
         limit = self.world.params["max_move"]
         self.world.set_params(max_move=1.5 * reach * limit)
         try:
@@ -94,7 +98,7 @@ class Relaxed:
     """Result of :func:`relax`: the world at the end, whether the energy
     and the stitch dimensions had settled with every interlock holding
     (``converged``), the number of steps, ``history`` (arrays ``step``,
-    ``energy`` J, ``k_c``, ``k_w``), the final ``dimensions`` (see :meth:`Fabric.dimensions`), the smallest
+    ``energy`` J, ``k_c``, ``k_w``, from step 0, the start), the final ``dimensions`` (see :meth:`Fabric.dimensions`), the smallest
     yarn ``clearance`` seen at the records (distance/2r), the edge
     ``curl`` (m; None for a tube or a swatch under 3 × 3), the wall
     time (s) and ``interlocks`` (:class:`~strandkit.knit.geometry.Interlocks`,
@@ -151,9 +155,9 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
     fell by less than ``tol`` of itself and k_c, k_w moved by less than
     ``tol``; step_fraction: largest control-point move per step in yarn
     radii; viscosity: the fluid's (Pa·s), the drag of the gradient flow;
-    world: continue relaxing this world (made by ``fabric.world``; a
-    world a relaxation left goes on with its last step) instead of a new
-    one, with ``interlocks`` the ones followed so far
+    world: continue relaxing this world (made by ``fabric.world``; given
+    with its ``interlocks``, a relaxation's world goes on with its last
+    step) instead of a new one, with ``interlocks`` the ones followed so far
     (``Relaxed.interlocks``; without, they are found anew in ``world``,
     which needs the yarn not to have slid far from where it was built).
     Records every ``record_every`` steps. Not ``converged`` once an
@@ -168,11 +172,11 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
     if world is None:
         world = fabric.world(friction=_check("friction", friction, low=-1e-300), viscosity=viscosity)
     else:
-        # A relaxation continued goes on with its last step (the world's dt
-        # under the flow): a new flow's first step is far from the one the
+        # A relaxation continued (its world and interlocks) goes on with its
+        # last step (the world's dt under the flow): a new flow's first step is far from the one the
         # flow had adapted to (refused and shortened several times over, or
         # a fraction of it).
-        if world.params["overdamped"] and world.params["viscosity"] == viscosity:
+        if interlocks is not None and world.params["overdamped"] and world.params["viscosity"] == viscosity:
             dt = world.params["dt"]
         world.set_params(viscosity=viscosity)
     flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=dt)
@@ -181,6 +185,14 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
     elif not isinstance(interlocks, Interlocks) or interlocks.fabric is not fabric:
         raise errors.InvalidInputError("interlocks: the Relaxed.interlocks of a relaxation of this fabric")
     hist = {"step": [], "energy": [], "k_c": [], "k_w": []}
+
+    def record(k):
+        d = fabric.dimensions(world)
+        hist["step"].append(k), hist["energy"].append(world.energy()["elastic"])
+        hist["k_c"].append(d["k_c"]), hist["k_w"].append(d["k_w"])
+
+    # The start too: an energy rise in the first steps shows.
+    record(0)
     least = clearance(world, fabric)
     t0 = time.perf_counter()
     converged, k = False, 0
@@ -195,9 +207,7 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
         if k % 10 == 0:
             interlocks.update(world)
         if k % record_every == 0:
-            d = fabric.dimensions(world)
-            hist["step"].append(k), hist["energy"].append(world.energy()["elastic"])
-            hist["k_c"].append(d["k_c"]), hist["k_w"].append(d["k_w"])
+            record(k)
             if k % (10 * record_every) == 0:
                 least = min(least, clearance(world, fabric))
             back = window // record_every
@@ -227,7 +237,9 @@ class Stretched:
     width across the stretch over its initial value, at mid-length),
     ``loading`` (True while the grips move apart); ``work_loading``,
     ``work_unloading`` (J, ∫F du on each branch); ``clearance`` (smallest
-    seen)."""
+    seen); ``interlocks`` followed through the settling and every
+    increment (``interlocks.parted``: loops that came out of the loop
+    above, with a relaxed source counting from its relaxation's)."""
 
     direction: str
     strain: np.ndarray
@@ -238,11 +250,13 @@ class Stretched:
     work_unloading: float
     clearance: float
     world: object = field(repr=False, default=None)
+    interlocks: Optional[Interlocks] = field(default=None, repr=False)
 
     def __repr__(self) -> str:
+        parted = len(self.interlocks.parted) if self.interlocks is not None else 0
         return (f"Stretched({self.direction}, {len(self.strain)} increments to strain {self.strain.max():.3f}, "
                 f"peak force {self.force.max():.4g} N, work loading {self.work_loading:.4g} J / "
-                f"unloading {self.work_unloading:.4g} J)")
+                f"unloading {self.work_unloading:.4g} J{f', {parted} interlocks parted' if parted else ''})")
 
 
 def _grips(fabric: Fabric, direction: str):
@@ -278,8 +292,8 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     contacts) or a :class:`Relaxed` (a copy of its world continues, with
     its contact settings); the bars grip where the yarn is, then the
     fabric settles between them for ``settle_steps`` (the rest state
-    between bars; the bars replace the cast-on and bind-off links, and
-    along the course the selvedge's); strain: largest grip strain; increments: steps of grip
+    between bars; the bars replace the fabric's cast-on, bind-off and
+    selvedge links, its yarn ends stay fastened); strain: largest grip strain; increments: steps of grip
     displacement up (and down again if ``unload``), the bar moving by at
     most half the step cap per step; each increment relaxes for at most
     ``steps_per_increment`` steps, stopping once the pulled force changed
@@ -310,22 +324,28 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     rods = world.rods()
     hold = lambda pts: [(rods[r], u, tuple(rods[r].position(u))) for r, u in pts]  # noqa: E731
     held, pulled = hold(held), hold(pulled)
-    # The bars replace the edge links: along the wale they grip the
-    # bind-off's heads and the cast-on's sinkers (both would hold the same
-    # distances), along the course each side's turns; and across a course
-    # stretch those two chains of links would pull taut (rigid bars in a
-    # line: the step turns singular at a few % strain).
-    for group in ("bindoff", "caston") + (("selvedge",) if direction == "course" else ()):
+    # The edge links are rigid chords: a stretch would load them, not the
+    # knit (measured on a 4 × 4 at 10 % wale strain: the selvedge's
+    # reactions 0.25–0.57 N each against a bar force of 1.2 N), the
+    # bind-off and cast-on chains pull taut across a course stretch (the
+    # step turns singular at a few %), and along the wale the bars grip
+    # their points. The bars replace them; the yarn ends stay fastened.
+    for group in ("bindoff", "caston", "selvedge"):
         for h in list(world.group(group).constraints if group in world.groups else []):
-            world.remove_constraint(h)
+            if h.alive:
+                world.remove_constraint(h)
+    interlocks = source.interlocks.copy() if isinstance(source, Relaxed) and source.interlocks is not None \
+        else Interlocks(world, fabric)
     for i, (rod, u, p) in enumerate(held):
         world.add_constraint(rod, position(u, target=p), label=f"grip[{i}]")
     pulls = [world.add_constraint(rod, position(u, target=p), label=f"pull[{i}]") for i, (rod, u, p) in enumerate(pulled)]
     start = np.array([p for _, _, p in pulled])
     gap = float(np.mean(start @ axis) - np.mean(np.array([p for _, _, p in held]) @ axis))
     flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=_first_dt(fabric, world.params["viscosity"]))
-    for _ in range(int(settle_steps)):
+    for k in range(int(settle_steps)):
         flow.step()
+        if k % 10 == 9:
+            interlocks.update(world)
     across = np.array([1.0, 0.0, 0.0]) if direction == "wale" else np.array([0.0, 1.0, 0.0])
 
     def width():
@@ -360,6 +380,8 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
             if k < moves:
                 place(previous + (e - previous) * (k + 1) / moves)
             flow.step()
+            if k % 10 == 9:
+                interlocks.update(world)
             if k < moves:
                 continue
             if k % 20 == 19:
@@ -371,6 +393,7 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
         out["strain"].append(e), out["force"].append(force()), out["lateral"].append(width() / w0 - 1.0)
         out["loading"].append(n < increments)
         least = min(least, clearance(world, fabric))
+        interlocks.update(world)
     s, f, ld = np.array(out["strain"]), np.array(out["force"]), np.array(out["loading"])
     trap = lambda x, y: float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)))  # noqa: E731
     up = slice(0, increments + 1)
@@ -378,4 +401,4 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     return Stretched(direction=direction, strain=s, force=f, lateral_strain=np.array(out["lateral"]), loading=ld,
                      work_loading=trap(s[up] * gap, f[up]),
                      work_unloading=-trap(s[down] * gap, f[down]) if unload else float("nan"),
-                     clearance=least, world=world)
+                     clearance=least, world=world, interlocks=interlocks)

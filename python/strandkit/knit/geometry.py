@@ -264,6 +264,15 @@ class Interlocks:
         self.ever_parted |= ~self.held
         return self.held
 
+    def copy(self) -> "Interlocks":
+        """An independent copy (to follow another world made from the
+        same state, e.g. a stretch of a relaxed swatch)."""
+        import copy
+        out = copy.copy(self)
+        for k in ("u_a", "u_b", "held", "ever_parted"):
+            setattr(out, k, getattr(self, k).copy())
+        return out
+
     @property
     def parted(self) -> list:
         """(wale, course) of the loops whose interlock with the loop above
