@@ -1,14 +1,18 @@
 //! Contact detection cost (issue 15): a woven mat of two layers of rods
 //! crossing at right angles and touching at every crossing,
 //!
-//!   cargo run --release -p strandkit-core --example contact_bench [-- --rods 100 --ctrl 103 --runs 3 [--detect-only | --bare]]
+//!   cargo run --release -p strandkit-core --example contact_bench [-- --rods 100 --ctrl 103 --runs 3 [--detect-only | --bare] [--pool]]
 //!
 //! Prints the number of capsules, the detection time alone (the rod–rod
 //! detector over all rods), a full dynamic step without contact (gravity
 //! pressing the top layer, no detector) and with it, per capsule and per
 //! active contact. `--detect-only`: detection alone, on the mat as built;
 //! `--bare`: detection and the contact-free step alternated, and their
-//! ratio (issue 15's goal: ≤ 1). Times are the smallest of `runs`.
+//! ratio (issue 15's goal: ≤ 1). `--pool`: the worlds use rayon's pool
+//! (`parallel`, the default of `IntegrationParameters`) and detection runs
+//! on it as in such a world's step; without it, one thread (run the two
+//! modes in separate processes: the pool's idle workers spin). Times are
+//! the smallest of `runs`.
 use std::time::Instant;
 use strandkit_core::contact::ContactDetector;
 use strandkit_core::constraint::kinds::Position;
@@ -19,10 +23,10 @@ fn arg(name: &str, default: usize) -> usize {
     a.iter().position(|x| x == name).and_then(|i| a.get(i + 1)).and_then(|v| v.parse().ok()).unwrap_or(default)
 }
 
-fn mat(n: usize, ctrl: usize) -> (World, f64) {
+fn mat(n: usize, ctrl: usize, parallel: bool) -> (World, f64) {
     let (r, pitch) = (0.003, 0.01);
     let len = pitch * n as f64;
-    let mut w = World::new(IntegrationParameters { dt: 1e-3, gravity: [0.0, 0.0, -9.81], parallel: false, ..Default::default() });
+    let mut w = World::new(IntegrationParameters { dt: 1e-3, gravity: [0.0, 0.0, -9.81], parallel, ..Default::default() });
     for layer in 0..2 {
         for i in 0..n {
             let c = (i as f64 + 0.5) * pitch;
@@ -51,17 +55,26 @@ fn mat(n: usize, ctrl: usize) -> (World, f64) {
 fn main() {
     let (n, ctrl, runs) = (arg("--rods", 100), arg("--ctrl", 103), arg("--runs", 3));
     let detector = RodContacts::new(0.002, false, true).expect("valid margin");
-    let (mut bare, _) = mat(n, ctrl);
-    let (mut with, _) = mat(n, ctrl);
+    let pool = std::env::args().any(|a| a == "--pool");
+    let (mut bare, _) = mat(n, ctrl, pool);
+    let (mut with, _) = mat(n, ctrl, pool);
     with.add_contact_detector(detector.clone()).expect("valid detector");
     let capsules: usize = bare.rods().map(|(_, r)| r.sample_params().len() + 1).sum();
     let best = |f: &mut dyn FnMut() -> f64| (0..runs).map(|_| f()).fold(f64::INFINITY, f64::min);
-    // Detection alone on `w`'s rods (seconds) and the pairs it found.
+    // Detection alone on `w`'s rods (seconds) and the pairs it found, with
+    // buffers kept from one detection to the next as a world keeps them.
+    let scratch = std::cell::RefCell::new(strandkit_core::contact::Scratch::default());
     let time_detection = |w: &World| {
         let list: Vec<_> = w.rods().collect();
         let mut set = ContactSet::default();
+        let scratch = &mut *scratch.borrow_mut();
         let t = Instant::now();
-        detector.detect(&list, &mut set).expect("detection");
+        if pool {
+            // On a pool thread, as in the step of a world that uses the pool.
+            rayon::join(|| detector.detect_with(&list, &mut set, scratch), || ()).0.expect("detection");
+        } else {
+            detector.detect_with(&list, &mut set, scratch).expect("detection");
+        }
         (t.elapsed().as_secs_f64(), set.len())
     };
     let detect = best(&mut || time_detection(&bare).0);

@@ -76,6 +76,7 @@ impl Hasher for CellHasher {
 type CellMap<V> = HashMap<Cell, V, BuildHasherDefault<CellHasher>>;
 
 /// The runs of a set of capsules and their grid.
+#[derive(Debug, Default)]
 pub(crate) struct Runs {
     /// First capsule, one past the last, box.
     runs: Vec<(usize, usize, Bounds)>,
@@ -87,62 +88,75 @@ pub(crate) struct Runs {
     cell_of: Vec<usize>,
     around: Vec<std::ops::Range<usize>>,
     ranges: Vec<(usize, usize)>,
+    /// Each occupied cell's range of `order`.
+    cells: CellMap<(usize, usize)>,
 }
 
 impl Runs {
     /// Runs of the capsules with these boxes, each rod's capsules being
     /// the range `ranges[r]` (a run never spans two rods).
+    #[cfg(test)]
     pub fn new(boxes: &[Bounds], ranges: &[(usize, usize)]) -> Result<Runs> {
-        let mut runs = Vec::with_capacity(boxes.len() / GROUP + ranges.len());
+        let mut runs = Runs::default();
+        runs.fill(boxes, ranges)?;
+        Ok(runs)
+    }
+
+    /// [`Runs::new`] in place, keeping the buffers.
+    pub fn fill(&mut self, boxes: &[Bounds], ranges: &[(usize, usize)]) -> Result<()> {
+        self.runs.clear();
         for &(first, end) in ranges {
             let mut k = first;
             while k < end {
                 let e = (k + GROUP).min(end);
                 let b = boxes[k + 1..e].iter().fold(boxes[k], |acc, x| acc.union(x));
-                runs.push((k, e, b));
+                self.runs.push((k, e, b));
                 k = e;
             }
         }
         // Cells as wide as the widest run: runs whose boxes overlap then
         // have their centres in neighbouring cells.
-        let cell = runs.iter().map(|r| (r.2.hi - r.2.lo).max()).fold(0.0, f64::max);
+        let cell = self.runs.iter().map(|r| (r.2.hi - r.2.lo).max()).fold(0.0, f64::max);
         if !(cell > 0.0) || !cell.is_finite() {
             return Err(Error::input("contact detection: the rods have no extent (zero capsule length and radius)"));
         }
-        let mut order: Vec<(Cell, usize)> = Vec::with_capacity(runs.len());
         let key = |b: &Bounds| Runs::key_of(b, cell);
-        order.extend(runs.iter().enumerate().map(|(i, r)| (key(&r.2), i)));
-        order.sort_unstable();
-        let mut cells: CellMap<(usize, usize)> = CellMap::default();
+        self.order.clear();
+        self.order.extend(self.runs.iter().enumerate().map(|(i, r)| (key(&r.2), i)));
+        self.order.sort_unstable();
+        self.cells.clear();
         let mut first = 0;
-        for k in 1..=order.len() {
-            if k == order.len() || order[k].0 != order[first].0 {
-                cells.insert(order[first].0, (first, k));
+        for k in 1..=self.order.len() {
+            if k == self.order.len() || self.order[k].0 != self.order[first].0 {
+                self.cells.insert(self.order[first].0, (first, k));
                 first = k;
             }
         }
-        let mut out = Runs { cell_of: vec![0; runs.len()], runs, order, around: Vec::with_capacity(cells.len()), ranges: Vec::new() };
+        self.cell_of.clear();
+        self.cell_of.resize(self.runs.len(), 0);
+        self.around.clear();
+        self.ranges.clear();
         let mut k = 0;
-        while k < out.order.len() {
-            let (c, _) = out.order[k];
-            let (_, end) = cells[&c];
-            let start = out.ranges.len();
+        while k < self.order.len() {
+            let (c, _) = self.order[k];
+            let (_, end) = self.cells[&c];
+            let start = self.ranges.len();
             for dx in -1..=1 {
                 for dy in -1..=1 {
                     for dz in -1..=1 {
-                        if let Some(&r) = cells.get(&Cell([c.0[0] + dx, c.0[1] + dy, c.0[2] + dz])) {
-                            out.ranges.push(r);
+                        if let Some(&r) = self.cells.get(&Cell([c.0[0] + dx, c.0[1] + dy, c.0[2] + dz])) {
+                            self.ranges.push(r);
                         }
                     }
                 }
             }
             for m in k..end {
-                out.cell_of[out.order[m].1] = out.around.len();
+                self.cell_of[self.order[m].1] = self.around.len();
             }
-            out.around.push(start..out.ranges.len());
+            self.around.push(start..self.ranges.len());
             k = end;
         }
-        Ok(out)
+        Ok(())
     }
 
     fn key_of(b: &Bounds, cell: f64) -> Cell {

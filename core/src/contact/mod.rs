@@ -47,7 +47,34 @@ pub(crate) fn probe_points(rod: &crate::rod::Rod) -> (Vec<f64>, f64) {
         us.insert(0, u0);
         us.push(u1);
     }
-    (us, rod.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max))
+    (us, capsule_radius(rod))
+}
+
+/// A rod's capsule radius: its largest section's bounding radius (length unit).
+pub(crate) fn capsule_radius(rod: &crate::rod::Rod) -> f64 {
+    rod.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max)
+}
+
+/// `f` over `0..n` in contiguous blocks, each filling its own buffer of
+/// `bufs` (cleared first; kept between calls, so that a warmed-up caller
+/// allocates nothing): on rayon's pool when `parallel` (a few blocks per
+/// thread, for balance), else one block on this thread. The buffers read
+/// one after the other never depend on the blocking, so both ways give
+/// the same answer; so does the error, the first block's that failed.
+pub(crate) fn fill_blocks<T: Send>(parallel: bool, n: usize, bufs: &mut Vec<Vec<T>>, f: impl Fn(std::ops::Range<usize>, &mut Vec<T>) -> Result<()> + Sync) -> Result<()> {
+    let k = if parallel { (4 * rayon::current_num_threads()).min(n).max(1) } else { 1 };
+    bufs.resize_with(k, Vec::new);
+    let run = |(b, out): (usize, &mut Vec<T>)| {
+        out.clear();
+        f(b * n / k..(b + 1) * n / k, out)
+    };
+    if k > 1 {
+        use rayon::prelude::*;
+        let done: Vec<Result<()>> = bufs.par_iter_mut().enumerate().map(run).collect();
+        done.into_iter().collect()
+    } else {
+        bufs.iter_mut().enumerate().try_for_each(run)
+    }
 }
 
 /// A detector's `margin` (a finite length ≥ 0) and Coulomb coefficient.
@@ -184,10 +211,10 @@ impl Detector {
 }
 
 impl ContactDetector for Detector {
-    fn detect(&self, rods: &[(RodHandle, &crate::rod::Rod)], out: &mut ContactSet) -> Result<()> {
+    fn detect_with(&self, rods: &[(RodHandle, &crate::rod::Rod)], out: &mut ContactSet, scratch: &mut Scratch) -> Result<()> {
         match self {
-            Detector::Rods(d) => d.detect(rods, out),
-            Detector::Obstacle(d) => d.detect(rods, out),
+            Detector::Rods(d) => d.detect_with(rods, out, scratch),
+            Detector::Obstacle(d) => d.detect_with(rods, out, scratch),
         }
     }
 }
@@ -196,5 +223,20 @@ impl ContactDetector for Detector {
 /// ([`rods::RodContacts`]); without a detector, pairs put in the set by
 /// hand stay as given.
 pub trait ContactDetector: Send + Sync + std::fmt::Debug {
-    fn detect(&self, rods: &[(RodHandle, &crate::rod::Rod)], out: &mut ContactSet) -> Result<()>;
+    /// Adds the pairs found among `rods` to `out`, using (and keeping for
+    /// the next call) the buffers in `scratch`.
+    fn detect_with(&self, rods: &[(RodHandle, &crate::rod::Rod)], out: &mut ContactSet, scratch: &mut Scratch) -> Result<()>;
+
+    /// [`ContactDetector::detect_with`] on buffers of its own.
+    fn detect(&self, rods: &[(RodHandle, &crate::rod::Rod)], out: &mut ContactSet) -> Result<()> {
+        self.detect_with(rods, out, &mut Scratch::default())
+    }
+}
+
+/// Buffers of contact detection kept between detections (a world keeps
+/// one in its workspace): a step allocates little once they have grown,
+/// and does not touch fresh pages each time.
+#[derive(Debug, Default)]
+pub struct Scratch {
+    pub(crate) rods: rods::Scratch,
 }

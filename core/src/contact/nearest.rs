@@ -7,51 +7,105 @@ use std::collections::HashMap;
 /// Strands kept inline per capsule.
 const SLOTS: usize = 4;
 
+#[derive(Debug, Default)]
 pub(crate) struct Nearest {
     slots: Vec<[(usize, f64); SLOTS]>,
     count: Vec<u8>,
-    overflow: HashMap<usize, Vec<(usize, f64)>>,
+    /// Per block of `size` capsules, the partners past the inline slots.
+    overflow: Vec<HashMap<usize, Vec<(usize, f64)>>>,
+    size: usize,
 }
 
+/// A pair within reach: capsules `i`, `j` and their distance.
+pub(crate) type Hit = (usize, usize, f64);
+
 impl Nearest {
-    /// For `n` capsules, none with a partner yet.
-    pub fn new(n: usize) -> Nearest {
-        Nearest { slots: vec![[(0, 0.0); SLOTS]; n], count: vec![0; n], overflow: HashMap::new() }
+    /// For `n` capsules, none with a partner yet, in `blocks` blocks (more
+    /// than one: [`Nearest::take`] works block by block on rayon's pool).
+    #[cfg(test)]
+    pub fn new(n: usize, blocks: usize) -> Nearest {
+        let mut near = Nearest::default();
+        near.reset(n, blocks);
+        near
+    }
+
+    /// [`Nearest::new`] in place, keeping the buffers.
+    pub fn reset(&mut self, n: usize, blocks: usize) {
+        self.size = n.div_ceil(blocks.max(1)).max(1);
+        // Slots are read only below their count: sized, not cleared.
+        self.slots.resize(n, [(0, 0.0); SLOTS]);
+        self.count.clear();
+        self.count.resize(n, 0);
+        self.overflow.resize_with(n.div_ceil(self.size).max(1), HashMap::new);
+        self.overflow.iter_mut().for_each(HashMap::clear);
     }
 
     /// Partner `j` at distance `d` (length unit) offered to capsule `i`:
     /// it replaces the first entry `k` on its strand (`same_strand(k)`) if
     /// strictly closer, and opens a strand when there is none.
+    #[cfg(test)]
     pub fn offer(&mut self, i: usize, j: usize, d: f64, same_strand: impl Fn(usize) -> bool) {
-        let n = self.count[i] as usize;
-        if let Some(e) = self.slots[i][..n].iter_mut().find(|e| same_strand(e.0)) {
-            if d < e.1 {
-                *e = (j, d);
+        offer_into(&mut self.slots[i], &mut self.count[i], &mut self.overflow[i / self.size], i, j, d, same_strand);
+    }
+
+    /// The pairs within reach `hits` offered to both their capsules, in
+    /// the order given (the lists one after the other). `same_strand(i, k,
+    /// j)`: partners `k` and `j` of capsule `i` are on one pass of a rod.
+    /// With more than one block, the blocks take their capsules' offers on
+    /// rayon's pool: each capsule still sees its offers in the order
+    /// given, so the result is the serial one.
+    pub fn take(&mut self, hits: &[Vec<Hit>], same_strand: impl Fn(usize, usize, usize) -> bool + Sync) {
+        let size = self.size;
+        let block = |(b, ((slots, count), overflow)): (usize, ((&mut [[(usize, f64); SLOTS]], &mut [u8]), &mut HashMap<usize, Vec<(usize, f64)>>))| {
+            let range = b * size..b * size + slots.len();
+            for &(i, j, d) in hits.iter().flatten() {
+                if range.contains(&i) {
+                    offer_into(&mut slots[i - range.start], &mut count[i - range.start], overflow, i, j, d, |k| same_strand(i, k, j));
+                }
+                if range.contains(&j) {
+                    offer_into(&mut slots[j - range.start], &mut count[j - range.start], overflow, j, i, d, |k| same_strand(j, k, i));
+                }
             }
-            return;
-        }
-        if n < SLOTS {
-            self.slots[i][n] = (j, d);
-            self.count[i] += 1;
-            return;
-        }
-        let more = self.overflow.entry(i).or_default();
-        match more.iter_mut().find(|e| same_strand(e.0)) {
-            Some(e) if d < e.1 => *e = (j, d),
-            Some(_) => {}
-            None => more.push((j, d)),
+        };
+        if self.overflow.len() > 1 {
+            use rayon::prelude::*;
+            self.slots.par_chunks_mut(size).zip(self.count.par_chunks_mut(size)).zip(self.overflow.par_iter_mut()).enumerate().for_each(block);
+        } else {
+            self.slots.chunks_mut(size).zip(self.count.chunks_mut(size)).zip(self.overflow.iter_mut()).enumerate().for_each(block);
         }
     }
 
     /// Capsule `i`'s nearest partners (one per strand) and their distances.
     pub fn of(&self, i: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
-        let more = if self.count[i] as usize == SLOTS { self.overflow.get(&i).map(|v| v.as_slice()) } else { None };
+        let more = if self.count[i] as usize == SLOTS { self.overflow[i / self.size].get(&i).map(|v| v.as_slice()) } else { None };
         self.slots[i][..self.count[i] as usize].iter().chain(more.unwrap_or(&[])).copied()
     }
 
     /// The distance of `j` when it is `i`'s nearest partner on its strand.
     pub fn get(&self, i: usize, j: usize) -> Option<f64> {
         self.of(i).find(|e| e.0 == j).map(|e| e.1)
+    }
+}
+
+/// [`Nearest::offer`] on capsule `i`'s slots, count and the overflow map.
+fn offer_into(slots: &mut [(usize, f64); SLOTS], count: &mut u8, overflow: &mut HashMap<usize, Vec<(usize, f64)>>, i: usize, j: usize, d: f64, same_strand: impl Fn(usize) -> bool) {
+    let n = *count as usize;
+    if let Some(e) = slots[..n].iter_mut().find(|e| same_strand(e.0)) {
+        if d < e.1 {
+            *e = (j, d);
+        }
+        return;
+    }
+    if n < SLOTS {
+        slots[n] = (j, d);
+        *count += 1;
+        return;
+    }
+    let more = overflow.entry(i).or_default();
+    match more.iter_mut().find(|e| same_strand(e.0)) {
+        Some(e) if d < e.1 => *e = (j, d),
+        Some(_) => {}
+        None => more.push((j, d)),
     }
 }
 
@@ -67,7 +121,7 @@ mod tests {
         // An integer in [0, 2^20) from the project's generator in [−1, 1).
         let mut rnd = || ((lcg.next() + 1.0) * (1 << 19) as f64) as usize;
         let n = 5;
-        let mut near = Nearest::new(n);
+        let mut near = Nearest::new(n, 1);
         let mut plain: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
         for _ in 0..2000 {
             let (i, j, d) = (rnd() % n, rnd() % 70, (rnd() % 9) as f64);
@@ -85,5 +139,38 @@ mod tests {
             }
         }
         assert!(near.of(0).count() > SLOTS, "the overflow should be exercised");
+    }
+
+    /// Offers taken from lists of hits, in blocks on the pool or in one
+    /// block, equal the offers made one by one in the lists' order.
+    #[test]
+    fn offers_from_hits_in_blocks_equal_the_serial_ones() {
+        let mut lcg = crate::linalg::synthetic::Lcg(11);
+        let mut rnd = || ((lcg.next() + 1.0) * (1 << 19) as f64) as usize;
+        let n = 50;
+        let hits: Vec<Vec<(usize, usize, f64)>> = (0..7)
+            .map(|_| (0..400).map(|_| (rnd() % n, rnd() % n, (rnd() % 9) as f64)).filter(|h| h.0 != h.1).collect())
+            .collect();
+        let same = |_: usize, k: usize, j: usize| k / 10 == j / 10;
+        let mut one = Nearest::new(n, 1);
+        for &(i, j, d) in hits.iter().flatten() {
+            one.offer(i, j, d, |k| same(i, k, j));
+            one.offer(j, i, d, |k| same(j, k, i));
+        }
+        // Taken in two calls, as detection takes them chunk by chunk.
+        let take = |blocks: usize| {
+            let mut near = Nearest::new(n, blocks);
+            near.take(&hits[..3], same);
+            near.take(&hits[3..], same);
+            near
+        };
+        let serial = take(1);
+        let pooled = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap().install(|| take(3));
+        for i in 0..n {
+            let want: Vec<_> = one.of(i).collect();
+            assert_eq!(serial.of(i).collect::<Vec<_>>(), want, "capsule {i}, one block");
+            assert_eq!(pooled.of(i).collect::<Vec<_>>(), want, "capsule {i}, three blocks");
+        }
+        assert!((0..n).any(|i| one.of(i).count() > SLOTS), "the overflow should be exercised");
     }
 }

@@ -134,7 +134,7 @@ impl Obstacle {
 }
 
 impl ContactDetector for Obstacle {
-    fn detect(&self, rods: &[(RodHandle, &Rod)], out: &mut ContactSet) -> Result<()> {
+    fn detect_with(&self, rods: &[(RodHandle, &Rod)], out: &mut ContactSet, _: &mut super::Scratch) -> Result<()> {
         for (h, rod) in rods {
             let (us, radius) = super::probe_points(rod);
             let (u0, u1) = rod.domain();

@@ -20,6 +20,13 @@
 //! shortest loop that can touch itself), or than half a circle through the
 //! margin's reach (a straight stretch has points at distance d at arc d),
 //! are never paired.
+//!
+//! On a pool thread (the step of a world that uses rayon's pool) the
+//! capsules, the pair tests, the nearest partners, the seeds and the
+//! projections run in blocks on the pool (the grid and the choice among
+//! close rows stay on one thread), every block keeping the serial order:
+//! the rows are the one-thread rows bit for bit. The buffers live in the
+//! world's workspace ([`Scratch`]) from one detection to the next.
 use super::capsule::closest_on_segments;
 use super::{ContactDetector, ContactPair, ContactSet};
 use crate::constraint::kinds::contact::closest_points_and_positions_within;
@@ -30,10 +37,14 @@ use crate::handles::RodHandle;
 use crate::rod::Rod;
 use nalgebra::Vector3;
 use super::broad::{Bounds, Cell, CellHasher, Runs};
-use super::nearest::Nearest;
+use super::nearest::{Hit, Nearest};
 use std::collections::HashMap;
 use std::f64::consts::PI;
 use std::hash::BuildHasherDefault;
+
+/// Runs whose hits are found, then offered, at a time (a few hundred
+/// kilobytes of hits on a dense structure).
+const RUNS_PER_CHUNK: usize = 1024;
 
 /// Rows kept, keyed by their rod pair and grid cell.
 type Kept<V> = HashMap<(RodHandle, RodHandle, Cell), V, BuildHasherDefault<CellHasher>>;
@@ -68,8 +79,38 @@ impl RodContacts {
     }
 }
 
+/// A capsule pair to project onto the splines: capsules and the closest
+/// points' parameters on them.
+type Seed = (usize, usize, f64, f64);
+
+/// A row found by projection: its points' distance, the rods (indices in
+/// the detector's list), the contact and its two points.
+type Row = (f64, usize, usize, Contact, Vector3<f64>, Vector3<f64>);
+
+/// Buffers of [`RodContacts`] kept between detections (per block where a
+/// phase runs in blocks, [`super::fill_blocks`]).
+#[derive(Debug, Default)]
+pub(crate) struct Scratch {
+    caps: Vec<Capsule>,
+    boxes: Vec<Bounds>,
+    spheres: Vec<(Vector3<f64>, f64)>,
+    chain: Vec<f64>,
+    rod_ranges: Vec<(usize, usize)>,
+    runs: Runs,
+    hits: Vec<Vec<Hit>>,
+    nearest: Nearest,
+    seeds: Vec<Vec<Seed>>,
+    seed_list: Vec<Seed>,
+    rows: Vec<Vec<Row>>,
+    sorted: Vec<Row>,
+    kept: Kept<usize>,
+    kept_rows: Vec<(Vector3<f64>, Vector3<f64>, usize)>,
+    chosen: Vec<([RodHandle; 2], Contact)>,
+}
+
 /// One capsule: its rod (index in the detector's list), its axis from p
 /// (abscissa ua, arc position sa) to q (ub, sb), its radius.
+#[derive(Clone, Copy, Debug, Default)]
 struct Capsule {
     rod: usize,
     p: Vector3<f64>,
@@ -80,59 +121,106 @@ struct Capsule {
     radius: f64,
 }
 
-/// The capsules of one rod: between the domain ends and the samples (a
-/// ring closes its chain). Returns them and the chain's length.
-fn capsules(index: usize, rod: &Rod, out: &mut Vec<Capsule>) -> Result<f64> {
+/// How many capsules [`capsules`] makes of a rod: one per sample and one
+/// more on an open rod (its ends are points of the chain too).
+fn capsule_count(rod: &Rod) -> usize {
+    rod.n_samples() + usize::from(!rod.is_closed())
+}
+
+/// The capsules of one rod, into `out` ([`capsule_count`] of them):
+/// between the domain ends and the samples (a ring closes its chain, its
+/// last capsule running to the first sample one period on). Returns the
+/// chain's length.
+fn capsules(index: usize, rod: &Rod, out: &mut [Capsule]) -> Result<f64> {
     let (u0, u1) = rod.domain();
-    let (us, radius) = super::probe_points(rod);
+    let radius = super::capsule_radius(rod);
+    let (mut arc, mut k) = (0.0, 0);
+    let mut add = |from: (f64, Vector3<f64>), to: (f64, Vector3<f64>)| {
+        out[k] = Capsule { rod: index, p: from.1, q: to.1, ua: from.0, ub: to.0, sa: arc, radius };
+        arc += (to.1 - from.1).norm();
+        k += 1;
+    };
     // The samples' points from their cached basis; the ends evaluated.
-    let mut pts: Vec<Vector3<f64>> = Vec::with_capacity(us.len());
-    if !rod.is_closed() {
-        pts.push(rod.position(u0)?);
+    let mut samples = rod.samples_at();
+    let first = if rod.is_closed() {
+        match samples.next() {
+            Some(f) => f,
+            None => return Ok(0.0),
+        }
+    } else {
+        (u0, rod.position(u0)?)
+    };
+    let mut from = first;
+    for to in samples {
+        add(from, to);
+        from = to;
     }
-    pts.extend(rod.sample_points());
-    if !rod.is_closed() {
-        pts.push(rod.position(u1)?);
-    }
-    debug_assert_eq!(pts.len(), us.len());
-    let n = if rod.is_closed() { pts.len() } else { pts.len() - 1 };
-    let mut arc = 0.0;
-    for k in 0..n {
-        let j = (k + 1) % pts.len();
-        // A ring's last capsule runs to the first sample, one period on.
-        let ub = if j == 0 { us[0] + (u1 - u0) } else { us[j] };
-        out.push(Capsule { rod: index, p: pts[k], q: pts[j], ua: us[k], ub, sa: arc, radius });
-        arc += (pts[j] - pts[k]).norm();
-    }
+    add(from, if rod.is_closed() { (first.0 + (u1 - u0), first.1) } else { (u1, rod.position(u1)?) });
     Ok(arc)
 }
 
 impl ContactDetector for RodContacts {
-    fn detect(&self, rods: &[(RodHandle, &Rod)], out: &mut ContactSet) -> Result<()> {
+    fn detect_with(&self, rods: &[(RodHandle, &Rod)], out: &mut ContactSet, scratch: &mut super::Scratch) -> Result<()> {
         if !self.self_contact && !self.between_rods {
             return Ok(());
         }
         // Arc length below which a rod's own points are not paired.
         let exclusion = |reach: f64| (PI * reach).max(0.5 * PI * (reach + self.margin));
-        // Samples and ends: at most two capsules more than samples per rod.
-        let mut caps = Vec::with_capacity(rods.iter().map(|(_, r)| r.n_samples() + 2).sum());
-        let mut chain = Vec::with_capacity(rods.len());
-        let mut rod_ranges = Vec::with_capacity(rods.len());
-        for (i, (_, rod)) in rods.iter().enumerate() {
-            let first = caps.len();
-            chain.push(capsules(i, rod, &mut caps)?);
-            rod_ranges.push((first, caps.len()));
+        // On a pool thread (the step of a world that uses the pool) the
+        // phases below run in blocks on the pool; each keeps the serial
+        // order, so the rows are the same bit for bit.
+        let parallel = rayon::current_thread_index().is_some();
+        // Each capsule's box grown by its radius and half the margin: two
+        // capsules can be within reach only if their boxes overlap. And the
+        // sphere about its middle through its grown ends: a crossing's
+        // corner pairs, whose boxes overlap, are out of reach.
+        let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
+        // Each rod's capsules in its own range of the arrays, filled rod by
+        // rod (on the pool when parallel).
+        let Scratch { caps, boxes, spheres, chain, rod_ranges, runs, hits, nearest, seeds, seed_list, rows, sorted, kept, kept_rows, chosen } = &mut scratch.rods;
+        rod_ranges.clear();
+        for (_, rod) in rods {
+            let start = rod_ranges.last().map_or(0, |r: &(usize, usize)| r.1);
+            rod_ranges.push((start, start + capsule_count(rod)));
         }
+        // Every entry is written below: the buffers are only sized, not
+        // cleared (17 MB of stores at 100,000 capsules).
+        let total = rod_ranges.last().map_or(0, |r| r.1);
+        caps.resize(total, Capsule::default());
+        boxes.resize(total, Bounds { lo: Vector3::zeros(), hi: Vector3::zeros() });
+        spheres.resize(total, (Vector3::zeros(), 0.0));
+        chain.resize(rods.len(), 0.0);
+        {
+            let mut parts = Vec::with_capacity(rods.len());
+            let (mut c, mut b, mut s) = (&mut caps[..], &mut boxes[..], &mut spheres[..]);
+            for ((i, &(first, end)), length) in rod_ranges.iter().enumerate().zip(chain.iter_mut()) {
+                let n = end - first;
+                let (c0, c1) = std::mem::take(&mut c).split_at_mut(n);
+                let (b0, b1) = std::mem::take(&mut b).split_at_mut(n);
+                let (s0, s1) = std::mem::take(&mut s).split_at_mut(n);
+                parts.push((i, c0, b0, s0, length));
+                (c, b, s) = (c1, b1, s1);
+            }
+            let fill = |(i, c, b, s, length): (usize, &mut [Capsule], &mut [Bounds], &mut [(Vector3<f64>, f64)], &mut f64)| -> Result<()> {
+                *length = capsules(i, rods[i].1, c)?;
+                for ((cap, bx), sp) in c.iter().zip(b.iter_mut()).zip(s.iter_mut()) {
+                    *bx = Bounds { lo: cap.p.inf(&cap.q) - grow(cap), hi: cap.p.sup(&cap.q) + grow(cap) };
+                    *sp = (0.5 * (cap.p + cap.q), 0.5 * (cap.q - cap.p).norm() + cap.radius + 0.5 * self.margin);
+                }
+                Ok(())
+            };
+            let filled: Vec<Result<()>> = if parallel {
+                use rayon::prelude::*;
+                parts.into_par_iter().map(fill).collect()
+            } else {
+                parts.into_iter().map(fill).collect()
+            };
+            filled.into_iter().collect::<Result<()>>()?;
+        }
+        let (caps, boxes, spheres, chain, rod_ranges) = (&caps[..], &boxes[..], &spheres[..], &chain[..], &rod_ranges[..]);
         if caps.is_empty() {
             return Ok(());
         }
-        // Each capsule's box grown by its radius and half the margin: two
-        // capsules can be within reach only if their boxes overlap.
-        let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
-        let boxes: Vec<Bounds> = caps.iter().map(|c| Bounds { lo: c.p.inf(&c.q) - grow(c), hi: c.p.sup(&c.q) + grow(c) }).collect();
-        // And in the sphere about its middle through its grown ends: a
-        // crossing's corner pairs, whose boxes overlap, are out of reach.
-        let spheres: Vec<(Vector3<f64>, f64)> = caps.iter().map(|c| (0.5 * (c.p + c.q), 0.5 * (c.q - c.p).norm() + c.radius + 0.5 * self.margin)).collect();
         // Arc length between two capsules of one rod (around a ring).
         let along = |a: &Capsule, b: &Capsule| {
             let d = (b.sa - a.sa).abs();
@@ -146,54 +234,60 @@ impl ContactDetector for RodContacts {
         // pair tested.
         let same_strand = |i: usize, k: usize, j: usize| caps[k].rod == caps[j].rod && along(&caps[k], &caps[j]) < exclusion(caps[i].radius + caps[j].radius);
         // The exact test of one capsule pair whose boxes and spheres
-        // overlap: which pairs are asked for, a rod's own neighbourhood, the
-        // closest points; a pair within reach is offered to both capsules'
-        // nearest partners.
-        let mut nearest = Nearest::new(caps.len());
-        let mut test = |i: usize, j: usize| {
+        // overlap: a rod's own neighbourhood, the closest points; a pair
+        // within reach is a hit, offered below to both capsules' nearest
+        // partners.
+        let test = |i: usize, j: usize| -> Option<f64> {
+            // (Which pairs are asked for is checked per pair of runs.)
             let (a, b) = (&caps[i], &caps[j]);
             let same = a.rod == b.rod;
-            if (same && !self.self_contact) || (!same && !self.between_rods) {
-                return;
-            }
             let reach = a.radius + b.radius;
             // A straight stretch has points at distance d at arc d: the
             // margin's candidates need the rod to have turned back, half a
             // circle at least.
             if same && (along(a, b) < exclusion(reach) || j == i + 1) {
-                return;
+                return None;
             }
             let (_, _, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
-            if dist < reach + self.margin {
-                nearest.offer(i, j, dist, |k| same_strand(i, k, j));
-                nearest.offer(j, i, dist, |k| same_strand(j, k, i));
-            }
+            (dist < reach + self.margin).then_some(dist)
         };
-        let runs = Runs::new(&boxes, &rod_ranges)?;
+        runs.fill(boxes, rod_ranges)?;
+        let runs = &*runs;
         // Run by run in the capsules' order, with itself and the later runs
-        // whose boxes overlap it (each pair of runs once).
-        let (mut partners, mut near_b) = (Vec::new(), Vec::new());
-        for a in 0..runs.len() {
-            runs.partners(a, &mut partners);
-            let rod_a = caps[runs.capsules(a).start].rod;
-            for &b in &partners {
-                let same = rod_a == caps[runs.capsules(b).start].rod;
-                if (same && !self.self_contact) || (!same && !self.between_rods) {
-                    continue;
-                }
-                // Only the capsules of each run within the other's box.
-                let (box_a, box_b) = (runs.bounds(a), runs.bounds(b));
-                near_b.clear();
-                near_b.extend(runs.capsules(b).filter(|&j| boxes[j].overlaps(box_a)).map(|j| (j, spheres[j], boxes[j])));
-                for i in runs.capsules(a).filter(|&i| boxes[i].overlaps(box_b)) {
-                    let ((ci, ri), box_i) = (spheres[i], boxes[i]);
-                    for &(j, (cj, rj), box_j) in near_b.iter().filter(|x| b != a || x.0 > i) {
-                        if (ci - cj).norm_squared() <= (ri + rj) * (ri + rj) && box_i.overlaps(&box_j) {
-                            test(i, j);
+        // whose boxes overlap it (each pair of runs once). The hits of a
+        // chunk of runs are offered before the next chunk's are found: a
+        // cache's worth of hits at a time, in order.
+        nearest.reset(caps.len(), if parallel { rayon::current_num_threads() } else { 1 });
+        for chunk in (0..runs.len()).step_by(RUNS_PER_CHUNK) {
+            super::fill_blocks(parallel, RUNS_PER_CHUNK.min(runs.len() - chunk), hits, |range, hits| {
+                let (mut partners, mut near_b) = (Vec::new(), Vec::new());
+                for a in chunk + range.start..chunk + range.end {
+                    runs.partners(a, &mut partners);
+                    let rod_a = caps[runs.capsules(a).start].rod;
+                    for &b in &partners {
+                        let same = rod_a == caps[runs.capsules(b).start].rod;
+                        if (same && !self.self_contact) || (!same && !self.between_rods) {
+                            continue;
+                        }
+                        // Only the capsules of each run within the other's box.
+                        let (box_a, box_b) = (runs.bounds(a), runs.bounds(b));
+                        near_b.clear();
+                        near_b.extend(runs.capsules(b).filter(|&j| boxes[j].overlaps(box_a)).map(|j| (j, spheres[j], boxes[j])));
+                        for i in runs.capsules(a).filter(|&i| boxes[i].overlaps(box_b)) {
+                            let ((ci, ri), box_i) = (spheres[i], boxes[i]);
+                            for &(j, (cj, rj), box_j) in near_b.iter().filter(|x| b != a || x.0 > i) {
+                                if (ci - cj).norm_squared() <= (ri + rj) * (ri + rj) && box_i.overlaps(&box_j) {
+                                    if let Some(d) = test(i, j) {
+                                        hits.push((i, j, d));
+                                    }
+                                }
+                            }
                         }
                     }
                 }
-            }
+                Ok(())
+            })?;
+            nearest.take(hits, same_strand);
         }
         // A pair is a candidate when one capsule is the other's nearest on
         // that strand (every pass of a rod by a capsule has its nearest).
@@ -222,7 +316,7 @@ impl ContactDetector for RodContacts {
         // other or sagging onto each other, keep a seed at every candidate
         // as before: their projections stop at their windows' ends and give
         // rows along the whole stretch in contact.
-        let segment: Vec<f64> = rods.iter().zip(&chain).map(|((_, r), l)| l / r.n_segments().max(1) as f64).collect();
+        let segment: Vec<f64> = rods.iter().zip(chain).map(|((_, r), l)| l / r.n_segments().max(1) as f64).collect();
         let steep = |a: &Capsule, b: &Capsule| {
             let (da, db) = (a.q - a.p, b.q - b.p);
             let l = segment[a.rod].min(segment[b.rod]);
@@ -230,39 +324,43 @@ impl ContactDetector for RodContacts {
             // |da × db|² ≥ (reach / l)² |da|² |db|², false for a point capsule.
             da.cross(&db).norm_squared() * l * l >= reach * reach * da.norm_squared() * db.norm_squared()
         };
-        let mut seeds: Vec<(usize, usize, f64, f64)> = Vec::new();
-        for i in 0..caps.len() {
-            for (j, d) in nearest.of(i) {
-                let (lo, hi) = (i.min(j), i.max(j));
-                // Once per pair: from the lower capsule when it names the
-                // higher one, else from the higher.
-                if i == hi && nearest.get(lo, hi).is_some() {
-                    continue;
-                }
-                let (a, b) = (&caps[lo], &caps[hi]);
-                let (s, t, _) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
-                if !steep(a, b) {
-                    seeds.push((lo, hi, s, t));
-                    continue;
-                }
-                let across = [
-                    (s == 0.0).then(|| (step_along(lo, false), Some(hi))),
-                    (s == 1.0).then(|| (step_along(lo, true), Some(hi))),
-                    (t == 0.0).then(|| (Some(lo), step_along(hi, false))),
-                    (t == 1.0).then(|| (Some(lo), step_along(hi, true))),
-                ];
-                let left = across.iter().flatten().any(|pair| match *pair {
-                    (Some(x), Some(y)) if x != y => {
-                        let (x, y) = (x.min(y), x.max(y));
-                        candidate(x, y).is_some_and(|e| (e, x, y) < (d, lo, hi))
+        super::fill_blocks(parallel, caps.len(), seeds, |range, seeds| {
+            for i in range {
+                for (j, d) in nearest.of(i) {
+                    let (lo, hi) = (i.min(j), i.max(j));
+                    // Once per pair: from the lower capsule when it names the
+                    // higher one, else from the higher.
+                    if i == hi && nearest.get(lo, hi).is_some() {
+                        continue;
                     }
-                    _ => false,
-                });
-                if !left {
-                    seeds.push((lo, hi, s, t));
+                    let (a, b) = (&caps[lo], &caps[hi]);
+                    let (s, t, _) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
+                    if !steep(a, b) {
+                        seeds.push((lo, hi, s, t));
+                        continue;
+                    }
+                    let across = [
+                        (s == 0.0).then(|| (step_along(lo, false), Some(hi))),
+                        (s == 1.0).then(|| (step_along(lo, true), Some(hi))),
+                        (t == 0.0).then(|| (Some(lo), step_along(hi, false))),
+                        (t == 1.0).then(|| (Some(lo), step_along(hi, true))),
+                    ];
+                    let left = across.iter().flatten().any(|pair| match *pair {
+                        (Some(x), Some(y)) if x != y => {
+                            let (x, y) = (x.min(y), x.max(y));
+                            candidate(x, y).is_some_and(|e| (e, x, y) < (d, lo, hi))
+                        }
+                        _ => false,
+                    });
+                    if !left {
+                        seeds.push((lo, hi, s, t));
+                    }
                 }
             }
-        }
+            Ok(())
+        })?;
+        seed_list.clear();
+        seed_list.extend(seeds.iter().flatten());
         // Half a segment's length along each rod (its chain over its segments).
         let spacing: Vec<f64> = segment.iter().map(|l| 0.5 * l).collect();
         // Rows kept, by rod pair and grid cell (twice the largest duplicate
@@ -270,7 +368,10 @@ impl ContactDetector for RodContacts {
         // along each axis).
         let rmax = caps.iter().map(|c| c.radius).fold(0.0, f64::max);
         let dup_cell = 2.0 * spacing.iter().copied().fold(0.5 * rmax, f64::max);
-        let mut kept: Kept<Vec<(Vector3<f64>, Vector3<f64>)>> = Kept::default();
+        // Each cell's kept rows as a chain through `kept_rows` (its first
+        // row in the map, each row naming the next): no list per cell.
+        kept.clear();
+        kept_rows.clear();
         // A capsule's span grown by a segment each way: the chords may pick
         // a capsule next to the one holding a crossing's touching point, and
         // a row held inside the chord's own span then pushes at a slant (a
@@ -286,33 +387,37 @@ impl ContactDetector for RodContacts {
         };
         // Each kept capsule pair moved to the splines' closest points
         // within those windows.
-        let mut rows: Vec<(f64, usize, usize, Contact, Vector3<f64>, Vector3<f64>)> = Vec::new();
-        for (i, j, s, t) in seeds {
-            let (a, b) = (&caps[i], &caps[j]);
-            let (ra, rb) = (rods[a.rod].1, rods[b.rod].1);
-            // Started unwrapped, inside the windows (a ring's last capsule
-            // runs past the period end); the result comes back wrapped.
-            let (ua, ub, pa, pb) = closest_points_and_positions_within(ra, rb, a.ua + s * (a.ub - a.ua), b.ua + t * (b.ub - b.ua), window(ra, a), window(rb, b))?;
-            let c = Contact { ua, ub, distance: a.radius + b.radius };
-            if a.rod == b.rod {
-                // The projection may slide a self pair along the rod onto
-                // itself: keep it only if it still closes a loop.
-                let (u0, u1) = ra.domain();
-                let du = (c.ua - c.ub).abs();
-                let du = if ra.is_closed() { du.min(u1 - u0 - du) } else { du };
-                let along = du * chain[a.rod] / (u1 - u0);
-                if along < exclusion(c.distance) || (pa - pb).norm() < 1e-9 * c.distance {
-                    continue;
+        super::fill_blocks(parallel, seed_list.len(), rows, |range, rows| {
+            for &(i, j, s, t) in &seed_list[range] {
+                let (a, b) = (&caps[i], &caps[j]);
+                let (ra, rb) = (rods[a.rod].1, rods[b.rod].1);
+                // Started unwrapped, inside the windows (a ring's last capsule
+                // runs past the period end); the result comes back wrapped.
+                let (ua, ub, pa, pb) = closest_points_and_positions_within(ra, rb, a.ua + s * (a.ub - a.ua), b.ua + t * (b.ub - b.ua), window(ra, a), window(rb, b))?;
+                let c = Contact { ua, ub, distance: a.radius + b.radius };
+                if a.rod == b.rod {
+                    // The projection may slide a self pair along the rod onto
+                    // itself: keep it only if it still closes a loop.
+                    let (u0, u1) = ra.domain();
+                    let du = (c.ua - c.ub).abs();
+                    let du = if ra.is_closed() { du.min(u1 - u0 - du) } else { du };
+                    let along = du * chain[a.rod] / (u1 - u0);
+                    if along < exclusion(c.distance) || (pa - pb).norm() < 1e-9 * c.distance {
+                        continue;
+                    }
                 }
+                rows.push(((pa - pb).norm(), a.rod, b.rod, c, pa, pb));
             }
-            rows.push(((pa - pb).norm(), a.rod, b.rod, c, pa, pb));
-        }
+            Ok(())
+        })?;
+        sorted.clear();
+        sorted.extend(rows.iter().flatten().cloned());
         // Closest first (a stable sort: ties keep the order above), so that
         // of rows landing near each other the one at the touching point is
         // kept — a crossing's row, not a neighbour's off to its side.
-        rows.sort_by(|x, y| x.0.total_cmp(&y.0));
-        let mut chosen: Vec<([RodHandle; 2], Contact)> = Vec::with_capacity(rows.len());
-        for (_, ia, ib, c, pa, pb) in rows {
+        sorted.sort_by(|x, y| x.0.total_cmp(&y.0));
+        chosen.clear();
+        for &(_, ia, ib, ref c, pa, pb) in sorted.iter() {
             let handles = [rods[ia].0, rods[ib].0];
             // Rows closer than half a segment on both rods would outnumber
             // what the control points can meet (strands side by side).
@@ -326,25 +431,30 @@ impl ContactDetector for RodContacts {
             'search: for x in lo[0]..=hi[0] {
                 for y in lo[1]..=hi[1] {
                     for z in lo[2]..=hi[2] {
-                        let Some(list) = kept.get(&(h0, h1, Cell([x, y, z]))) else { continue };
-                        if list.iter().any(|(q0, q1): &(Vector3<f64>, Vector3<f64>)| (q0 - p0).norm() < s0 && (q1 - p1).norm() < s1) {
-                            duplicate = true;
-                            break 'search;
+                        let mut next = kept.get(&(h0, h1, Cell([x, y, z]))).copied().unwrap_or(usize::MAX);
+                        while let Some((q0, q1, after)) = kept_rows.get(next) {
+                            if (q0 - p0).norm() < s0 && (q1 - p1).norm() < s1 {
+                                duplicate = true;
+                                break 'search;
+                            }
+                            next = *after;
                         }
                     }
                 }
             }
             if !duplicate {
-                kept.entry((h0, h1, Cell(cell_of(p0)))).or_default().push((p0, p1));
-                chosen.push((handles, c));
+                let head = kept.entry((h0, h1, Cell(cell_of(p0)))).or_insert(usize::MAX);
+                kept_rows.push((p0, p1, *head));
+                *head = kept_rows.len() - 1;
+                chosen.push((handles, c.clone()));
             }
         }
         // Back in the order along the rods: the set's order then changes
         // only when rows come or go, not when two trade places in distance
         // (which would rebuild the system's layout).
         chosen.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.ua.total_cmp(&y.1.ua)).then(x.1.ub.total_cmp(&y.1.ub)));
-        for (handles, c) in chosen {
-            out.pairs.push(ContactPair::new(handles, ConstraintKind::Contact(c))?.with_friction(self.friction)?);
+        for (handles, c) in chosen.iter() {
+            out.pairs.push(ContactPair::new(*handles, ConstraintKind::Contact(c.clone()))?.with_friction(self.friction)?);
         }
         Ok(())
     }

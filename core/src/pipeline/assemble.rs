@@ -243,19 +243,18 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
     }
     let previous = if detectors.is_empty() { Vec::new() } else { std::mem::take(&mut contacts.pairs) };
     if !detectors.is_empty() {
-        let cache = &mut ws.detected;
-        if reuse && cache.valid {
-            contacts.pairs.extend(cache.pairs.iter().cloned());
+        if reuse && ws.detected.valid {
+            contacts.pairs.extend(ws.detected.pairs.iter().cloned());
         } else {
-            cache.valid = false;
+            ws.detected.valid = false;
             let list: Vec<_> = rod_arena.iter().map(|(i, r)| (i.into(), r)).collect();
             for d in detectors.iter() {
-                d.detect(&list, contacts)?;
+                d.detect_with(&list, contacts, &mut ws.detect)?;
             }
             if reuse {
-                cache.pairs.clear();
-                cache.pairs.extend(contacts.pairs.iter().cloned());
-                cache.valid = true;
+                ws.detected.pairs.clear();
+                ws.detected.pairs.extend(contacts.pairs.iter().cloned());
+                ws.detected.valid = true;
             }
         }
     } else {

@@ -616,6 +616,15 @@ impl Rod {
         self.cache.samples.iter().map(|s| s.u).collect()
     }
 
+    /// Each sample's parameter u and centreline point (length unit), in
+    /// sample order, without allocating.
+    pub(crate) fn samples_at(&self) -> impl Iterator<Item = (f64, Vector3<f64>)> + '_ {
+        self.cache.samples.iter().map(|s| {
+            let ls = samples::point(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis[0]);
+            (s.u, Vector3::new(ls[0], ls[1], ls[2]))
+        })
+    }
+
     /// Centreline points at every sample (length unit).
     pub fn sample_points(&self) -> Vec<Vector3<f64>> {
         self.cache

@@ -70,6 +70,8 @@ pub struct Workspace {
     /// Detected pairs kept across the active-set rounds of one
     /// [`crate::pipeline::solve::assemble_and_solve`] (see [`Detected`]).
     pub(crate) detected: Detected,
+    /// The contact detectors' buffers.
+    pub(crate) detect: crate::contact::Scratch,
     /// Each rod's stick compliance this assembly, by arena slot (NaN: not
     /// yet computed; it scans the rod's sections).
     pub(crate) stick: Vec<f64>,
