@@ -246,26 +246,30 @@ fn a_crossing_gives_one_row_at_its_closest_points_and_strands_side_by_side_two_p
 /// Detection on rayon's pool (as in the step of a world that uses it)
 /// finds the rows found on one thread, in the same order, bit for bit:
 /// a mat of rods crossing at uneven angles, two strands side by side, a
-/// coil whose turns touch (self-contact) and a ring through the mat, on
-/// pools of two and three threads (blocks of uneven sizes). Measured:
-/// 119 rows, 47 of them self-contact.
+/// coil whose turns touch (self-contact) and a ring through the mat
+/// (119 rows, 47 of them self-contact), and a larger mat of 11,000
+/// capsules (its pair tests taken in two chunks of runs), on pools of two
+/// and three threads (blocks of uneven sizes), with buffers kept from one
+/// detection to the next whatever the scene's size.
 #[test]
 fn detection_on_the_pool_finds_the_rows_found_on_one_thread() {
-    use strandkit::contact::{ContactDetector, ContactSet};
+    use strandkit::contact::{ContactDetector, ContactSet, Scratch};
     use strandkit_core::spline::KnotKind;
-    let mut w = World::new(IntegrationParameters::default());
+    let section = Section::circle(R).unwrap();
+    let material = Material::new("rubber", 1e7, 0.45, 1000.0).unwrap();
+    let straight = |a: Vector3<f64>, b: Vector3<f64>, n: usize| {
+        RodBuilder::straight(a, b).control_points(n).with_roll(false).section(section.clone()).material(material.clone()).build().unwrap()
+    };
+    let mut rich = World::new(IntegrationParameters::default());
     for i in 0..6 {
         let c = 0.11 * i as f64 - 0.27;
         let tilt = 0.03 * i as f64;
-        w.add_rod(rod(Vector3::new(-0.4, c - tilt, 0.0), Vector3::new(0.4, c + tilt, 0.0)));
-        w.add_rod(rod(Vector3::new(c + tilt, -0.4, 2.0 * R), Vector3::new(c - tilt, 0.4, 2.0 * R + 0.001 * i as f64)));
+        rich.add_rod(straight(Vector3::new(-0.4, c - tilt, 0.0), Vector3::new(0.4, c + tilt, 0.0), 12));
+        rich.add_rod(straight(Vector3::new(c + tilt, -0.4, 2.0 * R), Vector3::new(c - tilt, 0.4, 2.0 * R + 0.001 * i as f64), 12));
     }
-    w.add_rod(rod(Vector3::new(-0.4, 0.6, 0.0), Vector3::new(0.4, 0.6, 0.0)));
-    w.add_rod(rod(Vector3::new(-0.4, 0.6 + 2.0 * R, 0.002), Vector3::new(0.4, 0.6 + 2.0 * R, 0.0)));
-    let section = Section::circle(R).unwrap();
-    let material = Material::new("rubber", 1e7, 0.45, 1000.0).unwrap();
-    let coil = RodBuilder::helix(0.05, 1.9 * R, 4.0).control_points(60).with_roll(false).section(section.clone()).material(material.clone()).build().unwrap();
-    w.add_rod(coil);
+    rich.add_rod(straight(Vector3::new(-0.4, 0.6, 0.0), Vector3::new(0.4, 0.6, 0.0), 12));
+    rich.add_rod(straight(Vector3::new(-0.4, 0.6 + 2.0 * R, 0.002), Vector3::new(0.4, 0.6 + 2.0 * R, 0.0), 12));
+    rich.add_rod(RodBuilder::helix(0.05, 1.9 * R, 4.0).control_points(60).with_roll(false).section(section.clone()).material(material.clone()).build().unwrap());
     let ring = RodBuilder::curve(2.0 * std::f64::consts::PI * 0.15, |s: f64| {
         let a = s / 0.15;
         Vector3::new(0.15 * a.cos(), 0.0, 0.15 * a.sin())
@@ -273,24 +277,39 @@ fn detection_on_the_pool_finds_the_rows_found_on_one_thread() {
     .knots(KnotKind::Periodic)
     .control_points(24)
     .with_roll(false)
-    .section(section)
-    .material(material)
+    .section(section.clone())
+    .material(material.clone())
     .build()
     .unwrap();
-    w.add_rod(ring);
+    rich.add_rod(ring);
+    let mut mat = World::new(IntegrationParameters::default());
+    for i in 0..30 {
+        let c = 0.025 * i as f64 - 0.36;
+        mat.add_rod(straight(Vector3::new(-0.4, c, 0.0), Vector3::new(0.4, c + 0.01, 0.0), 40));
+        mat.add_rod(straight(Vector3::new(c, -0.4, 2.0 * R), Vector3::new(c - 0.01, 0.4, 2.0 * R), 40));
+    }
     let det = RodContacts::new(0.005, true, true).unwrap();
-    let list: Vec<_> = w.rods().collect();
-    let detect = || {
+    let detect = |w: &World, scratch: &mut Scratch| {
+        let list: Vec<_> = w.rods().collect();
         let mut set = ContactSet::default();
-        det.detect(&list, &mut set).unwrap();
+        det.detect_with(&list, &mut set, scratch).unwrap();
         set.pairs
     };
-    let one = detect();
-    let selfs = one.iter().filter(|p| p.rods[0] == p.rods[1]).count();
-    assert!(one.len() >= 100 && selfs >= 30, "a rich scene: {} rows, {selfs} of them self-contact", one.len());
+    let one = |w: &World| detect(w, &mut Scratch::default());
+    let (rows_rich, rows_mat) = (one(&rich), one(&mat));
+    let selfs = rows_rich.iter().filter(|p| p.rods[0] == p.rods[1]).count();
+    assert!(rows_rich.len() >= 100 && selfs >= 30, "a rich scene: {} rows, {selfs} of them self-contact", rows_rich.len());
+    let capsules: usize = mat.rods().map(|(_, r)| r.n_samples() + 1).sum();
+    // More than 1,024 runs of 8 capsules: two chunks of pair tests.
+    assert!(capsules > 8 * 1024 && rows_mat.len() >= 800, "the mat: {capsules} capsules, {} rows", rows_mat.len());
     for threads in [2, 3] {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        let pooled = pool.install(detect);
-        assert_eq!(pooled, one, "{threads} threads");
+        let mut kept = Scratch::new(true);
+        for (w, want, name) in [(&mat, &rows_mat, "mat"), (&rich, &rows_rich, "rich scene"), (&mat, &rows_mat, "mat again")] {
+            assert_eq!(&pool.install(|| detect(w, &mut kept)), want, "{name}, {threads} threads, buffers kept");
+            assert_eq!(&pool.install(|| detect(w, &mut Scratch::new(true))), want, "{name}, {threads} threads");
+        }
+        // Off, detection stays on the calling thread (same rows).
+        assert_eq!(pool.install(|| detect(&rich, &mut Scratch::default())), rows_rich);
     }
 }

@@ -63,7 +63,7 @@ fn main() {
     let best = |f: &mut dyn FnMut() -> f64| (0..runs).map(|_| f()).fold(f64::INFINITY, f64::min);
     // Detection alone on `w`'s rods (seconds) and the pairs it found, with
     // buffers kept from one detection to the next as a world keeps them.
-    let scratch = std::cell::RefCell::new(strandkit_core::contact::Scratch::default());
+    let scratch = std::cell::RefCell::new(strandkit_core::contact::Scratch::new(pool));
     let time_detection = |w: &World| {
         let list: Vec<_> = w.rods().collect();
         let mut set = ContactSet::default();

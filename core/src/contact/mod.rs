@@ -57,7 +57,7 @@ pub(crate) fn capsule_radius(rod: &crate::rod::Rod) -> f64 {
 
 /// `f` over `0..n` in contiguous blocks, each filling its own buffer of
 /// `bufs` (cleared first; kept between calls, so that a warmed-up caller
-/// allocates nothing): on rayon's pool when `parallel` (a few blocks per
+/// reuses their memory): on rayon's pool when `parallel` (a few blocks per
 /// thread, for balance), else one block on this thread. The buffers read
 /// one after the other never depend on the blocking, so both ways give
 /// the same answer; so does the error, the first block's that failed.
@@ -238,5 +238,17 @@ pub trait ContactDetector: Send + Sync + std::fmt::Debug {
 /// and does not touch fresh pages each time.
 #[derive(Debug, Default)]
 pub struct Scratch {
+    /// Detect in blocks on rayon's pool when called on one of its threads
+    /// (a world sets it in steps that use the pool: `parallel` and ≥ 2048
+    /// segments); off, detection stays on the calling thread. The rows
+    /// are the same either way.
+    pub parallel: bool,
     pub(crate) rods: rods::Scratch,
+}
+
+impl Scratch {
+    /// Empty buffers; `parallel` as the field says.
+    pub fn new(parallel: bool) -> Scratch {
+        Scratch { parallel, ..Default::default() }
+    }
 }

@@ -21,8 +21,8 @@
 //! margin's reach (a straight stretch has points at distance d at arc d),
 //! are never paired.
 //!
-//! On a pool thread (the step of a world that uses rayon's pool) the
-//! capsules, the pair tests, the nearest partners, the seeds and the
+//! In the step of a world that uses rayon's pool (`Scratch::parallel`,
+//! on one of the pool's threads) the capsules, the pair tests, the nearest partners, the seeds and the
 //! projections run in blocks on the pool (the grid and the choice among
 //! close rows stay on one thread), every block keeping the serial order:
 //! the rows are the one-thread rows bit for bit. The buffers live in the
@@ -109,7 +109,7 @@ pub(crate) struct Scratch {
 }
 
 /// One capsule: its rod (index in the detector's list), its axis from p
-/// (abscissa ua, arc position sa) to q (ub, sb), its radius.
+/// (abscissa ua, arc position sa) to q (abscissa ub), its radius.
 #[derive(Clone, Copy, Debug, Default)]
 struct Capsule {
     rod: usize,
@@ -166,10 +166,10 @@ impl ContactDetector for RodContacts {
         }
         // Arc length below which a rod's own points are not paired.
         let exclusion = |reach: f64| (PI * reach).max(0.5 * PI * (reach + self.margin));
-        // On a pool thread (the step of a world that uses the pool) the
-        // phases below run in blocks on the pool; each keeps the serial
-        // order, so the rows are the same bit for bit.
-        let parallel = rayon::current_thread_index().is_some();
+        // In the step of a world that uses the pool (on one of its
+        // threads) the phases below run in blocks on the pool; each keeps
+        // the serial order, so the rows are the same bit for bit.
+        let parallel = scratch.parallel && rayon::current_thread_index().is_some();
         // Each capsule's box grown by its radius and half the margin: two
         // capsules can be within reach only if their boxes overlap. And the
         // sphere about its middle through its grown ends: a crossing's

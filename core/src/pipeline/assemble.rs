@@ -234,6 +234,8 @@ pub(crate) fn assemble(world: &mut World, regime: Regime) -> Result<f64> {
 /// pairs serve again (`Workspace::detected`).
 pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> Result<f64> {
     world.params.validate()?;
+    // Detection takes the pool where the rest of the step does.
+    world.ws.detect.parallel = super::uses_pool(world);
     let World { rods: rod_arena, constraints, loads, beads, contacts, detectors, interleave, params, ws, time, steps, .. } = world;
     // Contacts follow the closest points of their rods.
     for (_, c) in constraints.iter_mut() {

@@ -15,7 +15,7 @@ pub struct IntegrationParameters {
     /// segment kernels in parallel, each batch scattered while the next
     /// one's kernels run, the guard's per-rod energies in parallel, and a
     /// band LDLᵀ whose system falls apart in two (free rods) factored and
-    /// solved as two blocks. The values are the one-thread ones bit for bit
+    /// solved as two blocks, rod–rod contact detection in blocks. The values are the one-thread ones bit for bit
     /// (an exact zero may differ in sign): every sum keeps its order.
     pub parallel: bool,
     /// Quasi-static convergence: Newton increment ≤ tol × rod length (and
