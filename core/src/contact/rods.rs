@@ -209,13 +209,14 @@ impl ContactDetector for RodContacts {
                 }
                 Ok(())
             };
-            let filled: Vec<Result<()>> = if parallel {
+            if parallel {
                 use rayon::prelude::*;
-                parts.into_par_iter().map(fill).collect()
+                // Collected in rod order: the first rod's error, as on one thread.
+                let filled: Vec<Result<()>> = parts.into_par_iter().map(fill).collect();
+                filled.into_iter().collect::<Result<()>>()?;
             } else {
-                parts.into_iter().map(fill).collect()
-            };
-            filled.into_iter().collect::<Result<()>>()?;
+                parts.into_iter().try_for_each(fill)?;
+            }
         }
         let (caps, boxes, spheres, chain, rod_ranges) = (&caps[..], &boxes[..], &spheres[..], &chain[..], &rod_ranges[..]);
         if caps.is_empty() {

@@ -627,14 +627,7 @@ impl Rod {
 
     /// Centreline points at every sample (length unit).
     pub fn sample_points(&self) -> Vec<Vector3<f64>> {
-        self.cache
-            .samples
-            .iter()
-            .map(|s| {
-                let ls = samples::point(&self.q, self.dofs, &self.cache.seg_ctrl[s.seg], &s.basis[0]);
-                Vector3::new(ls[0], ls[1], ls[2])
-            })
-            .collect()
+        self.samples_at().map(|(_, p)| p).collect()
     }
 
     /// Kinetic energy ½ VᵀMV (allocates nothing: summed per segment).
