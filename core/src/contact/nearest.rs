@@ -9,15 +9,21 @@ const SLOTS: usize = 4;
 
 #[derive(Debug, Default)]
 pub(crate) struct Nearest {
-    slots: Vec<[(usize, f64); SLOTS]>,
+    slots: Vec<[Entry; SLOTS]>,
     count: Vec<u8>,
     /// Per block of `size` capsules, the partners past the inline slots.
-    overflow: Vec<HashMap<usize, Vec<(usize, f64)>>>,
+    overflow: Vec<HashMap<usize, Vec<Entry>>>,
     size: usize,
 }
 
-/// A pair within reach: capsules `i`, `j` and their distance.
-pub(crate) type Hit = (usize, usize, f64);
+/// A pair within reach: capsules `i` < `j`, their distance, and the
+/// parameters in [0, 1] of the closest points on `i` and on `j` (kept so
+/// that the seeds need not find them again).
+pub(crate) type Hit = (usize, usize, f64, [f64; 2]);
+
+/// A partner as kept: its capsule, the distance, and the closest points'
+/// parameters on the pair's lower and higher capsule (as in its [`Hit`]).
+pub(crate) type Entry = (usize, f64, [f64; 2]);
 
 impl Nearest {
     /// For `n` capsules, none with a partner yet, in `blocks` blocks (more
@@ -33,7 +39,7 @@ impl Nearest {
     pub fn reset(&mut self, n: usize, blocks: usize) {
         self.size = n.div_ceil(blocks.max(1)).max(1);
         // Slots are read only below their count: sized, not cleared.
-        self.slots.resize(n, [(0, 0.0); SLOTS]);
+        self.slots.resize(n, [(0, 0.0, [0.0; 2]); SLOTS]);
         self.count.clear();
         self.count.resize(n, 0);
         self.overflow.resize_with(n.div_ceil(self.size).max(1), HashMap::new);
@@ -45,7 +51,7 @@ impl Nearest {
     /// strictly closer, and opens a strand when there is none.
     #[cfg(test)]
     pub fn offer(&mut self, i: usize, j: usize, d: f64, same_strand: impl Fn(usize) -> bool) {
-        offer_into(&mut self.slots[i], &mut self.count[i], &mut self.overflow[i / self.size], i, j, d, same_strand);
+        offer_into(&mut self.slots[i], &mut self.count[i], &mut self.overflow[i / self.size], i, (j, d, [0.0; 2]), same_strand);
     }
 
     /// The pairs within reach `hits` offered to both their capsules, in
@@ -56,14 +62,14 @@ impl Nearest {
     /// given, so the result is the serial one.
     pub fn take(&mut self, hits: &[Vec<Hit>], same_strand: impl Fn(usize, usize, usize) -> bool + Sync) {
         let size = self.size;
-        let block = |(b, ((slots, count), overflow)): (usize, ((&mut [[(usize, f64); SLOTS]], &mut [u8]), &mut HashMap<usize, Vec<(usize, f64)>>))| {
+        let block = |(b, ((slots, count), overflow)): (usize, ((&mut [[Entry; SLOTS]], &mut [u8]), &mut HashMap<usize, Vec<Entry>>))| {
             let range = b * size..b * size + slots.len();
-            for &(i, j, d) in hits.iter().flatten() {
+            for &(i, j, d, st) in hits.iter().flatten() {
                 if range.contains(&i) {
-                    offer_into(&mut slots[i - range.start], &mut count[i - range.start], overflow, i, j, d, |k| same_strand(i, k, j));
+                    offer_into(&mut slots[i - range.start], &mut count[i - range.start], overflow, i, (j, d, st), |k| same_strand(i, k, j));
                 }
                 if range.contains(&j) {
-                    offer_into(&mut slots[j - range.start], &mut count[j - range.start], overflow, j, i, d, |k| same_strand(j, k, i));
+                    offer_into(&mut slots[j - range.start], &mut count[j - range.start], overflow, j, (i, d, st), |k| same_strand(j, k, i));
                 }
             }
         };
@@ -75,8 +81,9 @@ impl Nearest {
         }
     }
 
-    /// Capsule `i`'s nearest partners (one per strand) and their distances.
-    pub fn of(&self, i: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+    /// Capsule `i`'s nearest partners (one per strand), with their
+    /// distances and closest points ([`Entry`]).
+    pub fn of(&self, i: usize) -> impl Iterator<Item = Entry> + '_ {
         let more = if self.count[i] as usize == SLOTS { self.overflow[i / self.size].get(&i).map(|v| v.as_slice()) } else { None };
         self.slots[i][..self.count[i] as usize].iter().chain(more.unwrap_or(&[])).copied()
     }
@@ -87,25 +94,26 @@ impl Nearest {
     }
 }
 
-/// [`Nearest::offer`] on capsule `i`'s slots, count and the overflow map.
-fn offer_into(slots: &mut [(usize, f64); SLOTS], count: &mut u8, overflow: &mut HashMap<usize, Vec<(usize, f64)>>, i: usize, j: usize, d: f64, same_strand: impl Fn(usize) -> bool) {
+/// [`Nearest::offer`] of partner `new` on capsule `i`'s slots, count and
+/// the overflow map.
+fn offer_into(slots: &mut [Entry; SLOTS], count: &mut u8, overflow: &mut HashMap<usize, Vec<Entry>>, i: usize, new: Entry, same_strand: impl Fn(usize) -> bool) {
     let n = *count as usize;
     if let Some(e) = slots[..n].iter_mut().find(|e| same_strand(e.0)) {
-        if d < e.1 {
-            *e = (j, d);
+        if new.1 < e.1 {
+            *e = new;
         }
         return;
     }
     if n < SLOTS {
-        slots[n] = (j, d);
+        slots[n] = new;
         *count += 1;
         return;
     }
     let more = overflow.entry(i).or_default();
     match more.iter_mut().find(|e| same_strand(e.0)) {
-        Some(e) if d < e.1 => *e = (j, d),
+        Some(e) if new.1 < e.1 => *e = new,
         Some(_) => {}
-        None => more.push((j, d)),
+        None => more.push(new),
     }
 }
 
@@ -133,7 +141,7 @@ mod tests {
             }
         }
         for i in 0..n {
-            assert_eq!(near.of(i).collect::<Vec<_>>(), plain[i], "capsule {i}");
+            assert_eq!(near.of(i).map(|e| (e.0, e.1)).collect::<Vec<_>>(), plain[i], "capsule {i}");
             for &(j, d) in &plain[i] {
                 assert_eq!(near.get(i, j), Some(d));
             }
@@ -148,14 +156,15 @@ mod tests {
         let mut lcg = crate::linalg::synthetic::Lcg(11);
         let mut rnd = || ((lcg.next() + 1.0) * (1 << 19) as f64) as usize;
         let n = 50;
-        let hits: Vec<Vec<(usize, usize, f64)>> = (0..7)
-            .map(|_| (0..400).map(|_| (rnd() % n, rnd() % n, (rnd() % 9) as f64)).filter(|h| h.0 != h.1).collect())
+        // Each hit's parameters name it, so that the entry kept is checked too.
+        let hits: Vec<Vec<Hit>> = (0..7)
+            .map(|c| (0..400).map(|k| (rnd() % n, rnd() % n, (rnd() % 9) as f64, [c as f64, k as f64])).filter(|h| h.0 != h.1).collect())
             .collect();
         let same = |_: usize, k: usize, j: usize| k / 10 == j / 10;
         let mut one = Nearest::new(n, 1);
-        for &(i, j, d) in hits.iter().flatten() {
-            one.offer(i, j, d, |k| same(i, k, j));
-            one.offer(j, i, d, |k| same(j, k, i));
+        for &(i, j, d, st) in hits.iter().flatten() {
+            offer_into(&mut one.slots[i], &mut one.count[i], &mut one.overflow[0], i, (j, d, st), |k| same(i, k, j));
+            offer_into(&mut one.slots[j], &mut one.count[j], &mut one.overflow[0], j, (i, d, st), |k| same(j, k, i));
         }
         // Taken in two calls, as detection takes them chunk by chunk.
         let take = |blocks: usize| {

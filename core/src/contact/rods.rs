@@ -46,8 +46,12 @@ use std::hash::BuildHasherDefault;
 /// kilobytes of hits on a dense structure).
 const RUNS_PER_CHUNK: usize = 1024;
 
-/// Rows kept, keyed by their rod pair and grid cell.
-type Kept<V> = HashMap<(RodHandle, RodHandle, Cell), V, BuildHasherDefault<CellHasher>>;
+/// One rod pair's kept rows, keyed by grid cell.
+type Kept<V> = HashMap<Cell, V, BuildHasherDefault<CellHasher>>;
+
+/// Rows of one rod pair up to which each is compared with all the kept
+/// ones (no grid).
+const FEW_ROWS: usize = 32;
 
 /// Which contacts to detect, and how early (`margin`, length unit: pairs
 /// closer than their radii plus the margin enter the active-set candidates,
@@ -95,6 +99,8 @@ pub(crate) struct Scratch {
     boxes: Vec<Bounds>,
     spheres: Vec<(Vector3<f64>, f64)>,
     chain: Vec<f64>,
+    /// Per rod: closed (a ring)? Read per offer, without a visit to the rod.
+    closed: Vec<bool>,
     rod_ranges: Vec<(usize, usize)>,
     runs: Runs,
     hits: Vec<Vec<Hit>>,
@@ -103,8 +109,10 @@ pub(crate) struct Scratch {
     seed_list: Vec<Seed>,
     rows: Vec<Vec<Row>>,
     sorted: Vec<Row>,
-    kept: Kept<usize>,
-    kept_rows: Vec<(Vector3<f64>, Vector3<f64>, usize)>,
+    /// Each row's rod pair, distance and index in `sorted`.
+    by_pair: Vec<((usize, usize), f64, usize)>,
+    group_starts: Vec<usize>,
+    choice: Vec<Choice>,
     chosen: Vec<([RodHandle; 2], Contact)>,
 }
 
@@ -177,8 +185,10 @@ impl ContactDetector for RodContacts {
         let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
         // Each rod's capsules in its own range of the arrays, filled rod by
         // rod (on the pool when parallel).
-        let Scratch { caps, boxes, spheres, chain, rod_ranges, runs, hits, nearest, seeds, seed_list, rows, sorted, kept, kept_rows, chosen } = &mut scratch.rods;
+        let Scratch { caps, boxes, spheres, chain, closed, rod_ranges, runs, hits, nearest, seeds, seed_list, rows, sorted, by_pair, group_starts, choice, chosen } = &mut scratch.rods;
         rod_ranges.clear();
+        closed.clear();
+        closed.extend(rods.iter().map(|(_, r)| r.is_closed()));
         for (_, rod) in rods {
             let start = rod_ranges.last().map_or(0, |r: &(usize, usize)| r.1);
             rod_ranges.push((start, start + capsule_count(rod)));
@@ -218,14 +228,14 @@ impl ContactDetector for RodContacts {
                 parts.into_iter().try_for_each(fill)?;
             }
         }
-        let (caps, boxes, spheres, chain, rod_ranges) = (&caps[..], &boxes[..], &spheres[..], &chain[..], &rod_ranges[..]);
+        let (caps, boxes, spheres, chain, closed, rod_ranges) = (&caps[..], &boxes[..], &spheres[..], &chain[..], &closed[..], &rod_ranges[..]);
         if caps.is_empty() {
             return Ok(());
         }
         // Arc length between two capsules of one rod (around a ring).
         let along = |a: &Capsule, b: &Capsule| {
             let d = (b.sa - a.sa).abs();
-            if rods[a.rod].1.is_closed() { d.min(chain[a.rod] - d) } else { d }
+            if closed[a.rod] { d.min(chain[a.rod] - d) } else { d }
         };
         // Two partners of capsule `i` on one rod closer along it than the
         // shortest loop are on the same pass of that rod. A knot's braid
@@ -238,7 +248,7 @@ impl ContactDetector for RodContacts {
         // overlap: a rod's own neighbourhood, the closest points; a pair
         // within reach is a hit, offered below to both capsules' nearest
         // partners.
-        let test = |i: usize, j: usize| -> Option<f64> {
+        let test = |i: usize, j: usize| -> Option<(f64, [f64; 2])> {
             // (Which pairs are asked for is checked per pair of runs.)
             let (a, b) = (&caps[i], &caps[j]);
             let same = a.rod == b.rod;
@@ -249,8 +259,8 @@ impl ContactDetector for RodContacts {
             if same && (along(a, b) < exclusion(reach) || j == i + 1) {
                 return None;
             }
-            let (_, _, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
-            (dist < reach + self.margin).then_some(dist)
+            let (s, t, dist) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
+            (dist < reach + self.margin).then_some((dist, [s, t]))
         };
         runs.fill(boxes, rod_ranges)?;
         let runs = &*runs;
@@ -278,8 +288,9 @@ impl ContactDetector for RodContacts {
                             let ((ci, ri), box_i) = (spheres[i], boxes[i]);
                             for &(j, (cj, rj), box_j) in near_b.iter().filter(|x| b != a || x.0 > i) {
                                 if (ci - cj).norm_squared() <= (ri + rj) * (ri + rj) && box_i.overlaps(&box_j) {
-                                    if let Some(d) = test(i, j) {
-                                        hits.push((i, j, d));
+                                    // Runs come in the capsules' order: i < j.
+                                    if let Some((d, st)) = test(i, j) {
+                                        hits.push((i, j, d, st));
                                     }
                                 }
                             }
@@ -296,7 +307,7 @@ impl ContactDetector for RodContacts {
         // The capsules before and after one along its rod (around a ring).
         let step_along = |k: usize, forward: bool| {
             let (first, end) = rod_ranges[caps[k].rod];
-            let closed = rods[caps[k].rod].1.is_closed();
+            let closed = closed[caps[k].rod];
             match (forward, k) {
                 (true, k) if k + 1 < end => Some(k + 1),
                 (true, _) => closed.then_some(first),
@@ -327,15 +338,15 @@ impl ContactDetector for RodContacts {
         };
         super::fill_blocks(parallel, caps.len(), seeds, |range, seeds| {
             for i in range {
-                for (j, d) in nearest.of(i) {
+                for (j, d, [s, t]) in nearest.of(i) {
                     let (lo, hi) = (i.min(j), i.max(j));
                     // Once per pair: from the lower capsule when it names the
                     // higher one, else from the higher.
                     if i == hi && nearest.get(lo, hi).is_some() {
                         continue;
                     }
+                    // (s, t): the closest points on caps[lo] and caps[hi], from the hit.
                     let (a, b) = (&caps[lo], &caps[hi]);
-                    let (s, t, _) = closest_on_segments(&a.p, &a.q, &b.p, &b.q);
                     if !steep(a, b) {
                         seeds.push((lo, hi, s, t));
                         continue;
@@ -364,15 +375,11 @@ impl ContactDetector for RodContacts {
         seed_list.extend(seeds.iter().flatten());
         // Half a segment's length along each rod (its chain over its segments).
         let spacing: Vec<f64> = segment.iter().map(|l| 0.5 * l).collect();
-        // Rows kept, by rod pair and grid cell (twice the largest duplicate
-        // distance: the points within it of a row are in at most two cells
-        // along each axis).
+        // The cell of the grid on a rod pair's kept rows, four times the
+        // largest duplicate distance: the points within it of a row are in
+        // at most two cells along each axis, and in one along about half.
         let rmax = caps.iter().map(|c| c.radius).fold(0.0, f64::max);
-        let dup_cell = 2.0 * spacing.iter().copied().fold(0.5 * rmax, f64::max);
-        // Each cell's kept rows as a chain through `kept_rows` (its first
-        // row in the map, each row naming the next): no list per cell.
-        kept.clear();
-        kept_rows.clear();
+        let dup_cell = 4.0 * spacing.iter().copied().fold(0.5 * rmax, f64::max);
         // A capsule's span grown by a segment each way: the chords may pick
         // a capsule next to the one holding a crossing's touching point, and
         // a row held inside the chord's own span then pushes at a slant (a
@@ -413,29 +420,108 @@ impl ContactDetector for RodContacts {
         })?;
         sorted.clear();
         sorted.extend(rows.iter().flatten().cloned());
-        // Closest first (a stable sort: ties keep the order above), so that
-        // of rows landing near each other the one at the touching point is
-        // kept — a crossing's row, not a neighbour's off to its side.
-        sorted.sort_by(|x, y| x.0.total_cmp(&y.0));
+        // By rod pair, and in each closest first (ties keep the order
+        // above), so that of rows landing near each other the one at the
+        // touching point is kept — a crossing's row, not a neighbour's off
+        // to its side. Only rows of one rod pair can be duplicates, so each
+        // pair's rows are chosen on their own: the keys are sorted, not the
+        // rows (a sixth of the bytes to move).
+        by_pair.clear();
+        by_pair.extend(sorted.iter().enumerate().map(|(k, r)| ((r.1.min(r.2), r.1.max(r.2)), r.0, k)));
+        let order = |x: &((usize, usize), f64, usize), y: &((usize, usize), f64, usize)| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)).then(x.2.cmp(&y.2));
+        if parallel {
+            use rayon::prelude::*;
+            by_pair.par_sort_unstable_by(order);
+        } else {
+            by_pair.sort_unstable_by(order);
+        }
+        // Each rod pair's first row in `by_pair`, and the pairs in blocks
+        // (on the pool when parallel): a block's choice touches its pairs'
+        // rows only.
+        group_starts.clear();
+        group_starts.extend((0..by_pair.len()).filter(|&k| k == 0 || by_pair[k].0 != by_pair[k - 1].0));
+        let groups = group_starts.len();
+        let k = if parallel { (4 * rayon::current_num_threads()).min(groups).max(1) } else { 1 };
+        choice.resize_with(k, Choice::default);
+        let (by_pair, group_starts, sorted) = (&by_pair[..], &group_starts[..], &sorted[..]);
+        let choose = |(b, ch): (usize, &mut Choice)| {
+            ch.chosen.clear();
+            for g in b * groups / k..(b + 1) * groups / k {
+                let end = group_starts.get(g + 1).copied().unwrap_or(by_pair.len());
+                choose_among(&by_pair[group_starts[g]..end], sorted, rods, &spacing, dup_cell, ch);
+            }
+        };
+        if k > 1 {
+            use rayon::prelude::*;
+            choice.par_iter_mut().enumerate().for_each(choose);
+        } else {
+            choice.iter_mut().enumerate().for_each(choose);
+        }
         chosen.clear();
-        for &(_, ia, ib, ref c, pa, pb) in sorted.iter() {
-            let handles = [rods[ia].0, rods[ib].0];
-            // Rows closer than half a segment on both rods would outnumber
-            // what the control points can meet (strands side by side).
-            let (sa, sb) = (spacing[ia].max(0.25 * c.distance), spacing[ib].max(0.25 * c.distance));
-            // One orientation for both (a, b) and (b, a): the lower (rod, u) first.
-            let ((h0, p0, s0), (h1, p1, s1)) =
-                if (handles[0], c.ua) <= (handles[1], c.ub) { ((handles[0], pa, sa), (handles[1], pb, sb)) } else { ((handles[1], pb, sb), (handles[0], pa, sa)) };
-            let cell_of = |p: Vector3<f64>| [(p.x / dup_cell).floor() as i64, (p.y / dup_cell).floor() as i64, (p.z / dup_cell).floor() as i64];
-            let (lo, hi) = (cell_of(p0 - Vector3::repeat(s0)), cell_of(p0 + Vector3::repeat(s0)));
-            let mut duplicate = false;
+        chosen.extend(choice.iter().flat_map(|c| c.chosen.iter().cloned()));
+        // Back in the order along the rods: the set's order then changes
+        // only when rows come or go, not when two trade places in distance
+        // (which would rebuild the system's layout).
+        let along_rods = |x: &([RodHandle; 2], Contact), y: &([RodHandle; 2], Contact)| x.0.cmp(&y.0).then(x.1.ua.total_cmp(&y.1.ua)).then(x.1.ub.total_cmp(&y.1.ub));
+        if parallel {
+            use rayon::prelude::*;
+            chosen.par_sort_by(along_rods);
+        } else {
+            chosen.sort_by(along_rods);
+        }
+        for (handles, c) in chosen.iter() {
+            out.pairs.push(ContactPair::new(*handles, ConstraintKind::Contact(c.clone()))?.with_friction(self.friction)?);
+        }
+        Ok(())
+    }
+}
+
+/// One block's buffers for the choice among close rows: a rod pair's kept
+/// rows (as a chain per grid cell through `kept_rows`, when it has many),
+/// and the rows chosen.
+#[derive(Debug, Default)]
+struct Choice {
+    kept: Kept<usize>,
+    kept_rows: Vec<(Vector3<f64>, Vector3<f64>, usize)>,
+    chosen: Vec<([RodHandle; 2], Contact)>,
+}
+
+/// The rows of one rod pair, closest first (`pair`: keys into `sorted`),
+/// each kept unless a kept one lies within half a segment of it on both
+/// rods (more would outnumber what the control points can meet, strands
+/// side by side): into `ch.chosen`. `spacing`: half a segment per rod;
+/// `dup_cell`: the grid's cell, at least four times any row's reach.
+fn choose_among(pair: &[((usize, usize), f64, usize)], sorted: &[Row], rods: &[(RodHandle, &Rod)], spacing: &[f64], dup_cell: f64, ch: &mut Choice) {
+    // A pair of rods with a few rows (a crossing, a short stretch side by
+    // side) compares each with the kept ones; with many (a yarn against
+    // itself), the kept ones are looked up by grid cell.
+    let few = pair.len() <= FEW_ROWS;
+    let Choice { kept, kept_rows, chosen } = ch;
+    kept_rows.clear();
+    if !few {
+        kept.clear();
+    }
+    let cell_of = |p: Vector3<f64>| Cell([(p.x / dup_cell).floor() as i64, (p.y / dup_cell).floor() as i64, (p.z / dup_cell).floor() as i64]);
+    for &(_, _, k) in pair {
+        let (_, ia, ib, ref c, pa, pb) = sorted[k];
+        let handles = [rods[ia].0, rods[ib].0];
+        let (sa, sb) = (spacing[ia].max(0.25 * c.distance), spacing[ib].max(0.25 * c.distance));
+        // One orientation for both (a, b) and (b, a): the lower (rod, u) first.
+        let ((p0, s0), (p1, s1)) = if (handles[0], c.ua) <= (handles[1], c.ub) { ((pa, sa), (pb, sb)) } else { ((pb, sb), (pa, sa)) };
+        let near = |q0: &Vector3<f64>, q1: &Vector3<f64>| (q0 - p0).norm() < s0 && (q1 - p1).norm() < s1;
+        let duplicate = if few {
+            kept_rows.iter().any(|(q0, q1, _)| near(q0, q1))
+        } else {
+            // The cells of the box within s0 of p0 hold every kept row near it.
+            let (lo, hi) = (cell_of(p0 - Vector3::repeat(s0)).0, cell_of(p0 + Vector3::repeat(s0)).0);
+            let mut found = false;
             'search: for x in lo[0]..=hi[0] {
                 for y in lo[1]..=hi[1] {
                     for z in lo[2]..=hi[2] {
-                        let mut next = kept.get(&(h0, h1, Cell([x, y, z]))).copied().unwrap_or(usize::MAX);
+                        let mut next = kept.get(&Cell([x, y, z])).copied().unwrap_or(usize::MAX);
                         while let Some((q0, q1, after)) = kept_rows.get(next) {
-                            if (q0 - p0).norm() < s0 && (q1 - p1).norm() < s1 {
-                                duplicate = true;
+                            if near(q0, q1) {
+                                found = true;
                                 break 'search;
                             }
                             next = *after;
@@ -443,20 +529,17 @@ impl ContactDetector for RodContacts {
                     }
                 }
             }
-            if !duplicate {
-                let head = kept.entry((h0, h1, Cell(cell_of(p0)))).or_insert(usize::MAX);
+            found
+        };
+        if !duplicate {
+            if few {
+                kept_rows.push((p0, p1, usize::MAX));
+            } else {
+                let head = kept.entry(cell_of(p0)).or_insert(usize::MAX);
                 kept_rows.push((p0, p1, *head));
                 *head = kept_rows.len() - 1;
-                chosen.push((handles, c.clone()));
             }
+            chosen.push((handles, c.clone()));
         }
-        // Back in the order along the rods: the set's order then changes
-        // only when rows come or go, not when two trade places in distance
-        // (which would rebuild the system's layout).
-        chosen.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.ua.total_cmp(&y.1.ua)).then(x.1.ub.total_cmp(&y.1.ub)));
-        for (handles, c) in chosen.iter() {
-            out.pairs.push(ContactPair::new(*handles, ConstraintKind::Contact(c.clone()))?.with_friction(self.friction)?);
-        }
-        Ok(())
     }
 }
