@@ -269,15 +269,7 @@ mod tests {
     /// compliance (it is saved in snapshots).
     #[test]
     fn a_slipping_pair_holds_a_row_across_its_slip_direction() {
-        let rod = || {
-            crate::RodBuilder::straight(nalgebra::Vector3::zeros(), nalgebra::Vector3::x())
-                .control_points(6)
-                .section(crate::Section::circle(0.01).unwrap())
-                .material(crate::Material::new("steel", 2e11, 0.3, 7800.0).unwrap())
-                .build()
-                .unwrap()
-        };
-        let (a, b) = (rod(), rod());
+        let (a, b) = (super::super::test_rod(), super::super::test_rod());
         let g = Geometry { ua: 3.5, ub: Some(4.0), relative: Vector3::new(0.0, 0.0, 0.02), normal: Vector3::z() };
         let stick = 1e-9;
         let mut f = Friction { slip: Some([1.0, 0.0, 0.0]), slip_length: 2e-4, ..Friction::new(0.5).unwrap() };

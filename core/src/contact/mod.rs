@@ -33,6 +33,18 @@ pub(crate) mod broad;
 pub(crate) mod nearest;
 pub mod rods;
 
+/// A straight steel rod from the origin along x, 1 m long, 1 cm radius, 6
+/// control points: the unit tests' rod.
+#[cfg(test)]
+pub(crate) fn test_rod() -> crate::rod::Rod {
+    crate::RodBuilder::straight(nalgebra::Vector3::zeros(), nalgebra::Vector3::x())
+        .control_points(6)
+        .section(crate::Section::circle(0.01).unwrap())
+        .material(crate::Material::new("steel", 2e11, 0.3, 7800.0).unwrap())
+        .build()
+        .unwrap()
+}
+
 use crate::constraint::ConstraintKind;
 use crate::error::{Error, Result};
 use crate::handles::RodHandle;

@@ -555,15 +555,7 @@ mod tests {
     /// wide, fixed seed; the pair seen from either side.
     #[test]
     fn close_rows_chosen_through_the_grid_or_by_a_scan_are_the_greedy_choice() {
-        let rod = || {
-            crate::RodBuilder::straight(Vector3::zeros(), Vector3::x())
-                .control_points(6)
-                .section(crate::Section::circle(0.01).unwrap())
-                .material(crate::Material::new("steel", 2e11, 0.3, 7800.0).unwrap())
-                .build()
-                .unwrap()
-        };
-        let (a, b) = (rod(), rod());
+        let (a, b) = (super::super::test_rod(), super::super::test_rod());
         let rods = [(RodHandle::from(crate::handles::Index(0, 0)), &a), (RodHandle::from(crate::handles::Index(1, 0)), &b)];
         let spacing = [0.04, 0.03];
         let dup_cell = 4.0 * 0.04;
