@@ -22,11 +22,12 @@
 //! are never paired.
 //!
 //! In the step of a world that uses rayon's pool (`Scratch::parallel`,
-//! on one of the pool's threads) the capsules, the pair tests, the nearest partners, the seeds and the
-//! projections run in blocks on the pool (the grid and the choice among
-//! close rows stay on one thread), every block keeping the serial order:
-//! the rows are the one-thread rows bit for bit. The buffers live in the
-//! world's workspace ([`Scratch`]) from one detection to the next.
+//! on one of the pool's threads) the capsules, the pair tests, the nearest
+//! partners, the seeds, the projections and the choice among close rows
+//! (rod pair by rod pair) run in blocks on the pool (the grid stays on one
+//! thread), every block keeping the serial order: the rows are the
+//! one-thread rows bit for bit. The buffers live in the world's workspace
+//! ([`Scratch`]) from one detection to the next.
 use super::capsule::closest_on_segments;
 use super::{ContactDetector, ContactPair, ContactSet};
 use crate::constraint::kinds::contact::closest_points_and_positions_within;
@@ -552,7 +553,10 @@ mod tests {
     /// rows (≤ FEW_ROWS) or through the grid (more), equals the greedy
     /// choice that compares each row, closest first, with every row kept
     /// before it. Rows at random points of a box a few duplicate distances
-    /// wide, fixed seed; the pair seen from either side.
+    /// wide, fixed seed; the pair seen from either side; every fifth row at
+    /// the distance of the one before (ties go to the lower index). One
+    /// block's buffers serve pairs of many and few rows in turn, as in a
+    /// detection.
     #[test]
     fn close_rows_chosen_through_the_grid_or_by_a_scan_are_the_greedy_choice() {
         let (a, b) = (super::super::test_rod(), super::super::test_rod());
@@ -561,7 +565,8 @@ mod tests {
         let dup_cell = 4.0 * 0.04;
         let mut lcg = crate::linalg::synthetic::Lcg(5);
         let mut point = |w: f64| Vector3::new(w * lcg.next(), w * lcg.next(), w * lcg.next());
-        for (n, w) in [(12, 0.05), (30, 0.1), (200, 0.2), (600, 0.3)] {
+        let mut ch = Choice::default();
+        for (n, w) in [(200, 0.2), (12, 0.05), (600, 0.3), (30, 0.1), (200, 0.2)] {
             let mut sorted: Vec<Row> = Vec::new();
             for k in 0..n {
                 // A row's two points are about a diameter apart.
@@ -569,11 +574,12 @@ mod tests {
                 let pb = pa + point(0.02);
                 let (ia, ib) = if k % 3 == 0 { (1, 0) } else { (0, 1) };
                 let c = Contact { ua: 2.0 + (pa.x + 1.0), ub: 2.0 + (pb.x + 1.0), distance: 0.02 };
-                sorted.push(((pa - pb).norm(), ia, ib, c, pa, pb));
+                let d = if k % 5 == 4 { sorted[k - 1].0 } else { (pa - pb).norm() };
+                sorted.push((d, ia, ib, c, pa, pb));
             }
             let mut keys: Vec<((usize, usize), f64, usize)> = sorted.iter().enumerate().map(|(k, r)| ((0, 1), r.0, k)).collect();
             keys.sort_unstable_by(|x, y| x.1.total_cmp(&y.1).then(x.2.cmp(&y.2)));
-            let mut ch = Choice::default();
+            ch.chosen.clear();
             choose_among(&keys, &sorted, &rods, &spacing, dup_cell, &mut ch);
             // The greedy choice, by brute force.
             let mut kept: Vec<(Vector3<f64>, Vector3<f64>)> = Vec::new();
