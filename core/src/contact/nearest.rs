@@ -46,12 +46,12 @@ impl Nearest {
         self.overflow.iter_mut().for_each(HashMap::clear);
     }
 
-    /// Partner `j` at distance `d` (length unit) offered to capsule `i`:
-    /// it replaces the first entry `k` on its strand (`same_strand(k)`) if
-    /// strictly closer, and opens a strand when there is none.
+    /// Partner `new` = (j, distance, closest points) offered to capsule
+    /// `i`: it replaces the first entry `k` on its strand (`same_strand(k)`)
+    /// if strictly closer, and opens a strand when there is none.
     #[cfg(test)]
-    pub fn offer(&mut self, i: usize, j: usize, d: f64, same_strand: impl Fn(usize) -> bool) {
-        offer_into(&mut self.slots[i], &mut self.count[i], &mut self.overflow[i / self.size], i, (j, d, [0.0; 2]), same_strand);
+    pub fn offer(&mut self, i: usize, new: Entry, same_strand: impl Fn(usize) -> bool) {
+        offer_into(&mut self.slots[i], &mut self.count[i], &mut self.overflow[i / self.size], i, new, same_strand);
     }
 
     /// The pairs within reach `hits` offered to both their capsules, in
@@ -133,7 +133,7 @@ mod tests {
         let mut plain: Vec<Vec<(usize, f64)>> = vec![Vec::new(); n];
         for _ in 0..2000 {
             let (i, j, d) = (rnd() % n, rnd() % 70, (rnd() % 9) as f64);
-            near.offer(i, j, d, |k| k / 10 == j / 10);
+            near.offer(i, (j, d, [0.0; 2]), |k| k / 10 == j / 10);
             match plain[i].iter_mut().find(|e| e.0 / 10 == j / 10) {
                 Some(e) if d < e.1 => *e = (j, d),
                 Some(_) => {}
@@ -163,8 +163,8 @@ mod tests {
         let same = |_: usize, k: usize, j: usize| k / 10 == j / 10;
         let mut one = Nearest::new(n, 1);
         for &(i, j, d, st) in hits.iter().flatten() {
-            offer_into(&mut one.slots[i], &mut one.count[i], &mut one.overflow[0], i, (j, d, st), |k| same(i, k, j));
-            offer_into(&mut one.slots[j], &mut one.count[j], &mut one.overflow[0], j, (i, d, st), |k| same(j, k, i));
+            one.offer(i, (j, d, st), |k| same(i, k, j));
+            one.offer(j, (i, d, st), |k| same(j, k, i));
         }
         // Taken in two calls, as detection takes them chunk by chunk.
         let take = |blocks: usize| {

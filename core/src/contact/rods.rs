@@ -102,6 +102,8 @@ pub(crate) struct Scratch {
     chain: Vec<f64>,
     /// Per rod: closed (a ring)? Read per offer, without a visit to the rod.
     closed: Vec<bool>,
+    /// Per rod: a segment's length along its chain.
+    segment: Vec<f64>,
     rod_ranges: Vec<(usize, usize)>,
     runs: Runs,
     hits: Vec<Vec<Hit>>,
@@ -186,7 +188,7 @@ impl ContactDetector for RodContacts {
         let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
         // Each rod's capsules in its own range of the arrays, filled rod by
         // rod (on the pool when parallel).
-        let Scratch { caps, boxes, spheres, chain, closed, rod_ranges, runs, hits, nearest, seeds, seed_list, rows, sorted, by_pair, group_starts, choice, chosen } = &mut scratch.rods;
+        let Scratch { caps, boxes, spheres, chain, closed, segment, rod_ranges, runs, hits, nearest, seeds, seed_list, rows, sorted, by_pair, group_starts, choice, chosen } = &mut scratch.rods;
         rod_ranges.clear();
         closed.clear();
         closed.extend(rods.iter().map(|(_, r)| r.is_closed()));
@@ -329,7 +331,9 @@ impl ContactDetector for RodContacts {
         // other or sagging onto each other, keep a seed at every candidate
         // as before: their projections stop at their windows' ends and give
         // rows along the whole stretch in contact.
-        let segment: Vec<f64> = rods.iter().zip(chain).map(|((_, r), l)| l / r.n_segments().max(1) as f64).collect();
+        segment.clear();
+        segment.extend(rods.iter().zip(chain).map(|((_, r), l)| l / r.n_segments().max(1) as f64));
+        let segment = &segment[..];
         let steep = |a: &Capsule, b: &Capsule| {
             let (da, db) = (a.q - a.p, b.q - b.p);
             let l = segment[a.rod].min(segment[b.rod]);
@@ -374,13 +378,11 @@ impl ContactDetector for RodContacts {
         })?;
         seed_list.clear();
         seed_list.extend(seeds.iter().flatten());
-        // Half a segment's length along each rod (its chain over its segments).
-        let spacing: Vec<f64> = segment.iter().map(|l| 0.5 * l).collect();
         // The cell of the grid on a rod pair's kept rows, four times the
         // largest duplicate distance: the points within it of a row are in
         // at most two cells along each axis, and in one along about half.
         let rmax = caps.iter().map(|c| c.radius).fold(0.0, f64::max);
-        let dup_cell = 4.0 * spacing.iter().copied().fold(0.5 * rmax, f64::max);
+        let dup_cell = 4.0 * segment.iter().map(|l| 0.5 * l).fold(0.5 * rmax, f64::max);
         // A capsule's span grown by a segment each way: the chords may pick
         // a capsule next to the one holding a crossing's touching point, and
         // a row held inside the chord's own span then pushes at a slant (a
@@ -449,7 +451,7 @@ impl ContactDetector for RodContacts {
             ch.chosen.clear();
             for g in b * groups / k..(b + 1) * groups / k {
                 let end = group_starts.get(g + 1).copied().unwrap_or(by_pair.len());
-                choose_among(&by_pair[group_starts[g]..end], sorted, rods, &spacing, dup_cell, ch);
+                choose_among(&by_pair[group_starts[g]..end], sorted, rods, segment, dup_cell, ch);
             }
         };
         if k > 1 {
@@ -490,9 +492,9 @@ struct Choice {
 /// The rows of one rod pair, closest first (`pair`: keys into `sorted`),
 /// each kept unless a kept one lies within half a segment of it on both
 /// rods (more would outnumber what the control points can meet, strands
-/// side by side): into `ch.chosen`. `spacing`: half a segment per rod;
+/// side by side): into `ch.chosen`. `segment`: a segment's length per rod;
 /// `dup_cell`: the grid's cell, at least four times any row's reach.
-fn choose_among(pair: &[((usize, usize), f64, usize)], sorted: &[Row], rods: &[(RodHandle, &Rod)], spacing: &[f64], dup_cell: f64, ch: &mut Choice) {
+fn choose_among(pair: &[((usize, usize), f64, usize)], sorted: &[Row], rods: &[(RodHandle, &Rod)], segment: &[f64], dup_cell: f64, ch: &mut Choice) {
     // A pair of rods with a few rows (a crossing, a short stretch side by
     // side) compares each with the kept ones; with many (a yarn against
     // itself), the kept ones are looked up by grid cell.
@@ -506,7 +508,7 @@ fn choose_among(pair: &[((usize, usize), f64, usize)], sorted: &[Row], rods: &[(
     for &(_, _, k) in pair {
         let (_, ia, ib, ref c, pa, pb) = sorted[k];
         let handles = [rods[ia].0, rods[ib].0];
-        let (sa, sb) = (spacing[ia].max(0.25 * c.distance), spacing[ib].max(0.25 * c.distance));
+        let (sa, sb) = ((0.5 * segment[ia]).max(0.25 * c.distance), (0.5 * segment[ib]).max(0.25 * c.distance));
         // One orientation for both (a, b) and (b, a): the lower (rod, u) first.
         let ((p0, s0), (p1, s1)) = if (handles[0], c.ua) <= (handles[1], c.ub) { ((pa, sa), (pb, sb)) } else { ((pb, sb), (pa, sa)) };
         let near = |q0: &Vector3<f64>, q1: &Vector3<f64>| (q0 - p0).norm() < s0 && (q1 - p1).norm() < s1;
@@ -561,7 +563,8 @@ mod tests {
     fn close_rows_chosen_through_the_grid_or_by_a_scan_are_the_greedy_choice() {
         let (a, b) = (super::super::test_rod(), super::super::test_rod());
         let rods = [(RodHandle::from(crate::handles::Index(0, 0)), &a), (RodHandle::from(crate::handles::Index(1, 0)), &b)];
-        let spacing = [0.04, 0.03];
+        let segment = [0.08, 0.06];
+        let spacing = segment.map(|l| 0.5 * l);
         let dup_cell = 4.0 * 0.04;
         let mut lcg = crate::linalg::synthetic::Lcg(5);
         let mut point = |w: f64| Vector3::new(w * lcg.next(), w * lcg.next(), w * lcg.next());
@@ -580,7 +583,7 @@ mod tests {
             let mut keys: Vec<((usize, usize), f64, usize)> = sorted.iter().enumerate().map(|(k, r)| ((0, 1), r.0, k)).collect();
             keys.sort_unstable_by(|x, y| x.1.total_cmp(&y.1).then(x.2.cmp(&y.2)));
             ch.chosen.clear();
-            choose_among(&keys, &sorted, &rods, &spacing, dup_cell, &mut ch);
+            choose_among(&keys, &sorted, &rods, &segment, dup_cell, &mut ch);
             // The greedy choice, by brute force.
             let mut kept: Vec<(Vector3<f64>, Vector3<f64>)> = Vec::new();
             let mut want = Vec::new();
