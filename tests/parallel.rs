@@ -1,11 +1,11 @@
 //! Steps on rayon's pool give the one-thread answer bit for bit: the
-//! kernels, the pipelined scatter, the guard's per-rod energies and the
-//! band LDLᵀ of a system that falls apart in two (free rods) all keep the
-//! serial order of every sum. Worlds of ≥ 2048 segments, where the pool is
-//! used.
+//! kernels, the pipelined scatter (or, for free rods, the two halves'
+//! assemblies), the guard's per-rod energies and the band LDLᵀ of a
+//! system that falls apart in two (free rods) all keep the serial order of
+//! every sum. Worlds of ≥ 2048 segments, where the pool is used.
 use nalgebra::Vector3;
 use strandkit::prelude::*;
-use strandkit::RodContacts;
+use strandkit::{RodContacts, Scheme};
 
 /// `n` rods of 25 control points along x, 3 cm apart in z, their starts
 /// pinned. Without `pairs` they are free (gravity −y). With `pairs`, under
@@ -14,8 +14,14 @@ use strandkit::RodContacts;
 /// system), so that it sags onto rod 2k: contact detection on, pairs
 /// active.
 fn world(parallel: bool, n: usize, pairs: bool) -> World {
+    world_with(parallel, n, pairs, Scheme::ImplicitEuler, false)
+}
+
+/// [`world`] stepped by `scheme`, with a 20 g bead sliding on every
+/// seventh free rod when `beads`.
+fn world_with(parallel: bool, n: usize, pairs: bool, scheme: Scheme, beads: bool) -> World {
     let gravity = if pairs { [0.0, 0.0, -9.81] } else { [0.0, -9.81, 0.0] };
-    let mut w = World::new(IntegrationParameters { dt: 2e-3, gravity, parallel, ..Default::default() });
+    let mut w = World::new(IntegrationParameters { dt: 2e-3, gravity, parallel, scheme, ..Default::default() });
     let mut hs = Vec::new();
     for i in 0..n {
         let z = 0.03 * i as f64;
@@ -37,6 +43,9 @@ fn world(parallel: bool, n: usize, pairs: bool) -> World {
             let p = w.rod(h).unwrap().position(u).unwrap();
             w.add_constraint(h, ConstraintKind::Position(Position { u, axes: [true, true, true, false], target: [p.x, p.y, p.z, 0.0] }), 0.0).unwrap();
         }
+        if beads && i % 7 == 3 {
+            w.add_bead(h, u0 + 0.6 * (u1 - u0), 0.02, 0.0, 0.0).unwrap();
+        }
         hs.push(h);
     }
     if pairs {
@@ -54,7 +63,10 @@ fn world(parallel: bool, n: usize, pairs: bool) -> World {
 }
 
 fn same_after_steps(n: usize, pairs: bool, steps: usize) -> usize {
-    let (mut a, mut b) = (world(false, n, pairs), world(true, n, pairs));
+    same_worlds_after_steps(world(false, n, pairs), world(true, n, pairs), steps)
+}
+
+fn same_worlds_after_steps(mut a: World, mut b: World, steps: usize) -> usize {
     let mut most = 0;
     for k in 0..steps {
         let (ra, rb) = (a.step().unwrap(), b.step().unwrap());
@@ -70,7 +82,23 @@ fn same_after_steps(n: usize, pairs: bool, steps: usize) -> usize {
             assert_eq!(x, y, "velocities differ after {steps} steps");
         }
     }
+    for ((_, ba), (_, bb)) in a.beads().zip(b.beads()) {
+        assert_eq!(ba.u.to_bits(), bb.u.to_bits(), "bead abscissae differ after {steps} steps");
+    }
     most
+}
+
+/// Free rods carrying sliding beads (point masses scattered with their
+/// segments, in either half), and free rods stepped by the trapezoidal
+/// rule (whose first solve records the rods' elastic forces, split by
+/// rod like the right-hand side).
+#[test]
+fn free_rods_with_beads_or_the_trapezoidal_rule_step_alike_on_the_pool() {
+    let beads = |parallel| world_with(parallel, 100, false, Scheme::ImplicitEuler, true);
+    assert_eq!(beads(true).beads().count(), 14);
+    same_worlds_after_steps(beads(false), beads(true), 6);
+    let trapezoidal = |parallel| world_with(parallel, 100, false, Scheme::Trapezoidal, false);
+    same_worlds_after_steps(trapezoidal(false), trapezoidal(true), 4);
 }
 
 #[test]

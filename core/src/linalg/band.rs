@@ -14,6 +14,7 @@
 //! pass over it (assembly, equilibration, matvec).
 
 use crate::error::{Error, Result};
+use rayon::prelude::*;
 
 /// Relative pivot threshold: a pivot is "zero" when `|p| <= PIVOT_TOL * max|a_ij|`.
 /// (1e-15: the Frenet twist makes KKT matrices legitimately ill-conditioned,
@@ -49,6 +50,31 @@ impl BandMatrix {
         self.ldab = kl + ku + 1;
         self.data.clear();
         self.data.resize(self.ldab * n, 0.0);
+    }
+
+    /// [`Self::reshape`], the zeros written on rayon's pool when `parallel`
+    /// and the matrix is large (a memory-bound pass of a many-rod step).
+    pub fn reshape_on(&mut self, n: usize, kl: usize, ku: usize, parallel: bool) {
+        let len = (kl + ku + 1) * n;
+        if !parallel || len < PAR_PASS_ENTRIES {
+            return self.reshape(n, kl, ku);
+        }
+        (self.n, self.kl, self.ku, self.ldab) = (n, kl, ku, kl + ku + 1);
+        self.data.truncate(len);
+        let kept = self.data.len();
+        self.data.resize(len, 0.0);
+        self.data[..kept].par_chunks_mut(PAR_PASS_ENTRIES / 8).for_each(|c| c.fill(0.0));
+    }
+
+    /// `f` on the columns, in two halves on rayon's pool when `parallel`
+    /// and the matrix is large (for passes whose entries are independent).
+    pub fn for_column_halves(&mut self, parallel: bool, f: impl Fn(BandColumnsMut<'_>) + Sync) {
+        if parallel && self.data.len() >= PAR_PASS_ENTRIES {
+            let (head, tail) = self.split_columns_mut(self.n / 2);
+            rayon::join(|| f(head), || f(tail));
+        } else {
+            f(self.columns_mut());
+        }
     }
 
     /// Zero every entry, keeping the shape.
@@ -128,6 +154,36 @@ impl BandMatrix {
         if self.in_band(i, j) {
             let k = self.idx(i, j);
             self.data[k] = v;
+        }
+    }
+
+    /// [`Self::matvec`] for a matrix that falls apart at column `c` (no
+    /// entry couples columns < c with columns ≥ c; 0: not split): the two
+    /// diagonal blocks' products on rayon's pool. The serial product only
+    /// adds exact zeros across `c`, so the result is its own, an exact
+    /// zero's sign aside.
+    pub fn matvec_split(&self, x: &[f64], y: &mut [f64], c: usize) {
+        if c == 0 || c >= self.n || x.len() != self.n || y.len() != self.n {
+            return self.matvec(x, y);
+        }
+        let (y0, y1) = y.split_at_mut(c);
+        rayon::join(|| self.matvec_block(x, y0, 0, c), || self.matvec_block(x, y1, c, self.n));
+    }
+
+    /// Rows and columns `first..end` of `A x` into `y` (columns in turn).
+    fn matvec_block(&self, x: &[f64], y: &mut [f64], first: usize, end: usize) {
+        y.fill(0.0);
+        for j in first..end {
+            let xj = x[j];
+            if xj == 0.0 {
+                continue;
+            }
+            let i0 = j.saturating_sub(self.ku).max(first);
+            let i1 = (j + self.kl).min(end - 1);
+            let base = j * self.ldab + self.ku - j;
+            for (yi, &a) in y[i0 - first..=i1 - first].iter_mut().zip(&self.data[base + i0..=base + i1]) {
+                *yi += a * xj;
+            }
         }
     }
 
@@ -423,6 +479,10 @@ pub struct BandLdlt {
     /// diagonal blocks are factored and solved independently.
     split: usize,
 }
+
+/// Smallest band (stored entries) whose elementwise passes (zeros,
+/// scaling, products) run in halves on the pool when asked: 2 MB.
+const PAR_PASS_ENTRIES: usize = 1 << 18;
 
 /// Smallest matrix (n · (kd + 1) stored entries) whose halves go to two
 /// threads: below it waking the pool costs more than half a factorisation.
@@ -783,6 +843,11 @@ pub trait BandFactor {
     fn anorm(&self) -> Option<f64> {
         None
     }
+    /// The column at which the factored matrix falls apart, for the
+    /// residual's product on rayon's pool (0: one block).
+    fn split(&self) -> usize {
+        0
+    }
 }
 
 impl BandFactor for BandLu {
@@ -803,6 +868,9 @@ impl BandFactor for BandLdlt {
     }
     fn anorm(&self) -> Option<f64> {
         Some(self.anorm)
+    }
+    fn split(&self) -> usize {
+        BandLdlt::split(self)
     }
 }
 
@@ -850,7 +918,7 @@ pub fn solve_refined<F: BandFactor>(
     lu.solve_in_place(x)?;
     let mut step = 0;
     loop {
-        a.matvec(x, r);
+        a.matvec_split(x, r, lu.split());
         for (ri, &bi) in r.iter_mut().zip(b) {
             *ri = bi - *ri;
         }
@@ -1464,6 +1532,57 @@ mod tests {
         assert!(matches!(ldlt.factor_quasi_definite(&d, &[false, true, true]), Err(LdltDecline::Pivot { row: 2, .. })));
     }
 
+    /// Blocks added to two column halves land where adding them to the
+    /// whole matrix puts them (contiguous indices, indices with gaps, and
+    /// in release builds a set spanning past the band, whose out-of-band
+    /// entries are dropped); the product of a matrix that falls apart at c,
+    /// taken in its two blocks, is the serial one bit for bit; and the
+    /// elementwise passes on the pool (zeros, scaling) are the serial ones.
+    #[test]
+    fn column_halves_and_split_products_are_the_whole_matrix_ones() {
+        let mut rng = Lcg(21);
+        let (n, kd, c) = (40usize, 4usize, 17usize);
+        let mut sets: Vec<Vec<usize>> = vec![vec![0, 1, 2, 3], vec![5, 6, 8, 9], vec![13, 14, 15, 16], vec![17, 18, 19, 20], vec![22, 23, 25, 26], vec![36, 37, 38, 39]];
+        if !cfg!(debug_assertions) {
+            sets.push(vec![27, 28, 34, 35]); // 35 − 27 > kd: entry by entry
+        }
+        let (mut whole, mut halves) = (BandMatrix::new(n, kd, kd), BandMatrix::new(n, kd, kd));
+        for idx in &sets {
+            let m = idx.len();
+            let upper: Vec<f64> = (0..m * m).map(|_| rng.next() - 0.5).collect();
+            whole.add_sym_block(idx, &upper, m);
+            let (mut head, mut tail) = halves.split_columns_mut(c);
+            if idx[0] < c {
+                head.add_sym_block(idx, &upper, m);
+            } else {
+                tail.add_sym_block(idx, &upper, m);
+            }
+        }
+        assert_eq!(whole.data, halves.data);
+        // No set crosses c: the matrix falls apart there.
+        let x: Vec<f64> = (0..n).map(|i| if i % 5 == 2 { 0.0 } else { rng.next() - 0.5 }).collect();
+        let (mut y, mut y_split) = (vec![0.0; n], vec![0.0; n]);
+        whole.matvec(&x, &mut y);
+        whole.matvec_split(&x, &mut y_split, c);
+        assert!(y.iter().zip(&y_split).all(|(a, b)| a.to_bits() == b.to_bits()), "{y:?}\n{y_split:?}");
+        // Passes on the pool: a band of 9 × 30,000 entries (above the
+        // size from which they split).
+        let big = 30_000;
+        let d: Vec<f64> = (0..big).map(|_| 0.5 + rng.next()).collect();
+        let mut a = BandMatrix::new(big, kd, kd);
+        for j in 0..big {
+            for i in j.saturating_sub(kd)..=(j + kd).min(big - 1) {
+                a.set(i, j, rng.next() - 0.5);
+            }
+        }
+        let mut b = a.clone();
+        a.scale_symmetric_on(&d, false);
+        b.scale_symmetric_on(&d, true);
+        assert_eq!(a.data, b.data);
+        b.reshape_on(big - 7, kd, kd, true);
+        assert!(b.n() == big - 7 && b.data.len() == (2 * kd + 1) * (big - 7) && b.data.iter().all(|&v| v == 0.0));
+    }
+
     #[test]
     fn add_sym_block_matches_entrywise_adds() {
         let mut rng = Lcg(8);
@@ -1495,16 +1614,13 @@ impl BandMatrix {
     /// A ← D A D for the diagonal D = diag(d): symmetric equilibration of a
     /// KKT matrix before factorisation (entries outside the band stay zero).
     pub fn scale_symmetric(&mut self, d: &[f64]) {
-        let ku = self.ku;
-        for j in 0..self.n {
-            let lo = j.saturating_sub(ku);
-            let hi = (j + self.kl).min(self.n - 1);
-            let dj = d[j];
-            let col = &mut self.data[j * self.ldab + ku + lo - j..=j * self.ldab + ku + hi - j];
-            for (a, &di) in col.iter_mut().zip(&d[lo..=hi]) {
-                *a *= di * dj;
-            }
-        }
+        self.scale_symmetric_on(d, false);
+    }
+
+    /// [`Self::scale_symmetric`], in column halves on rayon's pool when
+    /// `parallel` and the matrix is large.
+    pub fn scale_symmetric_on(&mut self, d: &[f64], parallel: bool) {
+        self.for_column_halves(parallel, |mut c| c.scale_symmetric(d));
     }
 
     /// `A[idx[a]][idx[b]] += S[a][b]` for every a, b < m = `idx.len()`, where S
@@ -1516,12 +1632,83 @@ impl BandMatrix {
     /// entries go straight into their columns; otherwise entry by entry with
     /// the out-of-band policy of [`BandMatrix::add`].
     pub fn add_sym_block(&mut self, idx: &[usize], upper: &[f64], stride: usize) {
+        self.columns_mut().add_sym_block(idx, upper, stride);
+    }
+
+    /// All the columns, as the view a split assembly's halves use.
+    pub fn columns_mut(&mut self) -> BandColumnsMut<'_> {
+        let n = self.n;
+        self.split_columns_mut(n).0
+    }
+
+    /// Columns `..c` and `c..` (`c` ≤ n), mutably and apart: two threads add
+    /// blocks to them at once (blocks whose indices all lie on one side).
+    pub fn split_columns_mut(&mut self, c: usize) -> (BandColumnsMut<'_>, BandColumnsMut<'_>) {
+        let (n, kl, ku, ldab) = (self.n, self.kl, self.ku, self.ldab);
+        let c = c.min(n);
+        let (head, tail) = self.data.split_at_mut(c * ldab);
+        (BandColumnsMut { data: head, first: 0, end: c, n, kl, ku, ldab }, BandColumnsMut { data: tail, first: c, end: n, n, kl, ku, ldab })
+    }
+}
+
+/// Columns `first..end` of a [`BandMatrix`] ([`BandMatrix::split_columns_mut`]).
+#[derive(Debug)]
+pub struct BandColumnsMut<'a> {
+    /// Column `first`'s storage on.
+    data: &'a mut [f64],
+    first: usize,
+    end: usize,
+    n: usize,
+    kl: usize,
+    ku: usize,
+    ldab: usize,
+}
+
+impl BandColumnsMut<'_> {
+    /// These columns' entries a_ij ← d_i a_ij d_j.
+    pub fn scale_symmetric(&mut self, d: &[f64]) {
+        let (ku, ldab) = (self.ku, self.ldab);
+        for j in self.first..self.end {
+            let lo = j.saturating_sub(ku);
+            let hi = (j + self.kl).min(self.n - 1);
+            let dj = d[j];
+            let at = (j - self.first) * ldab + ku;
+            let col = &mut self.data[at + lo - j..=at + hi - j];
+            for (a, &di) in col.iter_mut().zip(&d[lo..=hi]) {
+                *a *= di * dj;
+            }
+        }
+    }
+
+    /// These columns' entries, all zero.
+    pub fn fill_zero(&mut self) {
+        self.data.fill(0.0);
+    }
+
+    /// `(i, j)` is in the matrix, its band and these columns.
+    #[inline]
+    fn holds(&self, i: usize, j: usize) -> bool {
+        i < self.n && (self.first..self.end).contains(&j) && i <= j + self.kl && j <= i + self.ku
+    }
+
+    /// `A[i][j] += v`, with the out-of-band policy of [`BandMatrix::add`]
+    /// (a column outside the view counts as out of band).
+    #[inline]
+    pub fn add(&mut self, i: usize, j: usize, v: f64) {
+        debug_assert!(self.holds(i, j), "BandColumnsMut::add({i}, {j}) outside columns {}..{} or the band (n={}, kl={}, ku={})", self.first, self.end, self.n, self.kl, self.ku);
+        if self.holds(i, j) {
+            self.data[(j - self.first) * self.ldab + self.ku + i - j] += v;
+        }
+    }
+
+    /// [`BandMatrix::add_sym_block`] on these columns.
+    pub fn add_sym_block(&mut self, idx: &[usize], upper: &[f64], stride: usize) {
         let m = idx.len();
         let (lo, hi) = idx.iter().fold((usize::MAX, 0), |(l, h), &g| (l.min(g), h.max(g)));
         if m == 0 {
             return;
         }
-        if hi >= self.n || hi - lo > self.kl.min(self.ku) {
+        if hi >= self.end || lo < self.first || hi - lo > self.kl.min(self.ku) {
             for a in 0..m {
                 for b in a..m {
                     let v = upper[a * stride + b];
@@ -1533,12 +1720,13 @@ impl BandMatrix {
             }
             return;
         }
-        let ku = self.ku;
+        let (ku, ldab, first) = (self.ku, self.ldab, self.first);
         if hi - lo + 1 == m && idx.windows(2).all(|w| w[1] == w[0] + 1) {
             // Consecutive indices (a rod's segment): row lo + a of column
             // lo + b sits at ku + a − b, so each column is one contiguous run.
             for b in 0..m {
-                let col = &mut self.data[(lo + b) * self.ldab + ku - b..(lo + b) * self.ldab + ku - b + m];
+                let at = (lo + b - first) * ldab + ku - b;
+                let col = &mut self.data[at..at + m];
                 for (a, x) in col[..=b].iter_mut().enumerate() {
                     *x += upper[a * stride + b];
                 }
@@ -1550,7 +1738,7 @@ impl BandMatrix {
         }
         for (b, &gj) in idx.iter().enumerate() {
             // Row gi of column gj sits at ku + gi - gj >= 0 (gj - gi <= hi - lo <= ku).
-            let col = &mut self.data[gj * self.ldab..(gj + 1) * self.ldab];
+            let col = &mut self.data[(gj - first) * ldab..(gj - first + 1) * ldab];
             for (a, &gi) in idx[..=b].iter().enumerate() {
                 col[ku + gi - gj] += upper[a * stride + b];
             }

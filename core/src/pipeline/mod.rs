@@ -181,11 +181,16 @@ mod tests {
             let report = w.step().unwrap();
             assert_eq!(report.factorisation, crate::system::Factorisation::BandLdlt);
             let split = w.ws.sys.ldlt.split();
+            let cut = w.ws.sys.assembly_cut;
             if parallel {
                 let n = report.n_unknowns;
                 assert!(4 * split.min(n - split) >= n, "split at {split} of {n}");
+                // The assembly split too: 50 rods a side, at the first
+                // column of rod 50.
+                assert_eq!(cut, Some((50, *w.ws.layout.cp_index[50].iter().min().unwrap())));
             } else {
                 assert_eq!(split, 0);
+                assert_eq!(cut, None);
             }
         }
     }

@@ -11,7 +11,7 @@ use super::layout::Layout;
 use super::matrix::{KktMatrix, Storage};
 use crate::constraint::{ConstraintKind, Row, SlidingBlocks};
 use crate::error::{Error, Result};
-use crate::linalg::band::{solve_refined, BandLdlt, BandLu};
+use crate::linalg::band::{solve_refined, BandColumnsMut, BandLdlt, BandLu};
 use crate::linalg::sparse::{prefer_sparse, SparseLu};
 use nalgebra::Vector3;
 use serde::{Deserialize, Serialize};
@@ -206,6 +206,210 @@ fn add_inertia(blk: &mut SegBlock, d: usize, k: Coefficients, m: &[[f64; 4]; 4],
     }
 }
 
+/// Where segment blocks go: the matrix (`M`: all of it, or a range of band
+/// columns), the right-hand side from unknown `rhs_first` on and, when
+/// recorded, the rods' elastic forces from rod `rod_first` on.
+struct Sink<'a, M> {
+    matrix: M,
+    rhs: &'a mut [f64],
+    rhs_first: usize,
+    forces: Option<&'a mut [Vec<f64>]>,
+    rod_first: usize,
+}
+
+/// A matrix, or part of one, that takes symmetric blocks.
+trait BlockSink {
+    fn add_sym_block(&mut self, idx: &[usize], upper: &[f64], stride: usize);
+}
+
+impl BlockSink for &mut KktMatrix {
+    fn add_sym_block(&mut self, idx: &[usize], upper: &[f64], stride: usize) {
+        KktMatrix::add_sym_block(self, idx, upper, stride);
+    }
+}
+
+impl BlockSink for BandColumnsMut<'_> {
+    fn add_sym_block(&mut self, idx: &[usize], upper: &[f64], stride: usize) {
+        BandColumnsMut::add_sym_block(self, idx, upper, stride);
+    }
+}
+
+/// What [`assemble_part`] reads.
+struct Part<'a> {
+    rods: &'a [&'a Rod],
+    layout: &'a Layout,
+    drags: &'a [Drag],
+    /// External generalised forces per rod (rod-local).
+    ext: &'a [Vec<f64>],
+    point_masses: &'a [PointMass],
+    k: Coefficients,
+    need: Need,
+}
+
+/// Kernels and scatter of the rods `span` (their point masses `pm`, in
+/// (rod, segment) order) into `sink`, in batches of `batch` segments. With
+/// `next` buffers the kernels run on the pool and each batch is scattered
+/// while the next one's run. `energy` takes each segment's energy in rod
+/// and segment order.
+#[allow(clippy::too_many_arguments)]
+fn assemble_part<M: BlockSink + Send>(
+    p: &Part,
+    span: std::ops::Range<usize>,
+    pm: &[usize],
+    sink: &mut Sink<'_, M>,
+    batch: usize,
+    bufs: (&mut Vec<SegBlock>, &mut Vec<SegRange>),
+    next: Option<(&mut Vec<SegBlock>, &mut Vec<SegRange>)>,
+    energy: &mut (impl FnMut(f64) + Send),
+) {
+    let total: usize = p.rods[span.clone()].iter().map(|r| r.n_segments()).sum();
+    let rods = &p.rods[..span.end];
+    let mut at = (span.start, 0);
+    let mut next_pm = 0;
+    let mut scatter = |sink: &mut Sink<'_, M>, blocks: &mut [SegBlock], ranges: &[SegRange]| {
+        for g in ranges {
+            for (s, blk) in (g.first..).zip(blocks[g.offset..g.offset + g.len].iter_mut()) {
+                energy(blk.energy);
+                let drag = p.drags.get(g.rod).filter(|d| p.k.drag != 0.0 && **d != Drag::default());
+                // The beads on this segment: their mass joins its block.
+                let start = next_pm;
+                while pm.get(next_pm).is_some_and(|&q| (p.point_masses[q].rod, p.point_masses[q].seg) <= (g.rod, s)) {
+                    next_pm += 1;
+                }
+                let on_segment = pm[start..next_pm].iter().map(|&q| &p.point_masses[q]).filter(|b| (b.rod, b.seg) == (g.rod, s));
+                scatter_segment(sink, p.layout, g.rod, p.rods[g.rod], s, blk, p.k, drag, on_segment);
+            }
+        }
+    };
+    let (mut blocks, mut ranges) = bufs;
+    blocks.resize(batch.min(total), SegBlock::default());
+    let filled = next_batch(rods, batch, &mut at, ranges);
+    assemble_ranges(p.rods, ranges, &mut blocks[..filled], p.need, next.is_some());
+    let Some((mut next_blocks, mut next_ranges)) = next else {
+        loop {
+            scatter(sink, blocks, ranges);
+            if at.0 >= rods.len() {
+                return;
+            }
+            let filled = next_batch(rods, batch, &mut at, ranges);
+            assemble_ranges(p.rods, ranges, &mut blocks[..filled], p.need, false);
+        }
+    };
+    next_blocks.resize(batch.min(total), SegBlock::default());
+    loop {
+        if at.0 >= rods.len() {
+            scatter(sink, blocks, ranges);
+            return;
+        }
+        let next_filled = next_batch(rods, batch, &mut at, next_ranges);
+        // This batch is scattered (in rod and segment order) while the
+        // next one's kernels run: on two threads the scatter, about a
+        // tenth of a 400-rod step's CPU time, no longer waits for them
+        // nor they for it.
+        rayon::join(|| scatter(sink, blocks, ranges), || assemble_ranges(p.rods, next_ranges, &mut next_blocks[..next_filled], p.need, true));
+        std::mem::swap(&mut blocks, &mut next_blocks);
+        std::mem::swap(&mut ranges, &mut next_ranges);
+    }
+}
+
+/// The right-hand side's rod part for the rods `span`: external forces
+/// plus the momentum c_v M V (`mv` scratch), and their recorded forces
+/// cleared.
+fn rods_rhs<M>(p: &Part, span: std::ops::Range<usize>, sink: &mut Sink<'_, M>, mv: &mut Vec<f64>) {
+    let k = p.k;
+    for r in span {
+        let rod = p.rods[r];
+        let d = rod.dofs;
+        if let Some(f) = sink.forces.as_deref_mut() {
+            let f = &mut f[r - sink.rod_first];
+            f.clear();
+            f.resize(rod.v.len(), 0.0);
+        }
+        // Momentum term c_v M V.
+        mv.resize(rod.v.len(), 0.0);
+        if k.momentum != 0.0 {
+            rod.mass_times(&rod.v, mv);
+        }
+        for i in 0..rod.n_ctrl() {
+            for a in 0..d {
+                let local = i * d + a;
+                sink.rhs[p.layout.cp_index[r][i] + a - sink.rhs_first] += p.ext[r][local] + if k.momentum != 0.0 { k.momentum * mv[local] } else { 0.0 };
+            }
+        }
+    }
+}
+
+/// Where the scatter may split in two for the pool: a rod k and a column c
+/// such that the rods before k touch only columns < c and the others only
+/// columns ≥ c (free rods laid out one after another), with at least a
+/// quarter of the segments on each side; the one nearest the middle.
+/// `first_col` is scratch.
+fn band_cut(layout: &Layout, rods: &[&Rod], total: usize, first_col: &mut Vec<usize>) -> Option<(usize, usize)> {
+    let n = rods.len();
+    // first_col[r]: the first column of rods r.. (a suffix minimum).
+    first_col.clear();
+    first_col.resize(n + 1, usize::MAX);
+    for r in (0..n).rev() {
+        let lo = layout.cp_index[r].iter().copied().min().unwrap_or(usize::MAX);
+        first_col[r] = first_col[r + 1].min(lo);
+    }
+    let (mut last, mut segs, mut best) = (0usize, 0usize, None::<(usize, usize, usize)>);
+    for r in 0..n.saturating_sub(1) {
+        if let Some(&hi) = layout.cp_index[r].iter().max() {
+            last = last.max(hi + layout.dofs[r] - 1);
+        }
+        segs += rods[r].n_segments();
+        let c = first_col[r + 1];
+        if last < c && 4 * segs >= total && 4 * (total - segs) >= total {
+            let off = segs.abs_diff(total - segs);
+            if best.is_none_or(|(o, _, _)| off < o) {
+                best = Some((off, r + 1, c));
+            }
+        }
+    }
+    best.map(|(_, k, c)| (k, c))
+}
+
+/// One segment's block into the right-hand side (−c_f ∂U/∂q) and the
+/// matrix (c_k K + c_m M + c_d D, and the mass of the `beads` on it).
+#[allow(clippy::too_many_arguments)]
+fn scatter_segment<'p, M: BlockSink>(sink: &mut Sink<'_, M>, layout: &Layout, r: usize, rod: &Rod, s: usize, blk: &mut SegBlock, k: Coefficients, drag: Option<&Drag>, beads: impl Iterator<Item = &'p PointMass>) {
+    let d = rod.dofs;
+    let nl = 4 * d;
+    let cache = &rod.cache;
+    let ctrl = &cache.seg_ctrl[s];
+    let mut idx = [0usize; 16];
+    for kk in 0..4 {
+        for a in 0..d {
+            idx[kk * d + a] = layout.cp_index[r][ctrl[kk]] + a;
+        }
+    }
+    let rhs0 = sink.rhs_first;
+    if k.force == 1.0 {
+        for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
+            sink.rhs[gi - rhs0] -= g;
+        }
+    } else {
+        for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
+            sink.rhs[gi - rhs0] -= k.force * g;
+        }
+    }
+    if let Some(f) = sink.forces.as_deref_mut() {
+        let p = &mut f[r - sink.rod_first];
+        for kk in 0..4 {
+            for a in 0..d {
+                p[ctrl[kk] * d + a] -= blk.grad[kk * d + a];
+            }
+        }
+    }
+    let drag = drag.map(|dr| rod.seg_drag(dr, s));
+    add_inertia(blk, d, k, &cache.seg_mass[s], &cache.seg_inertia[s], drag.as_ref());
+    for pm in beads {
+        add_point_mass(blk, d, k.mass, pm);
+    }
+    sink.matrix.add_sym_block(&idx[..nl], &blk.hess, 16);
+}
+
 /// The storage an assembly uses: sparse where the sparse factorisation
 /// comes first in the chain (a wide band, or asked for), band otherwise.
 pub fn storage_for(layout: &Layout, solver: LinearSolver) -> Storage {
@@ -265,6 +469,16 @@ pub struct KktSystem {
     /// coordinates) in `elastic_forces`.
     pub(crate) record_forces: bool,
     pub(crate) elastic_forces: Vec<Vec<f64>>,
+    /// The last assembly ran on rayon's pool (its passes over the band may too).
+    parallel: bool,
+    /// The split assembly's tail's c_v M V scratch.
+    mv_tail: Vec<f64>,
+    /// A split assembly's tail energies, per segment ([`Self::assemble`]).
+    tail_energy: Vec<f64>,
+    /// [`band_cut`]'s scratch.
+    cut_scratch: Vec<usize>,
+    /// Where the last assembly split its rods and columns (rod k, column c).
+    pub(crate) assembly_cut: Option<(usize, usize)>,
 }
 
 /// A point mass (bead) on a rod: `mass` at the point of segment `seg` of
@@ -308,92 +522,71 @@ impl KktSystem {
             .iter()
             .enumerate()
             .fold(0.0f64, |m, (i, r)| m.max((k.mass * r.mass() + k.drag * drag_of(i) * r.rest_length()) / r.n_ctrl() as f64));
-        self.matrix.reset(layout.n, bw, storage_for(layout, self.linear_solver));
+        let total: usize = rods.iter().map(|r| r.n_segments()).sum();
+        let parallel = parallel && total >= PAR_MIN_SEGMENTS;
+        self.parallel = parallel;
+        self.ldlt.set_parallel(parallel);
+        self.matrix.reset(layout.n, bw, storage_for(layout, self.linear_solver), parallel);
         self.rhs.clear();
         self.rhs.resize(layout.n, 0.0);
-        for (r, rod) in rods.iter().enumerate() {
-            let d = rod.dofs;
-            if self.record_forces {
-                self.elastic_forces.resize_with(rods.len(), Vec::new);
-                let p = &mut self.elastic_forces[r];
-                p.clear();
-                p.resize(rod.v.len(), 0.0);
-            }
-            // Momentum term c_v M V.
-            self.mv.resize(rod.v.len(), 0.0);
-            if k.momentum != 0.0 {
-                rod.mass_times(&rod.v, &mut self.mv);
-            }
-            for i in 0..rod.n_ctrl() {
-                for a in 0..d {
-                    let local = i * d + a;
-                    self.rhs[layout.cp_index[r][i] + a] +=
-                        ext[r][local] + if k.momentum != 0.0 { k.momentum * self.mv[local] } else { 0.0 };
-                }
-            }
+        if self.record_forces {
+            self.elastic_forces.resize_with(rods.len(), Vec::new);
         }
         // Kernels in batches that stay in cache, each scattered at once in
         // rod and segment order. A batch spans rods, so that with rayon
         // many small rods (a fabric's yarns) run in parallel too.
         let mut energy = 0.0;
-        let mut blocks = std::mem::take(&mut self.blocks);
-        let mut ranges = std::mem::take(&mut self.ranges);
-        let mut next_blocks = std::mem::take(&mut self.next_blocks);
-        let mut next_ranges = std::mem::take(&mut self.next_ranges);
-        let total: usize = rods.iter().map(|r| r.n_segments()).sum();
-        let parallel = parallel && total >= PAR_MIN_SEGMENTS;
-        self.ldlt.set_parallel(parallel);
-        let batch = if parallel { PAR_BATCH } else { SEQ_BATCH };
-        blocks.resize(batch.min(total), SegBlock::default());
-        next_blocks.resize(batch.min(total), SegBlock::default());
         let need = if k.step_stiffness { Need::StepHessian } else { Need::Hessian };
         let mut pm_order = std::mem::take(&mut self.pm_order);
         pm_order.clear();
         pm_order.extend(0..point_masses.len());
         pm_order.sort_unstable_by_key(|&p| (point_masses[p].rod, point_masses[p].seg, p));
-        let mut next_pm = 0;
-        let mut at = (0, 0);
-        let filled = next_batch(rods, batch, &mut at, &mut ranges);
-        assemble_ranges(rods, &ranges, &mut blocks[..filled], need, parallel);
-        loop {
-            let more = at.0 < rods.len();
-            let next_filled = if more { next_batch(rods, batch, &mut at, &mut next_ranges) } else { 0 };
-            // This batch is scattered (in rod and segment order) while the
-            // next one's kernels run: on two threads the scatter, about a
-            // tenth of a 400-rod step's CPU time, no longer waits for them
-            // nor they for it.
-            let mut scatter = |this: &mut Self| {
-                for g in &ranges {
-                    for (s, blk) in (g.first..).zip(blocks[g.offset..g.offset + g.len].iter_mut()) {
-                        energy += blk.energy;
-                        let drag = drags.get(g.rod).filter(|d| k.drag != 0.0 && **d != Drag::default());
-                        // The beads on this segment: their mass joins its block.
-                        let start = next_pm;
-                        while pm_order.get(next_pm).is_some_and(|&p| (point_masses[p].rod, point_masses[p].seg) <= (g.rod, s)) {
-                            next_pm += 1;
-                        }
-                        let on_segment = pm_order[start..next_pm].iter().map(|&p| &point_masses[p]).filter(|pm| (pm.rod, pm.seg) == (g.rod, s));
-                        this.scatter_segment(layout, g.rod, rods[g.rod], s, blk, k, drag, on_segment);
+        let part = Part { rods, layout, drags, ext, point_masses, k, need };
+        let cut = if parallel { band_cut(layout, rods, total, &mut self.cut_scratch) } else { None };
+        let forces = self.record_forces.then_some(&mut self.elastic_forces[..]);
+        self.assembly_cut = cut.filter(|_| self.matrix.storage() == Storage::Band);
+        match cut.and_then(|(kr, c)| self.matrix.split_band_columns(c).map(|m| (kr, c, m))) {
+            Some((kr, c, (head, tail))) => {
+                // Free rods side by side: each half's right-hand side,
+                // kernels and scatter on a thread of its own, in the
+                // one-thread batches; the tail's energies are added after
+                // the head's, in the serial order.
+                let (rhs_head, rhs_tail) = self.rhs.split_at_mut(c);
+                let (f_head, f_tail) = match forces {
+                    Some(f) => {
+                        let (a, b) = f.split_at_mut(kr);
+                        (Some(a), Some(b))
                     }
+                    None => (None, None),
+                };
+                let mut head = Sink { matrix: head, rhs: rhs_head, rhs_first: 0, forces: f_head, rod_first: 0 };
+                let mut tail = Sink { matrix: tail, rhs: rhs_tail, rhs_first: c, forces: f_tail, rod_first: kr };
+                let (pm_head, pm_tail) = pm_order.split_at(pm_order.partition_point(|&p| point_masses[p].rod < kr));
+                let tail_energy = &mut self.tail_energy;
+                tail_energy.clear();
+                let (b0, r0, b1, r1) = (&mut self.blocks, &mut self.ranges, &mut self.next_blocks, &mut self.next_ranges);
+                let (mv0, mv1) = (&mut self.mv, &mut self.mv_tail);
+                rayon::join(
+                    || {
+                        rods_rhs(&part, 0..kr, &mut head, mv0);
+                        assemble_part(&part, 0..kr, pm_head, &mut head, SEQ_BATCH, (b0, r0), None, &mut |e| energy += e)
+                    },
+                    || {
+                        rods_rhs(&part, kr..rods.len(), &mut tail, mv1);
+                        assemble_part(&part, kr..rods.len(), pm_tail, &mut tail, SEQ_BATCH, (b1, r1), None, &mut |e| tail_energy.push(e))
+                    },
+                );
+                for e in tail_energy.iter() {
+                    energy += e;
                 }
-            };
-            if !more {
-                scatter(self);
-                break;
             }
-            if parallel {
-                rayon::join(|| scatter(self), || assemble_ranges(rods, &next_ranges, &mut next_blocks[..next_filled], need, true));
-            } else {
-                scatter(self);
-                assemble_ranges(rods, &next_ranges, &mut next_blocks[..next_filled], need, false);
+            None => {
+                let mut all = Sink { matrix: &mut self.matrix, rhs: &mut self.rhs, rhs_first: 0, forces, rod_first: 0 };
+                rods_rhs(&part, 0..rods.len(), &mut all, &mut self.mv);
+                let (batch, next) = if parallel { (PAR_BATCH, Some((&mut self.next_blocks, &mut self.next_ranges))) } else { (SEQ_BATCH, None) };
+                assemble_part(&part, 0..rods.len(), &pm_order, &mut all, batch, (&mut self.blocks, &mut self.ranges), next, &mut |e| energy += e);
             }
-            std::mem::swap(&mut blocks, &mut next_blocks);
-            std::mem::swap(&mut ranges, &mut next_ranges);
         }
-        self.blocks = blocks;
-        self.ranges = ranges;
-        self.next_blocks = next_blocks;
-        self.next_ranges = next_ranges;
         self.pm_order = pm_order;
         // Point masses (beads): c_m m b_i b_j P and c_v m b_i P v(u), with
         // P = I − s sᵀ (s the unit sliding direction of a sliding bead, whose
@@ -450,45 +643,6 @@ impl KktSystem {
             }
         }
         Ok(energy)
-    }
-
-    /// One segment's block into the right-hand side (−c_f ∂U/∂q) and the
-    /// matrix (c_k K + c_m M + c_d D, and the mass of the `beads` on it).
-    #[allow(clippy::too_many_arguments)]
-    fn scatter_segment<'p>(&mut self, layout: &Layout, r: usize, rod: &Rod, s: usize, blk: &mut SegBlock, k: Coefficients, drag: Option<&Drag>, beads: impl Iterator<Item = &'p PointMass>) {
-        let d = rod.dofs;
-        let nl = 4 * d;
-        let cache = &rod.cache;
-        let ctrl = &cache.seg_ctrl[s];
-        let mut idx = [0usize; 16];
-        for kk in 0..4 {
-            for a in 0..d {
-                idx[kk * d + a] = layout.cp_index[r][ctrl[kk]] + a;
-            }
-        }
-        if k.force == 1.0 {
-            for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
-                self.rhs[gi] -= g;
-            }
-        } else {
-            for (&gi, &g) in idx[..nl].iter().zip(&blk.grad[..nl]) {
-                self.rhs[gi] -= k.force * g;
-            }
-        }
-        if self.record_forces {
-            let p = &mut self.elastic_forces[r];
-            for kk in 0..4 {
-                for a in 0..d {
-                    p[ctrl[kk] * d + a] -= blk.grad[kk * d + a];
-                }
-            }
-        }
-        let drag = drag.map(|dr| rod.seg_drag(dr, s));
-        add_inertia(blk, d, k, &cache.seg_mass[s], &cache.seg_inertia[s], drag.as_ref());
-        for pm in beads {
-            add_point_mass(blk, d, k.mass, pm);
-        }
-        self.matrix.add_sym_block(&idx[..nl], &blk.hess, 16);
     }
 
     /// Levenberg–Marquardt damping: A_ii += λ max(|A_ii|, floor) on the
@@ -655,7 +809,7 @@ impl KktSystem {
         }
         self.is_row = is_row;
         self.is_extra = is_extra;
-        self.matrix.scale_symmetric(&self.scale);
+        self.matrix.scale_symmetric(&self.scale, self.parallel);
         for (b, d) in self.rhs.iter_mut().zip(&self.scale) {
             *b *= d;
         }

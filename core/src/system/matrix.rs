@@ -5,7 +5,7 @@
 //! assembly cost more than the sparse factorisation itself). Assembly,
 //! damping, equilibration and the residual checks go through this type, so
 //! they do not depend on the storage.
-use crate::linalg::band::BandMatrix;
+use crate::linalg::band::{BandColumnsMut, BandMatrix};
 use crate::linalg::csc::CscAssembly;
 
 /// Where the entries live.
@@ -30,12 +30,13 @@ pub struct KktMatrix {
 impl KktMatrix {
     /// Starts an assembly of an `n × n` matrix of half-bandwidth
     /// `bandwidth`, all zero.
-    pub fn reset(&mut self, n: usize, bandwidth: usize, storage: Storage) {
+    /// `parallel`: the band's zeros are written on rayon's pool (large ones).
+    pub fn reset(&mut self, n: usize, bandwidth: usize, storage: Storage, parallel: bool) {
         self.storage = storage;
         self.bandwidth = bandwidth;
         self.band_filled = false;
         match storage {
-            Storage::Band => self.band.reshape(n, bandwidth, bandwidth),
+            Storage::Band => self.band.reshape_on(n, bandwidth, bandwidth, parallel),
             Storage::Sparse => self.csc.begin(n),
         }
     }
@@ -66,6 +67,12 @@ impl KktMatrix {
             Storage::Band => self.band.add_sym_block(idx, upper, stride),
             Storage::Sparse => self.csc.add_sym_block(idx, upper, stride),
         }
+    }
+
+    /// In band storage, columns `..c` and `c..` apart (see
+    /// [`BandMatrix::split_columns_mut`]); None in sparse storage.
+    pub fn split_band_columns(&mut self, c: usize) -> Option<(BandColumnsMut<'_>, BandColumnsMut<'_>)> {
+        (self.storage == Storage::Band).then(|| self.band.split_columns_mut(c))
     }
 
     /// Ends the assembly (sums a sparse assembly into its pattern); the
@@ -127,11 +134,11 @@ impl KktMatrix {
         }
     }
 
-    /// A ← D A D.
-    pub fn scale_symmetric(&mut self, d: &[f64]) {
+    /// A ← D A D (a large band on rayon's pool when `parallel`).
+    pub fn scale_symmetric(&mut self, d: &[f64], parallel: bool) {
         self.band_filled = false;
         match self.storage {
-            Storage::Band => self.band.scale_symmetric(d),
+            Storage::Band => self.band.scale_symmetric_on(d, parallel),
             Storage::Sparse => self.csc.scale_symmetric(d),
         }
     }
