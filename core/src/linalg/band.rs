@@ -159,9 +159,10 @@ impl BandMatrix {
 
     /// [`Self::matvec`] for a matrix that falls apart at column `c` (no
     /// entry couples columns < c with columns ≥ c; 0: not split): the two
-    /// diagonal blocks' products on rayon's pool. The serial product only
-    /// adds exact zeros across `c`, so the result is its own, an exact
-    /// zero's sign aside.
+    /// diagonal blocks' products on rayon's pool. Entries across `c` are
+    /// not read: the caller vouches that they are zero. The serial product
+    /// only adds exact zeros there, so for a finite `x` the result is its
+    /// own bit for bit (y starts at +0, and adding ±0 never makes −0).
     pub fn matvec_split(&self, x: &[f64], y: &mut [f64], c: usize) {
         if c == 0 || c >= self.n || x.len() != self.n || y.len() != self.n {
             return self.matvec(x, y);
@@ -844,7 +845,9 @@ pub trait BandFactor {
         None
     }
     /// The column at which the factored matrix falls apart, for the
-    /// residual's product on rayon's pool (0: one block).
+    /// residual's product on rayon's pool (0: one block). The LDLᵀ finds
+    /// it in the lower band, whose transpose is the upper one in the
+    /// symmetric matrices it factors.
     fn split(&self) -> usize {
         0
     }
@@ -884,7 +887,10 @@ const REFINED_ENOUGH: f64 = 1e-14;
 /// iterative refinement (stopping early once the residual is at rounding
 /// level, [`REFINED_ENOUGH`]). Returns the final relative residual
 /// `||A x - b||_inf / (||A||_inf ||x||_inf + ||b||_inf)` (0 when that is 0/0).
-/// `work` is scratch space, grown to `2 n` on first use.
+/// `work` is scratch space, grown to `2 n` on first use. `lu` must be the
+/// factorisation of `a` itself, not of another matrix of its shape: the
+/// residual's product takes the blocks `a` falls apart into from it
+/// ([`BandFactor::split`]).
 pub fn solve_refined<F: BandFactor>(
     a: &BandMatrix,
     lu: &F,

@@ -339,7 +339,7 @@ fn rods_rhs<M>(p: &Part, span: std::ops::Range<usize>, sink: &mut Sink<'_, M>, m
     }
 }
 
-/// Where the scatter may split in two for the pool: a rod k and a column c
+/// Where the assembly may split in two for a pool of two threads: a rod k and a column c
 /// such that the rods before k touch only columns < c and the others only
 /// columns ≥ c (free rods laid out one after another), with at least a
 /// quarter of the segments on each side; the one nearest the middle.
@@ -542,7 +542,9 @@ impl KktSystem {
         pm_order.extend(0..point_masses.len());
         pm_order.sort_unstable_by_key(|&p| (point_masses[p].rod, point_masses[p].seg, p));
         let part = Part { rods, layout, drags, ext, point_masses, k, need };
-        let cut = if parallel { band_cut(layout, rods, total, &mut self.cut_scratch) } else { None };
+        // Two halves, one a thread, fit a pool of two (what was measured);
+        // a larger pool keeps the pipelined kernels, which use it all.
+        let cut = if parallel && rayon::current_num_threads() == 2 { band_cut(layout, rods, total, &mut self.cut_scratch) } else { None };
         let forces = self.record_forces.then_some(&mut self.elastic_forces[..]);
         self.assembly_cut = cut.filter(|_| self.matrix.storage() == Storage::Band);
         match cut.and_then(|(kr, c)| self.matrix.split_band_columns(c).map(|m| (kr, c, m))) {
