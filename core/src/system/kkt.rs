@@ -115,6 +115,8 @@ pub struct BeadRef {
 /// on 2 cores (BENCHMARKS.md §16): with batches of 512 segments a 400-point
 /// rod stepped 10 % slower on two threads than on one, 10,000 points 8 %
 /// faster; with 4096, 10,000 points (one rod or 400 rods) 11–20 % faster.
+/// (Free rods on a pool of two now assemble in two halves instead, each
+/// in one-thread batches: [`band_cut`], BENCHMARKS.md §37.)
 const SEQ_BATCH: usize = 16;
 const PAR_BATCH: usize = 4096;
 pub(crate) const PAR_MIN_SEGMENTS: usize = 2048;
