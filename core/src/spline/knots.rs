@@ -307,7 +307,10 @@ impl KnotVector {
             KnotKind::Clamped if self.spans.len() >= 4 => {
                 let tables = clamped_end_tables();
                 let x = u - self.knots[i];
-                match seg + 4 - self.spans.len() {
+                // 3: the last segment, 2: the one before; the first two
+                // give less (saturating: a plain subtraction overflows
+                // there, a panic in debug builds).
+                match (seg + 4).saturating_sub(self.spans.len()) {
                     // The last segment from whichever end is nearer, so
                     // that both the knot it starts at and the domain's end
                     // get exact zeros (a position held at the far end
