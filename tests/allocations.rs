@@ -175,3 +175,55 @@ fn a_slider_changing_segment_does_not_allocate() {
     // factorisation takes it (it declined every step, falling back to the LU).
     assert_eq!(fallbacks, 0);
 }
+
+/// Steps with contact, once their active set has settled, allocate
+/// nothing: the detected pairs fill the previous detection's buffer, the
+/// obstacle's probes and the pair tests' per-block lists are kept, the
+/// contact set saved for a refused step is copied into a kept one, and
+/// the rows are put in order without a merge buffer. Two scenes with
+/// friction: a rod pressed across another (rod–rod detection, sticking
+/// pairs) and a rope lying on a slope below the friction angle (a plane).
+/// (A step whose active set changes rebuilds the ordering and the layout,
+/// which allocates: a change of topology.)
+#[test]
+fn settled_contact_steps_do_not_allocate() {
+    use nalgebra::Vector3;
+    use strandkit::prelude::*;
+    use strandkit::{Obstacle, RodContacts};
+    let r = 0.01;
+    let steel = Material::new("steel", 2e11, 0.3, 7800.0).unwrap();
+    let rod = |a: Vector3<f64>, b: Vector3<f64>, n: usize, m: &Material| {
+        RodBuilder::straight(a, b).control_points(n).with_roll(false).section(Section::circle(r).unwrap()).material(m.clone()).build().unwrap()
+    };
+    // Rod b pressed onto rod a (both held at their ends), μ = 0.4.
+    let mut crossed = World::new(IntegrationParameters { dt: 1e-3, parallel: false, ..Default::default() });
+    let a = crossed.add_rod(rod(Vector3::new(-0.5, 0.0, 0.0), Vector3::new(0.5, 0.0, 0.0), 10, &steel));
+    let b = crossed.add_rod(rod(Vector3::new(0.0, -0.2, 2.0 * r), Vector3::new(0.0, 0.2, 2.0 * r), 10, &steel));
+    for (h, axes) in [(a, [true, true, true, false]), (b, [false, true, false, false])] {
+        let (u0, u1) = crossed.rod(h).unwrap().domain();
+        for u in [u0, u1] {
+            let (p, t) = (crossed.rod(h).unwrap().position(u).unwrap(), crossed.rod(h).unwrap().tangent(u).unwrap());
+            crossed.add_constraint(h, ConstraintKind::Position(Position { u, axes, target: [p.x, p.y, p.z, 0.0] }), 0.0).unwrap();
+            crossed.add_constraint(h, ConstraintKind::Tangent(Tangent { u, direction: t.into() }), 0.0).unwrap();
+        }
+    }
+    let (u0, u1) = crossed.rod(b).unwrap().domain();
+    crossed.add_load(Load::PointForce(PointForce { rod: b, u: 0.5 * (u0 + u1), force: [6.0, 0.0, -20.0] })).unwrap();
+    crossed.add_contact_detector(RodContacts::new(0.005, false, true).unwrap().with_friction(0.4).unwrap()).unwrap();
+    // A nylon rope across a slope at tan α = 0.9 μ, μ = 0.4.
+    let alpha = (0.9f64 * 0.4).atan();
+    let n = Vector3::new(alpha.sin(), 0.0, alpha.cos());
+    let mut slope = World::new(IntegrationParameters { dt: 2e-3, gravity: [0.0, 0.0, -9.81], parallel: false, ..Default::default() });
+    slope.add_rod(rod(n * r, n * r + Vector3::new(0.0, 0.5, 0.0), 20, &Material::new("nylon", 3e9, 0.4, 1140.0).unwrap()));
+    slope.add_contact_detector(Obstacle::plane([0.0; 3], n.into()).unwrap().with_margin(0.005).unwrap().with_friction(0.4).unwrap()).unwrap();
+    for (name, w) in [("rod pressed across a rod", &mut crossed), ("rope on a slope", &mut slope)] {
+        for _ in 0..200 {
+            w.step().unwrap();
+        }
+        let active = w.contacts().active().count();
+        let n = allocations_per_step(w);
+        println!("{name} ({active} active pairs): {n} heap allocations per step");
+        assert!(active > 0, "{name}: no contact");
+        assert_eq!(n, 0.0, "{name}");
+    }
+}

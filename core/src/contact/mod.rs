@@ -51,20 +51,35 @@ use crate::handles::RodHandle;
 use serde::{Deserialize, Serialize};
 
 /// The abscissae a detector probes along a rod (its samples, plus its two
-/// ends when open) and the rod's largest section radius.
-pub(crate) fn probe_points(rod: &crate::rod::Rod) -> (Vec<f64>, f64) {
-    let mut us = rod.sample_params();
-    if !rod.is_closed() {
-        let (u0, u1) = rod.domain();
-        us.insert(0, u0);
+/// ends when open) into `us`, and the rod's largest section radius.
+pub(crate) fn probe_points(rod: &crate::rod::Rod, us: &mut Vec<f64>) -> f64 {
+    us.clear();
+    let (u0, u1) = rod.domain();
+    let open = !rod.is_closed();
+    if open {
+        us.push(u0);
+    }
+    us.extend(rod.sample_params_iter());
+    if open {
         us.push(u1);
     }
-    (us, capsule_radius(rod))
+    capsule_radius(rod)
 }
 
 /// A rod's capsule radius: its largest section's bounding radius (length unit).
 pub(crate) fn capsule_radius(rod: &crate::rod::Rod) -> f64 {
     rod.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max)
+}
+
+/// A block's buffer for [`fill_blocks`]: emptied before its block fills it.
+pub(crate) trait BlockBuffer: Send + Default {
+    fn clear(&mut self);
+}
+
+impl<T: Send> BlockBuffer for Vec<T> {
+    fn clear(&mut self) {
+        Vec::clear(self)
+    }
 }
 
 /// `f` over `0..n` in contiguous blocks, each filling its own buffer of
@@ -73,19 +88,30 @@ pub(crate) fn capsule_radius(rod: &crate::rod::Rod) -> f64 {
 /// thread, for balance), else one block on this thread. The buffers read
 /// one after the other never depend on the blocking, so both ways give
 /// the same answer; so does the error, the first block's that failed.
-pub(crate) fn fill_blocks<T: Send>(parallel: bool, n: usize, bufs: &mut Vec<Vec<T>>, f: impl Fn(std::ops::Range<usize>, &mut Vec<T>) -> Result<()> + Sync) -> Result<()> {
+/// Allocation-free once `bufs` has grown (the blocks' outcomes are reduced,
+/// not collected).
+pub(crate) fn fill_blocks<B: BlockBuffer>(parallel: bool, n: usize, bufs: &mut Vec<B>, f: impl Fn(std::ops::Range<usize>, &mut B) -> Result<()> + Sync) -> Result<()> {
     let k = if parallel { (4 * rayon::current_num_threads()).min(n).max(1) } else { 1 };
-    bufs.resize_with(k, Vec::new);
-    let run = |(b, out): (usize, &mut Vec<T>)| {
+    bufs.resize_with(k, B::default);
+    let run = |(b, out): (usize, &mut B)| {
         out.clear();
         f(b * n / k..(b + 1) * n / k, out)
     };
     if k > 1 {
         use rayon::prelude::*;
-        let done: Vec<Result<()>> = bufs.par_iter_mut().enumerate().map(run).collect();
-        done.into_iter().collect()
+        bufs.par_iter_mut().enumerate().map(|(b, out)| run((b, out)).map_err(|e| (b, e))).reduce(|| Ok(()), first_error).map_err(|(_, e)| e)
     } else {
         bufs.iter_mut().enumerate().try_for_each(run)
+    }
+}
+
+/// Of two parallel outcomes tagged with their item's index, the error of
+/// the lowest index (what a serial pass would have stopped at).
+pub(crate) fn first_error<E>(x: std::result::Result<(), (usize, E)>, y: std::result::Result<(), (usize, E)>) -> std::result::Result<(), (usize, E)> {
+    match (x, y) {
+        (Err(a), Err(b)) => Err(if a.0 <= b.0 { a } else { b }),
+        (Err(a), _) | (_, Err(a)) => Err(a),
+        _ => Ok(()),
     }
 }
 
@@ -256,6 +282,7 @@ pub struct Scratch {
     /// are the same either way.
     pub parallel: bool,
     pub(crate) rods: rods::Scratch,
+    pub(crate) obstacle: obstacle::Scratch,
 }
 
 impl Scratch {

@@ -60,11 +60,11 @@ impl Nearest {
     /// With more than one block, the blocks take their capsules' offers on
     /// rayon's pool: each capsule still sees its offers in the order
     /// given, so the result is the serial one.
-    pub fn take(&mut self, hits: &[Vec<Hit>], same_strand: impl Fn(usize, usize, usize) -> bool + Sync) {
+    pub fn take(&mut self, hits: &[impl AsRef<[Hit]> + Sync], same_strand: impl Fn(usize, usize, usize) -> bool + Sync) {
         let size = self.size;
         let block = |(b, ((slots, count), overflow)): (usize, ((&mut [[Entry; SLOTS]], &mut [u8]), &mut HashMap<usize, Vec<Entry>>))| {
             let range = b * size..b * size + slots.len();
-            for &(i, j, d, st) in hits.iter().flatten() {
+            for &(i, j, d, st) in hits.iter().flat_map(|b| b.as_ref()) {
                 if range.contains(&i) {
                     offer_into(&mut slots[i - range.start], &mut count[i - range.start], overflow, i, (j, d, st), |k| same_strand(i, k, j));
                 }

@@ -133,14 +133,25 @@ impl Obstacle {
     }
 }
 
+/// Buffers of obstacle detection, per rod: the probed abscissae, each
+/// probe's gap and normal (None beyond the margin), the rows kept (probe,
+/// is a local minimum).
+#[derive(Debug, Default)]
+pub(crate) struct Scratch {
+    us: Vec<f64>,
+    near: Vec<Option<(f64, Vector3<f64>)>>,
+    kept: Vec<(usize, bool)>,
+}
+
 impl ContactDetector for Obstacle {
-    fn detect_with(&self, rods: &[(RodHandle, &Rod)], out: &mut ContactSet, _: &mut super::Scratch) -> Result<()> {
+    fn detect_with(&self, rods: &[(RodHandle, &Rod)], out: &mut ContactSet, scratch: &mut super::Scratch) -> Result<()> {
+        let Scratch { us, near, kept } = &mut scratch.obstacle;
         for (h, rod) in rods {
-            let (us, radius) = super::probe_points(rod);
+            let radius = super::probe_points(rod, us);
             let (u0, u1) = rod.domain();
             let reach = radius + self.margin;
-            let mut near: Vec<Option<(f64, Vector3<f64>)>> = Vec::with_capacity(us.len());
-            for &u in &us {
+            near.clear();
+            for &u in us.iter() {
                 let p = rod.position(u)?;
                 near.push(self.nearest(&p, reach).map(|(d, n)| (d - radius, n)).filter(|(g, _)| *g < self.margin));
             }
@@ -154,7 +165,7 @@ impl ContactDetector for Obstacle {
             // noisier: tests/contact_friction.rs).
             let tie = 1e-7 * radius;
             // (probe, is a local minimum) of the rows kept so far.
-            let mut kept: Vec<(usize, bool)> = Vec::new();
+            kept.clear();
             for k in 0..n {
                 if near[k].is_none() {
                     continue;
@@ -185,7 +196,7 @@ impl ContactDetector for Obstacle {
                 }
                 kept.push((k, minimum));
             }
-            for (k, _) in kept {
+            for &(k, _) in kept.iter() {
                 let Some((g, normal)) = near[k] else { continue };
                 // The tangent plane at the nearest point, lifted by the radius.
                 let lifted = rod.position(us[k])? - normal * g;

@@ -106,8 +106,10 @@ pub(crate) struct Scratch {
     segment: Vec<f64>,
     rod_ranges: Vec<(usize, usize)>,
     runs: Runs,
-    hits: Vec<Vec<Hit>>,
+    hits: Vec<HitBlock>,
     nearest: Nearest,
+    /// [`Self::caps`] and the others cut per rod (reused; see [`Parts`]).
+    parts: Vec<[usize; 8]>,
     seeds: Vec<Vec<Seed>>,
     seed_list: Vec<Seed>,
     rows: Vec<Vec<Row>>,
@@ -118,6 +120,30 @@ pub(crate) struct Scratch {
     choice: Vec<Choice>,
     chosen: Vec<([RodHandle; 2], Contact)>,
 }
+
+/// One block of the pair tests: its hits, and its own scratch (a run's
+/// partners, and the other run's capsules near the first's box).
+#[derive(Debug, Default)]
+struct HitBlock {
+    hits: Vec<Hit>,
+    partners: Vec<usize>,
+    near: Vec<(usize, (Vector3<f64>, f64), Bounds)>,
+}
+
+impl super::BlockBuffer for HitBlock {
+    fn clear(&mut self) {
+        self.hits.clear();
+    }
+}
+
+impl AsRef<[Hit]> for HitBlock {
+    fn as_ref(&self) -> &[Hit] {
+        &self.hits
+    }
+}
+
+/// One rod's share of the capsule arrays, filled by one task.
+type Parts<'a> = (usize, &'a mut [Capsule], &'a mut [Bounds], &'a mut [(Vector3<f64>, f64)], &'a mut f64);
 
 /// One capsule: its rod (index in the detector's list), its axis from p
 /// (abscissa ua, arc position sa) to q (abscissa ub), its radius.
@@ -188,7 +214,7 @@ impl ContactDetector for RodContacts {
         let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
         // Each rod's capsules in its own range of the arrays, filled rod by
         // rod (on the pool when parallel).
-        let Scratch { caps, boxes, spheres, chain, closed, segment, rod_ranges, runs, hits, nearest, seeds, seed_list, rows, sorted, by_pair, group_starts, choice, chosen } = &mut scratch.rods;
+        let Scratch { caps, boxes, spheres, chain, closed, segment, rod_ranges, runs, hits, nearest, parts: parts_buf, seeds, seed_list, rows, sorted, by_pair, group_starts, choice, chosen } = &mut scratch.rods;
         rod_ranges.clear();
         closed.clear();
         closed.extend(rods.iter().map(|(_, r)| r.is_closed()));
@@ -204,7 +230,9 @@ impl ContactDetector for RodContacts {
         spheres.resize(total, (Vector3::zeros(), 0.0));
         chain.resize(rods.len(), 0.0);
         {
-            let mut parts = Vec::with_capacity(rods.len());
+            // The per-rod slices in a buffer kept from the last detection
+            // (the same size and alignment: `recycle` keeps its memory).
+            let mut parts: Vec<Parts<'_>> = crate::system::workspace::recycle(std::mem::take(parts_buf));
             let (mut c, mut b, mut s) = (&mut caps[..], &mut boxes[..], &mut spheres[..]);
             for ((i, &(first, end)), length) in rod_ranges.iter().enumerate().zip(chain.iter_mut()) {
                 let n = end - first;
@@ -214,22 +242,23 @@ impl ContactDetector for RodContacts {
                 parts.push((i, c0, b0, s0, length));
                 (c, b, s) = (c1, b1, s1);
             }
-            let fill = |(i, c, b, s, length): (usize, &mut [Capsule], &mut [Bounds], &mut [(Vector3<f64>, f64)], &mut f64)| -> Result<()> {
-                *length = capsules(i, rods[i].1, c)?;
+            let fill = |(i, c, b, s, length): &mut Parts<'_>| -> Result<()> {
+                **length = capsules(*i, rods[*i].1, c)?;
                 for ((cap, bx), sp) in c.iter().zip(b.iter_mut()).zip(s.iter_mut()) {
                     *bx = Bounds { lo: cap.p.inf(&cap.q) - grow(cap), hi: cap.p.sup(&cap.q) + grow(cap) };
                     *sp = (0.5 * (cap.p + cap.q), 0.5 * (cap.q - cap.p).norm() + cap.radius + 0.5 * self.margin);
                 }
                 Ok(())
             };
-            if parallel {
+            let filled = if parallel {
                 use rayon::prelude::*;
-                // Collected in rod order: the first rod's error, as on one thread.
-                let filled: Vec<Result<()>> = parts.into_par_iter().map(fill).collect();
-                filled.into_iter().collect::<Result<()>>()?;
+                // The first rod's error, as on one thread.
+                parts.par_iter_mut().enumerate().map(|(k, p)| fill(p).map_err(|e| (k, e))).reduce(|| Ok(()), super::first_error).map_err(|(_, e)| e)
             } else {
-                parts.into_iter().try_for_each(fill)?;
-            }
+                parts.iter_mut().try_for_each(fill)
+            };
+            *parts_buf = crate::system::workspace::recycle(parts);
+            filled?;
         }
         let (caps, boxes, spheres, chain, closed, rod_ranges) = (&caps[..], &boxes[..], &spheres[..], &chain[..], &closed[..], &rod_ranges[..]);
         if caps.is_empty() {
@@ -273,12 +302,12 @@ impl ContactDetector for RodContacts {
         // cache's worth of hits at a time, in order.
         nearest.reset(caps.len(), if parallel { rayon::current_num_threads() } else { 1 });
         for chunk in (0..runs.len()).step_by(RUNS_PER_CHUNK) {
-            super::fill_blocks(parallel, RUNS_PER_CHUNK.min(runs.len() - chunk), hits, |range, hits| {
-                let (mut partners, mut near_b) = (Vec::new(), Vec::new());
+            super::fill_blocks(parallel, RUNS_PER_CHUNK.min(runs.len() - chunk), hits, |range, block| {
+                let HitBlock { hits, partners, near: near_b } = block;
                 for a in chunk + range.start..chunk + range.end {
-                    runs.partners(a, &mut partners);
+                    runs.partners(a, partners);
                     let rod_a = caps[runs.capsules(a).start].rod;
-                    for &b in &partners {
+                    for &b in partners.iter() {
                         let same = rod_a == caps[runs.capsules(b).start].rod;
                         if (same && !self.self_contact) || (!same && !self.between_rods) {
                             continue;
@@ -464,13 +493,17 @@ impl ContactDetector for RodContacts {
         chosen.extend(choice.iter().flat_map(|c| c.chosen.iter().cloned()));
         // Back in the order along the rods: the set's order then changes
         // only when rows come or go, not when two trade places in distance
-        // (which would rebuild the system's layout).
-        let along_rods = |x: &([RodHandle; 2], Contact), y: &([RodHandle; 2], Contact)| x.0.cmp(&y.0).then(x.1.ua.total_cmp(&y.1.ua)).then(x.1.ub.total_cmp(&y.1.ub));
+        // (which would rebuild the system's layout). Every field compared:
+        // rows that tie are the same row, so an unstable sort (which
+        // needs no buffer) gives the order a stable one would.
+        let along_rods = |x: &([RodHandle; 2], Contact), y: &([RodHandle; 2], Contact)| {
+            x.0.cmp(&y.0).then(x.1.ua.total_cmp(&y.1.ua)).then(x.1.ub.total_cmp(&y.1.ub)).then(x.1.distance.total_cmp(&y.1.distance))
+        };
         if parallel {
             use rayon::prelude::*;
-            chosen.par_sort_by(along_rods);
+            chosen.par_sort_unstable_by(along_rods);
         } else {
-            chosen.sort_by(along_rods);
+            chosen.sort_unstable_by(along_rods);
         }
         for (handles, c) in chosen.iter() {
             out.pairs.push(ContactPair::new(*handles, ConstraintKind::Contact(c.clone()))?.with_friction(self.friction)?);

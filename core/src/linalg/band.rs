@@ -14,7 +14,6 @@
 //! pass over it (assembly, equilibration, matvec).
 
 use crate::error::{Error, Result};
-use rayon::prelude::*;
 
 /// Relative pivot threshold: a pivot is "zero" when `|p| <= PIVOT_TOL * max|a_ij|`.
 /// (1e-15: the Frenet twist makes KKT matrices legitimately ill-conditioned,
@@ -55,15 +54,12 @@ impl BandMatrix {
     /// [`Self::reshape`], the zeros written on rayon's pool when `parallel`
     /// and the matrix is large (a memory-bound pass of a many-rod step).
     pub fn reshape_on(&mut self, n: usize, kl: usize, ku: usize, parallel: bool) {
-        let len = (kl + ku + 1) * n;
-        if !parallel || len < PAR_PASS_ENTRIES {
+        if !parallel {
             return self.reshape(n, kl, ku);
         }
         (self.n, self.kl, self.ku, self.ldab) = (n, kl, ku, kl + ku + 1);
-        self.data.truncate(len);
-        let kept = self.data.len();
-        self.data.resize(len, 0.0);
-        self.data[..kept].par_chunks_mut(PAR_PASS_ENTRIES / 8).for_each(|c| c.fill(0.0));
+        self.data.resize((kl + ku + 1) * n, 0.0);
+        self.for_column_halves(true, |mut c| c.fill_zero());
     }
 
     /// `f` on the columns, in two halves on rayon's pool when `parallel`

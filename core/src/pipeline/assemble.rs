@@ -243,16 +243,23 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
             c.kind.project(&[a, b])?;
         }
     }
-    let previous = if detectors.is_empty() { Vec::new() } else { std::mem::take(&mut contacts.pairs) };
+    // The last assembly's pairs move to the kept buffer (the carry-over
+    // reads them); the detectors fill the one they leave.
+    let mut previous = std::mem::take(&mut ws.previous_pairs);
+    previous.clear();
+    if !detectors.is_empty() {
+        std::mem::swap(&mut previous, &mut contacts.pairs);
+    }
     if !detectors.is_empty() {
         if reuse && ws.detected.valid {
             contacts.pairs.extend(ws.detected.pairs.iter().cloned());
         } else {
             ws.detected.valid = false;
-            let list: Vec<_> = rod_arena.iter().map(|(i, r)| (i.into(), r)).collect();
-            for d in detectors.iter() {
-                d.detect_with(&list, contacts, &mut ws.detect)?;
-            }
+            let mut list: Vec<(crate::handles::RodHandle, &Rod)> = recycle(std::mem::take(&mut ws.rod_list));
+            list.extend(rod_arena.iter().map(|(i, r)| (i.into(), r)));
+            let found = detectors.iter().try_for_each(|d| d.detect_with(&list, contacts, &mut ws.detect));
+            ws.rod_list = recycle(list);
+            found?;
             if reuse {
                 ws.detected.pairs.clear();
                 ws.detected.pairs.extend(contacts.pairs.iter().cloned());
@@ -284,6 +291,7 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
         }
     }
     ws.carry = carry.order;
+    ws.previous_pairs = previous;
     // Friction: the anchor of the step and the friction rows of active
     // pairs (stick rows, or the row across a slip between rods).
     ws.stick.clear();
@@ -393,7 +401,9 @@ impl Carry {
         // A non-finite abscissa would break the sorted search: such a pair
         // matches nothing (same_place cannot hold for it either).
         order.extend(previous.iter().enumerate().filter(|(_, p)| p.active && first_u(p).is_finite()).map(|(i, p)| (p.rods[0], p.rods[1], first_u(p), i)));
-        order.sort_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)).then(a.2.total_cmp(&b.2)));
+        // Ties by index, as a stable sort would leave them: a total order,
+        // so the unstable sort (no buffer) gives the same.
+        order.sort_unstable_by(|a, b| (a.0, a.1).cmp(&(b.0, b.1)).then(a.2.total_cmp(&b.2)).then(a.3.cmp(&b.3)));
         Carry { order }
     }
 

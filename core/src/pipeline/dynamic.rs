@@ -22,11 +22,15 @@ fn step_here(world: &mut World) -> Result<StepReport> {
     let h = world.params.dt;
     // The contact set changes during the solve (detection, active set,
     // friction state): a refused step puts it back.
-    let contacts = (!world.contacts.is_empty() || !world.detectors.is_empty()).then(|| world.contacts.clone());
+    // (Copied into a kept buffer: no allocation once it has grown.)
+    let saved = !world.contacts.is_empty() || !world.detectors.is_empty();
+    if saved {
+        world.ws.contacts_before.pairs.clone_from(&world.contacts.pairs);
+    }
     world.ws.bridge = None;
     let first = step_by(world, h);
-    if let (Err(_), Some(c)) = (&first, contacts) {
-        world.contacts = c;
+    if first.is_err() && saved {
+        std::mem::swap(&mut world.contacts, &mut world.ws.contacts_before);
     }
     if !world.params.adaptive_dt || !matches!(first, Err(Error::Diverged { .. } | Error::NonFinite { .. } | Error::NotConverged { .. })) {
         return first; // a refused step left the world unchanged

@@ -248,17 +248,27 @@ pub(crate) fn settle_contacts(world: &mut World, round: usize) -> Result<bool> {
 /// ([`crate::contact::friction`]; held as it is when `freeze_friction`).
 /// Returns whether anything changed.
 fn update_active_set(world: &mut World, freeze_friction: bool) -> Result<bool> {
+    // The per-pair row buffers leave the workspace for the pass.
+    let (mut row_of, mut stick_of) = (std::mem::take(&mut world.ws.row_of), std::mem::take(&mut world.ws.stick_of));
+    let out = update_active_set_with(world, freeze_friction, &mut row_of, &mut stick_of);
+    (world.ws.row_of, world.ws.stick_of) = (row_of, stick_of);
+    out
+}
+
+fn update_active_set_with(world: &mut World, freeze_friction: bool, row_of: &mut Vec<usize>, stick_of: &mut Vec<usize>) -> Result<bool> {
     let mut changed = false;
     let mut rows = [Row::default(); MAX_ROWS];
     let World { rods, contacts, ws, .. } = world;
     let layout = &ws.layout;
     let nc = ws.con_ids.len();
     let np = ws.contact_ids.len();
-    let mut row_of = vec![usize::MAX; contacts.pairs.len()];
+    row_of.clear();
+    row_of.resize(contacts.pairs.len(), usize::MAX);
     for (k, &i) in ws.contact_ids.iter().enumerate() {
         row_of[i] = layout.row_index[nc + k];
     }
-    let mut stick_of = vec![usize::MAX; contacts.pairs.len()];
+    stick_of.clear();
+    stick_of.resize(contacts.pairs.len(), usize::MAX);
     for (k, &i) in ws.stick_ids.iter().enumerate() {
         stick_of[i] = layout.row_index[nc + np + k];
     }

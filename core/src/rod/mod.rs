@@ -613,7 +613,12 @@ impl Rod {
 
     /// Parameter u of every sample (Gauss point), in sample order.
     pub fn sample_params(&self) -> Vec<f64> {
-        self.cache.samples.iter().map(|s| s.u).collect()
+        self.sample_params_iter().collect()
+    }
+
+    /// [`Self::sample_params`] without allocating.
+    pub(crate) fn sample_params_iter(&self) -> impl Iterator<Item = f64> + '_ {
+        self.cache.samples.iter().map(|s| s.u)
     }
 
     /// Each sample's parameter u and centreline point (length unit), in

@@ -548,9 +548,10 @@ impl KktSystem {
         // a larger pool keeps the pipelined kernels, which use it all.
         let cut = if parallel && rayon::current_num_threads() == 2 { band_cut(layout, rods, total, &mut self.cut_scratch) } else { None };
         let forces = self.record_forces.then_some(&mut self.elastic_forces[..]);
-        self.assembly_cut = cut.filter(|_| self.matrix.storage() == Storage::Band);
+        self.assembly_cut = None;
         match cut.and_then(|(kr, c)| self.matrix.split_band_columns(c).map(|m| (kr, c, m))) {
             Some((kr, c, (head, tail))) => {
+                self.assembly_cut = Some((kr, c));
                 // Free rods side by side: each half's right-hand side,
                 // kernels and scatter on a thread of its own, in the
                 // one-thread batches; the tail's energies are added after

@@ -26,6 +26,7 @@ pub struct Workspace {
     /// Allocations kept for the per-step vectors of references (always
     /// empty between steps, see [`recycle`]).
     pub(crate) rod_refs: Vec<&'static crate::rod::Rod>,
+    pub(crate) rod_list: Vec<(crate::handles::RodHandle, &'static crate::rod::Rod)>,
     pub(crate) con_refs: Vec<ConstraintRef<'static>>,
     pub(crate) masses: Vec<crate::system::kkt::PointMass>,
     pub(crate) field_k: Vec<(usize, usize, usize, f64)>,
@@ -65,6 +66,9 @@ pub struct Workspace {
     pub(crate) contact_slack: bool,
     /// Largest bounding radius of each rod, in layout order (per assembly).
     pub(crate) radii: Vec<f64>,
+    /// The previous assembly's contact pairs (what the carry-over reads),
+    /// kept so that the next detection fills this allocation.
+    pub(crate) previous_pairs: Vec<crate::contact::ContactPair>,
     /// The contact carry-over's buffer (`pipeline::assemble::Carry`).
     pub(crate) carry: Vec<(crate::handles::RodHandle, crate::handles::RodHandle, f64, usize)>,
     /// Detected pairs kept across the active-set rounds of one
@@ -92,6 +96,12 @@ pub struct Workspace {
     pub(crate) beads: crate::pipeline::beads::Scratch,
     /// The trapezoidal step's per-rod vectors.
     pub(crate) trapezoidal: crate::pipeline::trapezoidal::State,
+    /// The active-set update's row of each contact pair (and of its
+    /// friction rows), by pair.
+    pub(crate) row_of: Vec<usize>,
+    pub(crate) stick_of: Vec<usize>,
+    /// The contact set at the start of a step, put back if it is refused.
+    pub(crate) contacts_before: crate::contact::ContactSet,
     /// The clips walked after a solve.
     pub(crate) clip_ids: Vec<Index>,
 }
