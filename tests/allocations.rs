@@ -182,7 +182,9 @@ fn a_slider_changing_segment_does_not_allocate() {
 /// contact set saved for a refused step is copied into a kept one, and
 /// the rows are put in order without a merge buffer. Two scenes with
 /// friction: a rod pressed across another (rod–rod detection, sticking
-/// pairs) and a rope lying on a slope below the friction angle (a plane).
+/// pairs), a rope lying on a slope below the friction angle (a plane) and
+/// on level ground made of a triangle mesh (its tree searched on a fixed
+/// stack).
 /// (A step whose active set changes rebuilds the ordering and the layout,
 /// which allocates: a change of topology.)
 #[test]
@@ -216,7 +218,12 @@ fn settled_contact_steps_do_not_allocate() {
     let mut slope = World::new(IntegrationParameters { dt: 2e-3, gravity: [0.0, 0.0, -9.81], parallel: false, ..Default::default() });
     slope.add_rod(rod(n * r, n * r + Vector3::new(0.0, 0.5, 0.0), 20, &Material::new("nylon", 3e9, 0.4, 1140.0).unwrap()));
     slope.add_contact_detector(Obstacle::plane([0.0; 3], n.into()).unwrap().with_margin(0.005).unwrap().with_friction(0.4).unwrap()).unwrap();
-    for (name, w) in [("rod pressed across a rod", &mut crossed), ("rope on a slope", &mut slope)] {
+    // The rope on level ground made of a two-triangle mesh.
+    let mut ground = World::new(IntegrationParameters { dt: 2e-3, gravity: [0.0, 0.0, -9.81], parallel: false, ..Default::default() });
+    ground.add_rod(rod(Vector3::new(0.0, 0.0, r), Vector3::new(0.0, 0.5, r), 20, &Material::new("nylon", 3e9, 0.4, 1140.0).unwrap()));
+    let mesh = strandkit::TriMesh::new(vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]], vec![[0, 1, 2], [0, 2, 3]]).unwrap();
+    ground.add_contact_detector(Obstacle::mesh(mesh).unwrap().with_margin(0.005).unwrap().with_friction(0.4).unwrap()).unwrap();
+    for (name, w) in [("rod pressed across a rod", &mut crossed), ("rope on a slope", &mut slope), ("rope on a mesh", &mut ground)] {
         for _ in 0..200 {
             w.step().unwrap();
         }

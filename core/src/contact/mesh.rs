@@ -142,8 +142,13 @@ impl TriMesh {
         // edge).
         let mut best: Option<(f64, Vector3<f64>, Vector3<f64>)> = None;
         let tie = |d: f64| 1e-12 * (1.0 + d + p.norm());
-        let mut stack = vec![0usize];
-        while let Some(i) = stack.pop() {
+        // Depth-first on a fixed stack, no allocation per probe: the tree
+        // splits at the median, so it is at most 33 levels deep for u32
+        // triangle indices and the stack holds at most one more entry.
+        let (mut stack, mut top) = ([0usize; 64], 1);
+        while top > 0 {
+            top -= 1;
+            let i = stack[top];
             let nd = &self.nodes[i];
             let limit = best.map_or(reach, |b| (b.0 + tie(b.0)).min(reach));
             let out = (nd.lo - p).sup(&(p - nd.hi)).sup(&Vector3::zeros());
@@ -166,8 +171,9 @@ impl TriMesh {
                     };
                 }
             } else {
-                stack.push(i + 1);
-                stack.push(nd.right as usize);
+                stack[top] = i + 1;
+                stack[top + 1] = nd.right as usize;
+                top += 2;
             }
         }
         let (d, q, faces) = best?;

@@ -84,7 +84,8 @@ impl<T: Send> BlockBuffer for Vec<T> {
 
 /// `f` over `0..n` in contiguous blocks, each filling its own buffer of
 /// `bufs` (cleared first; kept between calls, so that a warmed-up caller
-/// reuses their memory): on rayon's pool when `parallel` (a few blocks per
+/// reuses their memory; buffers past the blocks are left empty, so a
+/// reader may take them all): on rayon's pool when `parallel` (a few blocks per
 /// thread, for balance), else one block on this thread. The buffers read
 /// one after the other never depend on the blocking, so both ways give
 /// the same answer; so does the error, the first block's that failed.
@@ -92,16 +93,21 @@ impl<T: Send> BlockBuffer for Vec<T> {
 /// not collected).
 pub(crate) fn fill_blocks<B: BlockBuffer>(parallel: bool, n: usize, bufs: &mut Vec<B>, f: impl Fn(std::ops::Range<usize>, &mut B) -> Result<()> + Sync) -> Result<()> {
     let k = if parallel { (4 * rayon::current_num_threads()).min(n).max(1) } else { 1 };
-    bufs.resize_with(k, B::default);
+    // Grown, never shrunk (a short last chunk would drop buffers that the
+    // next call builds again); the ones past `k` are left empty.
+    if bufs.len() < k {
+        bufs.resize_with(k, B::default);
+    }
+    bufs[k..].iter_mut().for_each(B::clear);
     let run = |(b, out): (usize, &mut B)| {
         out.clear();
         f(b * n / k..(b + 1) * n / k, out)
     };
     if k > 1 {
         use rayon::prelude::*;
-        bufs.par_iter_mut().enumerate().map(|(b, out)| run((b, out)).map_err(|e| (b, e))).reduce(|| Ok(()), first_error).map_err(|(_, e)| e)
+        bufs[..k].par_iter_mut().enumerate().map(|(b, out)| run((b, out)).map_err(|e| (b, e))).reduce(|| Ok(()), first_error).map_err(|(_, e)| e)
     } else {
-        bufs.iter_mut().enumerate().try_for_each(run)
+        bufs[..1].iter_mut().enumerate().try_for_each(run)
     }
 }
 
