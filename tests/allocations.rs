@@ -1,35 +1,11 @@
 //! The hot path does not allocate: after a warm-up, `World::step` on a
 //! constrained rod makes no heap allocation (DEVELOPERS.md standard;
 //! serial assembly — rayon's pool bookkeeping is its own).
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
-struct Counting;
-thread_local! {
-    // Per thread: the test harness runs tests on several threads at once.
-    static ALLOCS: Cell<usize> = const { Cell::new(0) };
-}
-
-fn count() {
-    let _ = ALLOCS.try_with(|c| c.set(c.get() + 1));
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        count();
-        unsafe { System.realloc(p, l, n) }
-    }
-}
+#[path = "common/alloc_count.rs"]
+mod alloc_count;
 
 #[global_allocator]
-static A: Counting = Counting;
+static A: alloc_count::Counting = alloc_count::Counting;
 
 mod common;
 
@@ -37,11 +13,11 @@ fn allocations_per_step(w: &mut strandkit::World) -> f64 {
     for _ in 0..3 {
         w.step().unwrap();
     }
-    let before = ALLOCS.with(Cell::get);
+    let before = alloc_count::on_this_thread();
     for _ in 0..10 {
         w.step().unwrap();
     }
-    (ALLOCS.with(Cell::get) - before) as f64 / 10.0
+    (alloc_count::on_this_thread() - before) as f64 / 10.0
 }
 
 #[test]
@@ -159,13 +135,13 @@ fn a_slider_changing_segment_does_not_allocate() {
     for _ in 0..150 {
         w.step().unwrap();
     }
-    let (before, u_start) = (ALLOCS.with(Cell::get), u_of(&w));
+    let (before, u_start) = (alloc_count::on_this_thread(), u_of(&w));
     let mut fallbacks = 0;
     for _ in 0..100 {
         let rep = w.step().unwrap();
         fallbacks += rep.fallbacks as usize + usize::from(rep.factorisation != Factorisation::BandLdlt);
     }
-    let (n, u_end) = (ALLOCS.with(Cell::get) - before, u_of(&w));
+    let (n, u_end) = (alloc_count::on_this_thread() - before, u_of(&w));
     let crossed = (u_end.floor() - u_start.floor()).abs();
     println!("slider from u = {u_start:.2} to {u_end:.2} ({crossed} segment changes): {n} heap allocations in 100 steps, {fallbacks} steps off the band LDLᵀ");
     assert!(crossed >= 3.0, "the slider must change segment in the window: {u_start} → {u_end}");

@@ -1,40 +1,18 @@
 //! Steps on rayon's pool do not allocate either, once warmed up: free rods
 //! whose assembly splits in two halves, one long rod whose kernels run in
-//! pool batches, and rods in contact detected in blocks on the pool. The
+//! pool batches, ropes resting on a slope with friction whose contacts are
+//! detected in blocks on the pool, and a pinned mat whose crossings are
+//! found, chosen and sorted there. The
 //! count is global (the pool's threads do the work), so this file holds
 //! one test: no other test's allocations run beside it. The steps run
 //! inside the pool (as `World::step` moves them there itself), so that no
 //! job is injected from outside, which rayon's queue pays for with a block
 //! every 63 jobs.
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
-
-struct Counting;
-static ARMED: AtomicBool = AtomicBool::new(false);
-static COUNT: AtomicUsize = AtomicUsize::new(0);
-
-fn count() {
-    if ARMED.load(Ordering::Relaxed) {
-        COUNT.fetch_add(1, Ordering::Relaxed);
-    }
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, l: Layout) -> *mut u8 {
-        count();
-        unsafe { System.alloc(l) }
-    }
-    unsafe fn dealloc(&self, p: *mut u8, l: Layout) {
-        unsafe { System.dealloc(p, l) }
-    }
-    unsafe fn realloc(&self, p: *mut u8, l: Layout, n: usize) -> *mut u8 {
-        count();
-        unsafe { System.realloc(p, l, n) }
-    }
-}
+#[path = "common/alloc_count.rs"]
+mod alloc_count;
 
 #[global_allocator]
-static A: Counting = Counting;
+static A: alloc_count::Counting = alloc_count::Counting;
 
 #[test]
 fn steps_on_the_pool_do_not_allocate() {
@@ -104,13 +82,12 @@ fn steps_on_the_pool_do_not_allocate() {
             for _ in 0..warm_up {
                 w.step().unwrap();
             }
-            COUNT.store(0, Ordering::SeqCst);
-            ARMED.store(true, Ordering::SeqCst);
-            for _ in 0..10 {
-                w.step().unwrap();
-            }
-            ARMED.store(false, Ordering::SeqCst);
-            (COUNT.load(Ordering::SeqCst) as f64 / 10.0, w.contacts().active().count())
+            let (count, ()) = alloc_count::on_all_threads(|| {
+                for _ in 0..10 {
+                    w.step().unwrap();
+                }
+            });
+            (count as f64 / 10.0, w.contacts().active().count())
         });
         println!("{name} ({active} active contacts): {n} heap allocations per step on a pool of two");
         assert_eq!(n, 0.0, "{name}");
