@@ -249,8 +249,6 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
     previous.clear();
     if !detectors.is_empty() {
         std::mem::swap(&mut previous, &mut contacts.pairs);
-    }
-    if !detectors.is_empty() {
         if reuse && ws.detected.valid {
             contacts.pairs.extend(ws.detected.pairs.iter().cloned());
         } else {
