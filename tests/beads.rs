@@ -106,7 +106,11 @@ fn free_bead_slides_at_g_sin_alpha_and_loads_the_normal_weight() {
 
 /// Two beads on a horizontal rod, one thrown at the other: they never pass
 /// each other (centres ≥ r_a + r_b apart along the rod), and the inelastic
-/// contact conserves their momentum.
+/// contact conserves their momentum along the rod to 1e-8 (measured
+/// 5.7e-9: a bead's position N(u)·q is bilinear in its abscissa and the
+/// rod's coordinates, which vibrate axially under the impact, and the
+/// step linearises it; 1e-9 when the contact was a projection of the
+/// beads' increments outside the rod's solve).
 #[test]
 fn beads_do_not_pass_each_other() {
     let mut w = World::new(IntegrationParameters { dt: 1e-3, ..Default::default() });
@@ -120,7 +124,13 @@ fn beads_do_not_pass_each_other() {
         w.step().unwrap();
     }
     w.set_bead_force(a, [0.0; 3]).unwrap();
-    let p_before = w.bead(a).unwrap().mass * w.bead(a).unwrap().velocity + w.bead(b).unwrap().mass * w.bead(b).unwrap().velocity;
+    // Momentum along the rod: the beads' own velocities (the pinned rod's
+    // axial vibration does not count).
+    let momentum = |w: &World| {
+        let rod = w.rod(h).unwrap();
+        [a, b].iter().map(|&k| w.bead(k).unwrap().mass * w.bead(k).unwrap().absolute_velocity(rod).unwrap().x).sum::<f64>()
+    };
+    let p_before = momentum(&w);
     let mut min_gap = f64::INFINITY;
     for _ in 0..1500 {
         w.step().unwrap();
@@ -128,9 +138,9 @@ fn beads_do_not_pass_each_other() {
         min_gap = min_gap.min(gap);
     }
     let (ba, bb) = (w.bead(a).unwrap(), w.bead(b).unwrap());
-    let p_after = ba.mass * ba.velocity + bb.mass * bb.velocity;
-    println!("min gap {min_gap:.5} m (≥ 0.05), momentum {p_before:.6} → {p_after:.6}, velocities {:.4} {:.4}", ba.velocity, bb.velocity);
+    let p_after = momentum(&w);
+    println!("min gap {min_gap:.5} m (≥ 0.05), momentum {p_before:.12} → {p_after:.12}, velocities {:.4} {:.4}", ba.velocity, bb.velocity);
     assert!(min_gap >= 0.05 - 1e-6, "beads passed or overlapped: {min_gap}");
     assert!(bb.velocity > 0.0, "the struck bead moves");
-    assert!((p_after - p_before).abs() < 1e-9 * p_before.abs());
+    assert!((p_after - p_before).abs() < 1e-8 * p_before.abs());
 }

@@ -9,7 +9,7 @@ use crate::force::{gravity::Gravity, thermal::Thermal, ForceField, Load};
 use crate::handles::{Arena, RodHandle};
 use crate::rod::Rod;
 use crate::system::kkt::{BeadRef, Coefficients, ConstraintRef, PointMass};
-use crate::system::layout::ConstraintSlot;
+use crate::system::layout::{ConstraintSlot, NO_LINK};
 use crate::system::ordering::{control_point_order_with, RodGraph, Strategy};
 use crate::system::workspace::recycle;
 use crate::system::{Layout, Workspace};
@@ -69,9 +69,10 @@ impl Regime {
             Regime::Statics { .. } => now,
         }
     }
-    /// Dynamics: a sliding bead's tangential motion is its own.
-    fn bead_slides(self) -> bool {
-        matches!(self, Regime::Dynamic { .. } | Regime::Trapezoidal { .. } | Regime::Bdf2 { .. })
+    /// A time step: the beads' unknowns and gap rows are this step's
+    /// ([`crate::pipeline::beads::prepare`]).
+    fn dynamic(self) -> bool {
+        !matches!(self, Regime::Statics { .. })
     }
     fn bead_unknowns(self) -> bool {
         matches!(self, Regime::Statics { bead_unknowns: true })
@@ -93,7 +94,7 @@ fn place(
     beads: &Arena<Bead>,
     contacts: &ContactSet,
     interleave: &[Vec<RodHandle>],
-    bead_unknowns: bool,
+    regime: Regime,
 ) -> Result<()> {
     ws.slots.clear();
     ws.contact_ids.clear();
@@ -101,24 +102,27 @@ fn place(
     for (_, c) in constraints.iter() {
         let (a, b) = (position_of(pos, c.rod)?, position_of(pos, c.other.unwrap_or(c.rod))?);
         let t = c.kind.touched(&[rods[a], rods[b]])?;
-        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: c.kind.n_rows(), n_extra: c.kind.n_extra(), touched: t.items, held: t.held, len: t.len });
+        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: c.kind.n_rows(), n_extra: c.kind.n_extra(), touched: t.items, held: t.held, len: t.len, links: [NO_LINK; 2] });
     }
     ws.stick_ids.clear();
     for (i, p) in contacts.active() {
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
         let t = p.kind.touched(&[rods[a], rods[b]])?;
-        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 1, n_extra: 0, touched: t.items, held: t.held, len: t.len });
+        ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: 1, n_extra: 0, touched: t.items, held: t.held, len: t.len, links: [NO_LINK; 2] });
         ws.contact_ids.push(i);
     }
     for (i, p) in contacts.active() {
         if let Some(k) = p.friction.as_ref().and_then(|f| f.rows.as_ref()) {
             let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
             let t = k.touched(&[rods[a], rods[b]])?;
-            ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: k.n_rows(), n_extra: 0, touched: t.items, held: t.held, len: t.len });
+            ws.slots.push(ConstraintSlot { rods: [a, b], n_rows: k.n_rows(), n_extra: 0, touched: t.items, held: t.held, len: t.len, links: [NO_LINK; 2] });
             ws.stick_ids.push(i);
         }
     }
-    if bead_unknowns {
+    if regime.dynamic() {
+        let pos = &ws.rod_pos;
+        crate::pipeline::beads::place(&mut ws.beads, &mut ws.slots, |h| position_of(pos, h))?;
+    } else if regime.bead_unknowns() {
         for (_, b) in beads.iter().filter(|(_, b)| !b.fixed) {
             let r = position_of(pos, b.rod)?;
             let ctrl = rods[r].basis_at(b.u)?.0;
@@ -126,7 +130,7 @@ fn place(
             for (t, c) in touched.iter_mut().zip(ctrl) {
                 *t = (0, c);
             }
-            ws.slots.push(ConstraintSlot { rods: [r, r], n_rows: 0, n_extra: 1, touched, held: [true; MAX_TOUCHED], len: 4 });
+            ws.slots.push(ConstraintSlot { rods: [r, r], n_rows: 0, n_extra: 1, touched, held: [true; MAX_TOUCHED], len: 4, links: [NO_LINK; 2] });
         }
     }
     // The layout (algorithms 9–10) changes only with the topology: rods
@@ -220,7 +224,7 @@ pub(crate) fn layout(world: &mut World, bead_unknowns: bool) -> Result<()> {
     let World { rods: rod_arena, constraints, beads, contacts, interleave, ws, .. } = world;
     index(ws, rod_arena, constraints);
     let rods: Vec<&Rod> = rod_arena.iter().map(|(_, r)| r).collect();
-    place(ws, &rods, constraints, beads, contacts, interleave, bead_unknowns)
+    place(ws, &rods, constraints, beads, contacts, interleave, Regime::Statics { bead_unknowns })
 }
 
 /// Assembles the system for `regime`: contacts detected, forces gathered,
@@ -307,7 +311,7 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
     index(ws, rod_arena, constraints);
     let mut rods: Vec<&Rod> = recycle(std::mem::take(&mut ws.rod_refs));
     rods.extend(rod_arena.iter().map(|(_, r)| r));
-    let placed = place(ws, &rods, constraints, beads, contacts, interleave, regime.bead_unknowns());
+    let placed = place(ws, &rods, constraints, beads, contacts, interleave, regime);
     let energy = placed.and_then(|_| gather_and_assemble(ws, &rods, constraints, loads, beads, contacts, params, *time, regime));
     ws.rod_refs = recycle(rods);
     let energy = energy?;
@@ -474,10 +478,8 @@ fn gather_and_assemble(
         let r = position_of(pos, b.rod)?;
         let (ctrl, bs) = crate::pipeline::beads::bead_basis(&ws.beads, k, id, b.u, rods[r])?;
         crate::force::spread(&mut ws.ext[r], rods[r].dofs(), &ctrl, &bs[0], &b.rod_force);
-        // A sliding bead's tangential motion is its own (see beads::predict).
-        let slide = if b.fixed || !regime.bead_slides() { [0.0; 3] } else { rods[r].tangent_from(b.u, &ctrl, &bs[1])?.into() };
         let seg = rods[r].knots().locate(b.u)?;
-        ws.masses.push(PointMass { rod: r, seg, ctrl, b: bs[0], mass: b.mass, slide });
+        ws.masses.push(PointMass { rod: r, seg, ctrl, b: bs[0], mass: b.mass });
     }
     // ½ f(t + h) here, the other half of the trapezoid (and the drag of
     // the iterate) from the state of the step; the BDF2 stage's drag term.
@@ -544,7 +546,9 @@ fn gather_and_assemble(
     ws.sys.record_forces = matches!(regime, Regime::Trapezoidal { first: true, .. });
     ws.sys.linear_solver = params.linear_solver;
     let mut energy = ws.sys.assemble(&ws.layout, rods, &ws.drags, &ws.ext, &crefs, &ws.masses, &ws.field_k, k, params.parallel);
-    if energy.is_ok() && regime.bead_unknowns() {
+    if energy.is_ok() && regime.dynamic() {
+        crate::pipeline::beads::assemble(&mut ws.sys, &ws.layout, &ws.beads, k);
+    } else if energy.is_ok() && regime.bead_unknowns() {
         let static_beads: Vec<BeadRef> = beads
             .iter()
             .filter(|(_, b)| !b.fixed)

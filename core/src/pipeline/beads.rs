@@ -1,6 +1,32 @@
 //! Bead updates around the rod solve (see [`crate::bead`]).
-use crate::error::Result;
-use crate::handles::Index;
+//!
+//! Dynamics: a sliding bead's abscissa u is an unknown of the step's
+//! system beside its rod's coordinates q. Its position x = r(q, u) =
+//! Σ_k N_k(u) P_k moves by J [Δq; Δu] with J = [N_k I₃ …, r′], so its
+//! linearised implicit Euler step m (J Δ − h v_b)/h² = F + (the string's
+//! reaction and the neighbours' pushes), written in (q, u), puts m JᵀJ/h²
+//! in the matrix and Jᵀ (F + m v_b/h) on the right. The Hessian of −F·r
+//! adds −F·r″ on (u, u) and −F N′_k on (q_k, u), as in statics; the
+//! derivative of J in the inertia term, −(m v_b/h)·∂J, is left out (it is
+//! indefinite: with it two beads swinging on the thesis' string gained
+//! 8e-6 J in a step). Viscous friction c on the sliding speed |r′| u̇
+//! acts on u alone (the bead's and the string's shares cancel on q):
+//! c |r′|²/h on (u, u). The bead's new velocity is J Δ/h, the step's own
+//! (the displacement r(q + Δq, u + Δu) − r(q, u) over h, which adds the
+//! rod's motion times the slide and the bend's chord, made the swinging
+//! necklace gain up to 2e-4 J above an earlier low).
+//! Neighbours on one rod are spheres that touch when their centres are
+//! r_a + r_b apart: a unilateral row on the chord |x_b − x_a| − r_a − r_b ≥
+//! 0, linear in both beads' q and u, whose multiplier pushes them apart
+//! along the line of centres (the string bears the part across it, in the
+//! same solve). The rows enter and leave with the contacts' active-set
+//! rounds ([`update_gaps`]); like a contact row, one holds a penetration of
+//! up to [`crate::pipeline::assemble::CONTACT_SLACK`] of the radii instead
+//! of pushing it out.
+use crate::error::{Error, Result};
+use crate::handles::{Index, RodHandle};
+use crate::system::layout::{ConstraintSlot, NO_LINK};
+use crate::system::{Coefficients, KktSystem, Layout};
 use crate::world::{Event, World};
 use nalgebra::Vector3;
 
@@ -9,48 +35,92 @@ pub(crate) fn bead_load(world: &World, b: &crate::bead::Bead) -> Vector3<f64> {
     Vector3::from(world.params.gravity) * b.mass + Vector3::from(b.force)
 }
 
-/// Dynamics, before the rod solve. A sliding bead's motion along the rod
-/// is its own unknown: its absolute tangential speed w = ṡ + t·v_rod
-/// follows (m/h + c) w_{n+1} = m w_n/h + t·F_p + c t·v_rod (implicit in
-/// the friction c, the rod's velocity taken at the start of the step),
-/// while the rod carries its transverse inertia (its mass matrix gets
-/// m (I − t tᵀ) at the bead). The predicted increments are projected so
-/// that no two neighbours end the step closer than r_a + r_b (an inelastic
-/// impulse shared by mass, which only removes kinetic energy). The force
-/// on the rod during the step: the normal part of F_p, the friction
-/// c ṡ t, and the bead's own momentum across the rod m (v_b − v_rod)⊥/h
-/// (see [`crate::bead`]). A fixed bead rides with the rod: whole load,
-/// whole mass.
-pub(crate) fn predict(world: &mut World, h: f64) -> Result<()> {
-    // The scratch leaves the world for the pass (the world is borrowed).
-    let mut s = std::mem::take(&mut world.ws.beads);
-    let out = predict_with(world, h, &mut s);
-    world.ws.beads = s;
-    out
-}
-
-/// One bead as the passes see it (per-step scratch).
+/// One bead at the start of the step (per-step scratch).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Row {
+struct Row {
     id: Index,
-    rod: crate::handles::RodHandle,
+    rod: RodHandle,
+    /// Its rod's position in the layout (set when the slots are placed).
+    rod_pos: usize,
     u: f64,
+    n_ctrl: usize,
     fixed: bool,
     mass: f64,
+    friction: f64,
     radius: f64,
-    /// Position on the rod (length unit), unit tangent and |r′| there
-    /// (length per unit u): what the gap of a pair is measured from.
+    ctrl: [usize; 4],
+    basis: [[f64; 4]; 4],
+    /// Position (length), r′ and r″ at u (length per unit u, and per unit u²).
     x: Vector3<f64>,
-    t: Vector3<f64>,
-    speed: f64,
+    d1: Vector3<f64>,
+    d2: Vector3<f64>,
+    /// The bead's own velocity (length/time).
+    v: Vector3<f64>,
+    /// The load F (weight and user force) and F + m v_b/h, the step's
+    /// drive (force unit; the load alone for a fixed bead and in Brownian
+    /// dynamics).
+    load: Vector3<f64>,
+    drive: Vector3<f64>,
+    /// Position among the sliding beads (the order of their abscissa
+    /// unknowns), None for a fixed bead.
+    slot: Option<usize>,
+    /// Its force on the rod besides the point mass's (force unit).
+    rod_force: Vector3<f64>,
 }
 
 impl Row {
-    fn inv_mass(&self) -> f64 {
-        if self.fixed {
-            0.0
-        } else {
-            1.0 / self.mass
+    /// Unit tangent.
+    fn t(&self) -> Vector3<f64> {
+        self.d1 / self.d1.norm()
+    }
+    /// J [Δq; Δu] from a solution: the bead's linearised displacement.
+    fn displacement(&self, layout: &Layout, sol: &[f64], bead_base: usize) -> Vector3<f64> {
+        let mut d = Vector3::zeros();
+        for (k, &c) in self.ctrl.iter().enumerate() {
+            let g = layout.cp_index[self.rod_pos][c];
+            d += Vector3::new(sol[g], sol[g + 1], sol[g + 2]) * self.basis[0][k];
+        }
+        if let Some(j) = self.slot {
+            d += self.d1 * sol[layout.extra_index[bead_base + j]];
+        }
+        d
+    }
+}
+
+/// Two neighbours on a rod (positions in the scratch's rows, `b` after `a`
+/// along u) and their gap beyond r_a + r_b (length unit).
+#[derive(Clone, Copy, Debug)]
+struct Pair {
+    a: usize,
+    b: usize,
+    /// The period added to `b`'s abscissa (across a closed rod's seam).
+    period: f64,
+    gap: f64,
+    /// The penetration a row may hold (length unit).
+    slack: f64,
+    /// Unit line of centres, a → b; None where the chord does not run
+    /// along the string between them (beads far apart along a string that
+    /// comes back on itself): the gap is then the arc's, ∂/∂u = ±|r′|.
+    dir: Option<Vector3<f64>>,
+    /// Its row is in the system; it pulled and left for this step.
+    active: bool,
+    pulled: bool,
+}
+
+impl Pair {
+    /// The gap the pair's row keeps at the end of the step: closed, or a
+    /// penetration held (at most `slack`): −clamp(−g, 0, slack).
+    fn target(&self) -> f64 {
+        -(-self.gap).clamp(0.0, self.slack)
+    }
+    /// The gap's increment for the beads' displacements (linearised).
+    fn change(&self, a: &Row, b: &Row, da: Vector3<f64>, db: Vector3<f64>, layout: &Layout, sol: &[f64], bead_base: usize) -> f64 {
+        match self.dir {
+            Some(c) => c.dot(&(db - da)),
+            None => {
+                let du = |r: &Row| r.slot.map_or(0.0, |j| sol[layout.extra_index[bead_base + j]]) * r.d1.norm();
+                du(b) - du(a)
+            }
         }
     }
 }
@@ -60,319 +130,239 @@ impl Row {
 #[derive(Debug, Default)]
 pub(crate) struct Scratch {
     rows: Vec<Row>,
-    ds: Vec<f64>,
-    /// Rod speed along the tangent, then the bead's absolute speed w.
-    w: Vec<f64>,
-    /// The rod's velocity under each bead at the start of the step.
-    v_rod: Vec<Vector3<f64>>,
-    /// The bead's own velocity at the start of the step.
-    v_b: Vec<Vector3<f64>>,
-    force: Vec<Vector3<f64>>,
+    /// Each row's linearised displacement J [Δq; Δu] over the step.
+    disp: Vec<Vector3<f64>>,
     order: Vec<usize>,
-    /// Neighbour pairs (positions in `rows`, period added to the second's u).
-    pairs: Vec<(usize, usize, f64)>,
-    /// Gap per pair beyond r_a + r_b, as an arc length along the string,
-    /// and the pair's c̄ (0 where the gap is the arc's) ([`gap`]).
-    gaps: Vec<(f64, f64)>,
-    /// Each bead's basis at its abscissa this step, from the prediction on
-    /// (the assembly and the advance read it instead of evaluating it
-    /// again): bead, abscissa, rod's control point count, control points
-    /// and basis. Emptied when the step's bead passes end.
-    basis: Vec<(Index, f64, usize, [usize; 4], [[f64; 4]; 4])>,
-    groups: Vec<Group>,
-    /// Per-chain buffers of the projection ([`project`]).
-    ds0: Vec<f64>,
-    z: Vec<f64>,
-    mass: Vec<Option<f64>>,
-    pool_of: Vec<usize>,
-    pools: Vec<super::bead_chain::Pool>,
-    /// Per bead, the Cartesian force of its touching neighbours (force
-    /// unit), along the lines of centres ([`pair_forces`]).
-    contact: Vec<Vector3<f64>>,
-    /// Per chain position, the compression of the pair it opens (force unit).
-    push: Vec<f64>,
+    pairs: Vec<Pair>,
+    /// The rows describe this step (from [`prepare`] to [`advance`]).
+    valid: bool,
+    /// Slot index of the first sliding bead's abscissa and of the first
+    /// active gap row (set when the slots are placed).
+    bead_base: usize,
+    gap_base: usize,
 }
 
-/// The beads of one rod: `len` of them from `order[first]` on, their
-/// pairs from `pairs[first_pair]` on (pair j joins the j-th and the next;
-/// on a closed rod the last pair closes the ring).
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Group {
-    first: usize,
-    len: usize,
-    first_pair: usize,
-    closed: bool,
-}
-
-impl Scratch {
-    /// Fills `rows` from the world's beads (positions not yet set).
-    fn load(&mut self, world: &World) {
-        self.rows.clear();
-        self.rows.extend(world.beads.iter().map(|(id, b)| Row { id, rod: b.rod, u: b.u, fixed: b.fixed, mass: b.mass, radius: b.radius, x: Vector3::zeros(), t: Vector3::zeros(), speed: 0.0 }));
-    }
-}
-
-/// The basis of bead `k` (arena order) at `u` on `rod`: the one this step's
-/// prediction cached, if it is still that bead at that abscissa on a rod
-/// of as many control points; else evaluated.
+/// The basis of bead `k` (arena order) at `u` on `rod`: the one this
+/// step's [`prepare`] evaluated, if it is still that bead at that abscissa
+/// on a rod of as many control points; else evaluated.
 pub(crate) fn bead_basis(s: &Scratch, k: usize, id: Index, u: f64, rod: &crate::rod::Rod) -> Result<([usize; 4], [[f64; 4]; 4])> {
-    match s.basis.get(k).filter(|e| e.0 == id && e.1.to_bits() == u.to_bits() && e.2 == rod.n_ctrl()) {
-        Some(e) => Ok((e.3, e.4)),
+    match s.rows.get(k).filter(|r| s.valid && r.id == id && r.u.to_bits() == u.to_bits() && r.n_ctrl == rod.n_ctrl()) {
+        Some(r) => Ok((r.ctrl, r.basis)),
         None => rod.basis_at(u),
     }
 }
 
-fn predict_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
-    s.load(world);
-    let n = s.rows.len();
-    s.ds.clear();
-    s.w.clear();
-    s.v_rod.clear();
-    s.v_b.clear();
-    s.basis.clear();
-    for k in 0..n {
-        let Some(b) = world.beads.get(s.rows[k].id) else { continue };
+/// Dynamics, before the rod solve: each bead's state at the start of the
+/// step, its force on the rod (the load, and the momentum it brings,
+/// m (v_b − v_rod)/h, beside the c_v m v_rod the rod's point mass adds),
+/// its neighbours and the gap rows that start the active set (pairs that
+/// pressed at the end of the last step, or that their velocities close
+/// within the step).
+pub(crate) fn prepare(world: &mut World, h: f64) -> Result<()> {
+    // The scratch leaves the world for the pass (the world is borrowed).
+    let mut s = std::mem::take(&mut world.ws.beads);
+    s.valid = false;
+    let out = prepare_with(world, h, &mut s);
+    s.valid = out.is_ok();
+    world.ws.beads = s;
+    out
+}
+
+fn prepare_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
+    let momentum = if world.params.overdamped { 0.0 } else { 1.0 / h };
+    s.rows.clear();
+    let mut slot = 0;
+    for (id, b) in world.beads.iter() {
         let rod = world.rod(b.rod)?;
         let (ctrl, basis) = rod.basis_at(b.u)?;
-        s.basis.push((s.rows[k].id, b.u, rod.n_ctrl(), ctrl, basis));
-        let (x, d1, velocity) = rod.motion_from(&ctrl, &basis);
-        let sigma = d1.norm();
-        if !(sigma > 0.0) {
-            return Err(crate::error::Error::singular(format!("zero tangent under bead {} at u = {}", s.rows[k].id.0, b.u)));
+        let (x, d1, v_rod) = rod.motion_from(&ctrl, &basis);
+        let d2 = second_derivative(rod, &ctrl, &basis);
+        if !(d1.norm() > 0.0) {
+            return Err(Error::singular(format!("zero tangent under bead {} at u = {}", id.0, b.u)));
         }
-        let t = d1 / sigma;
-        let v_r = t.dot(&velocity);
-        (s.rows[k].x, s.rows[k].t, s.rows[k].speed) = (x, t, sigma);
-        s.v_rod.push(velocity);
-        s.w.push(v_r);
-        // Its own velocity, from the same evaluation.
-        let v_b = b.velocity_from(velocity, t);
-        s.v_b.push(v_b);
-        if b.fixed {
-            s.ds.push(0.0);
-            continue;
+        let f = bead_load(world, b);
+        let v = b.velocity_from(v_rod, d1 / d1.norm());
+        let (drive, rod_force, slot_of) = if b.fixed {
+            (f, f, None)
+        } else {
+            slot += 1;
+            (f + v * (momentum * b.mass), f + (v - v_rod) * (momentum * b.mass), Some(slot - 1))
+        };
+        if !rod_force.iter().chain(drive.iter()).all(|x| x.is_finite()) {
+            return Err(Error::NonFinite { rod: Some(b.rod), detail: format!("bead {}: its force on the rod is not finite (mass {:e}); the world is unchanged", id.0, b.mass) });
         }
-        let w_n = t.dot(&v_b);
-        let w = (b.mass * w_n / h + t.dot(&bead_load(world, b)) + b.friction * v_r) / (b.mass / h + b.friction);
-        s.ds.push(h * (w - v_r));
+        #[rustfmt::skip]
+        s.rows.push(Row { id, rod: b.rod, rod_pos: 0, u: b.u, n_ctrl: rod.n_ctrl(), fixed: b.fixed, mass: b.mass, friction: b.friction, radius: b.radius, ctrl, basis, x, d1, d2, v, load: f, drive, slot: slot_of, rod_force });
     }
     neighbours(world, s)?;
-    s.gaps.clear();
-    for &(a, b, period) in &s.pairs {
-        let g = gap(world.rod(s.rows[a].rod)?, &s.rows[a], &s.rows[b], period)?;
-        s.gaps.push(g);
-    }
-    s.contact.clear();
-    s.contact.resize(n, Vector3::zeros());
-    let mut s_groups = std::mem::take(&mut s.groups);
-    for g in &s_groups {
-        project(s, g, h);
-    }
-    s_groups.clear();
-    s.groups = s_groups;
-    // The force on the rod during the step, at the projected sliding speed.
-    s.force.clear();
-    for k in 0..n {
-        let Some(b) = world.beads.get(s.rows[k].id) else { continue };
-        let fp = bead_load(world, b);
-        let f = if b.fixed {
-            fp + s.contact[k]
-        } else {
-            let t = s.rows[k].t;
-            let normal = |x: Vector3<f64>| x - t * x.dot(&t);
-            let v = s.ds[k] / h;
-            s.w[k] += v;
-            // The bead's momentum across the rod, m P (v_b − v_rod)/h on
-            // top of the transverse inertia the rod carries: what makes the
-            // bead follow the rod's bends and turning (the centripetal and
-            // Coriolis forces, −m(ṡ²κn + 2ṡ ∂v/∂s⊥) in the limit) as
-            // inelastic impulses, which never add energy.
-            let across = normal(s.v_b[k] - s.v_rod[k]);
-            // The neighbours' push across the rod goes to the rod: with
-            // the part along it (in Δs) the pair's forces are equal and
-            // opposite along the line of centres, so they do no work.
-            normal(fp + s.contact[k]) + t * (b.friction * v) + across * (b.mass / h)
+    for i in 0..s.pairs.len() {
+        let Pair { a, b, .. } = s.pairs[i];
+        let (ra, rb) = (&s.rows[a], &s.rows[b]);
+        let (gap, dir) = gap(world.rod(ra.rod)?, ra, rb, s.pairs[i].period)?;
+        let p = &mut s.pairs[i];
+        p.gap = gap;
+        p.dir = dir;
+        p.slack = crate::pipeline::assemble::CONTACT_SLACK * 0.5 * (ra.radius + rb.radius);
+        // Closing speed at the start of the step.
+        let closing = match dir {
+            Some(c) => c.dot(&(rb.v - ra.v)),
+            None => rb.t().dot(&rb.v) - ra.t().dot(&ra.v),
         };
-        if !s.ds[k].is_finite() || !f.iter().all(|x| x.is_finite()) {
-            return Err(crate::error::Error::NonFinite {
-                rod: Some(b.rod),
-                detail: format!("bead {}: its sliding step or its force on the rod is not finite (mass {:e}); the world is unchanged", s.rows[k].id.0, b.mass),
-            });
-        }
-        s.force.push(f);
+        let pressed = world.beads.get(ra.id).is_some_and(|x| x.pressed);
+        p.active = pressed || p.gap + h * closing < p.target();
+        p.pulled = false;
     }
-    for k in 0..n {
-        if let Some(b) = world.beads.get_mut(s.rows[k].id) {
-            b.step_ds = s.ds[k];
-            b.step_w = s.w[k];
-            b.rod_force = s.force[k].into();
-            b.step_t = s.rows[k].t.into();
-        }
+    for (k, (_, b)) in world.beads.iter_mut().enumerate() {
+        b.rod_force = s.rows[k].rod_force.into();
+        b.step_ds = 0.0;
     }
     Ok(())
 }
 
-/// Projects the predicted increments of one rod's beads so that no two
-/// end the step closer than r_a + r_b ([`super::bead_chain`], with the
-/// gaps of [`gap`]). A closed ring is cut at its slackest pair; a ring too
-/// full to cut (every pair pressed) falls back to Gauss–Seidel sweeps.
-fn project(s: &mut Scratch, g: &Group, h: f64) {
-    let m = g.len;
-    if m < 2 {
-        return;
+/// r″ at a bead: Σ N″_k P_k (length per unit u²).
+fn second_derivative(rod: &crate::rod::Rod, ctrl: &[usize; 4], basis: &[[f64; 4]; 4]) -> Vector3<f64> {
+    let (q, d) = (rod.coords(), rod.dofs());
+    ctrl.iter().zip(&basis[2]).fold(Vector3::zeros(), |acc, (&i, &w)| acc + Vector3::new(q[i * d], q[i * d + 1], q[i * d + 2]) * w)
+}
+
+/// The slots of the step's bead unknowns (after `slots`' constraints,
+/// contacts and friction rows): one abscissa per sliding bead, then one row
+/// per active gap, linked to its beads' abscissae. `rod_pos` gives a rod's
+/// position in the layout.
+pub(crate) fn place(s: &mut Scratch, slots: &mut Vec<ConstraintSlot>, rod_pos: impl Fn(RodHandle) -> Result<usize>) -> Result<()> {
+    use crate::constraint::MAX_TOUCHED;
+    if !s.valid {
+        return Ok(());
     }
-    let n_pairs = if g.closed { m } else { m - 1 };
-    let bead = |s: &Scratch, i: usize| s.order[g.first + i % m];
-    let slack = |s: &Scratch, j: usize| {
-        let (a, b, _) = s.pairs[g.first_pair + j];
-        s.gaps[g.first_pair + j].0 + s.ds[b] - s.ds[a]
+    for r in s.rows.iter_mut() {
+        r.rod_pos = rod_pos(r.rod)?;
+    }
+    s.bead_base = slots.len();
+    let touched_of = |ctrl: &[usize; 4], touched: &mut [(u8, usize); MAX_TOUCHED], from: usize| {
+        for (t, &c) in touched[from..from + 4].iter_mut().zip(ctrl) {
+            *t = (0, c);
+        }
     };
-    if (0..n_pairs).all(|j| slack(s, j) >= 0.0) {
+    for r in s.rows.iter().filter(|r| r.slot.is_some()) {
+        let mut touched = [(0u8, 0usize); MAX_TOUCHED];
+        touched_of(&r.ctrl, &mut touched, 0);
+        slots.push(ConstraintSlot { rods: [r.rod_pos; 2], n_rows: 0, n_extra: 1, touched, held: [true; MAX_TOUCHED], len: 4, links: [NO_LINK; 2] });
+    }
+    // One slot per pair, a row in it while the pair is active: the slots'
+    // count stays put as pairs come and go (the layout's buffers with it).
+    s.gap_base = slots.len();
+    for p in &s.pairs {
+        let (a, b) = (&s.rows[p.a], &s.rows[p.b]);
+        let mut touched = [(0u8, 0usize); MAX_TOUCHED];
+        let link = |r: &Row| r.slot.map_or(NO_LINK, |j| s.bead_base + j);
+        let (len, links) = if p.active {
+            touched_of(&a.ctrl, &mut touched, 0);
+            touched_of(&b.ctrl, &mut touched, 4);
+            (8, [link(a), link(b)])
+        } else {
+            (0, [NO_LINK; 2])
+        };
+        slots.push(ConstraintSlot { rods: [a.rod_pos; 2], n_rows: p.active as usize, n_extra: 0, touched, held: [true; MAX_TOUCHED], len, links });
+    }
+    Ok(())
+}
+
+/// Adds the beads' blocks to the assembled system `sys` (see the module's
+/// comment): each sliding bead's abscissa (diagonal, coupling to its
+/// control points, right-hand side) and each active gap's row.
+pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &Scratch, k: Coefficients) {
+    if !s.valid {
         return;
     }
-    s.ds0.clear();
-    for i in 0..m {
-        let d = s.ds[bead(s, i)];
-        s.ds0.push(d);
-    }
-    // Chain order: from the bead after the cut.
-    let cut = if g.closed { (0..m).max_by(|&a, &b| slack(s, a).total_cmp(&slack(s, b))).unwrap_or(0) } else { m - 1 };
-    let start = (cut + 1) % m;
-    s.z.clear();
-    s.mass.clear();
-    let mut offset = 0.0;
-    for i in 0..m {
-        let k = bead(s, start + i);
-        s.z.push(s.ds[k] + offset);
-        s.mass.push((!s.rows[k].fixed).then_some(s.rows[k].mass));
-        if i + 1 < m {
-            offset += s.gaps[g.first_pair + (start + i) % m].0;
-        }
-    }
-    s.pool_of.resize(m, 0);
-    super::bead_chain::isotonic(&mut s.z, &s.mass, &mut s.pools, &mut s.pool_of);
-    let mut offset = 0.0;
-    for i in 0..m {
-        let k = bead(s, start + i);
-        s.ds[k] = s.z[i] - offset;
-        if i + 1 < m {
-            offset += s.gaps[g.first_pair + (start + i) % m].0;
-        }
-    }
-    if !(g.closed && slack(s, cut) < 0.0) {
-        pair_forces(s, g, start, h);
-        return;
-    }
-    // The ring is full: Gauss–Seidel sweeps over it, from the prediction.
-    for i in 0..m {
-        let k = bead(s, i);
-        s.ds[k] = s.ds0[i];
-    }
-    for _ in 0..50 {
-        let mut worst = 0.0f64;
-        for j in 0..n_pairs {
-            let (a, b, _) = s.pairs[g.first_pair + j];
-            let c = slack(s, j);
-            let (wa, wb) = (s.rows[a].inv_mass(), s.rows[b].inv_mass());
-            if c >= 0.0 || wa + wb == 0.0 {
-                continue;
+    for r in &s.rows {
+        let Some(j) = r.slot else { continue };
+        let g = layout.extra_index[s.bead_base + j];
+        let speed2 = r.d1.norm_squared();
+        sys.matrix.add(g, g, (k.mass * r.mass + k.drag * r.friction) * speed2 - r.load.dot(&r.d2));
+        sys.rhs[g] = k.force * r.drive.dot(&r.d1);
+        for (kk, &c) in r.ctrl.iter().enumerate() {
+            for a in 0..3 {
+                let gj = layout.cp_index[r.rod_pos][c] + a;
+                let v = k.mass * r.mass * r.basis[0][kk] * r.d1[a] - r.load[a] * r.basis[1][kk];
+                sys.matrix.add(gj, g, v);
+                sys.matrix.add(g, gj, v);
             }
-            s.ds[a] += c * wa / (wa + wb);
-            s.ds[b] -= c * wb / (wa + wb);
-            worst = worst.max(-c);
         }
-        if worst == 0.0 {
-            break;
+    }
+    for (i, p) in s.pairs.iter().enumerate().filter(|(_, p)| p.active) {
+        let ri = layout.row_index[s.gap_base + i];
+        // ∂gap/∂(q, u): ∓ĉ N_k on each bead's points, ∓ĉ·r′ on its abscissa.
+        for (r, sign) in [(&s.rows[p.a], -1.0), (&s.rows[p.b], 1.0)] {
+            if let Some(c) = p.dir {
+                for (kk, &cp) in r.ctrl.iter().enumerate() {
+                    for a in 0..3 {
+                        let gj = layout.cp_index[r.rod_pos][cp] + a;
+                        let v = sign * c[a] * r.basis[0][kk];
+                        sys.matrix.add(ri, gj, v);
+                        sys.matrix.add(gj, ri, v);
+                    }
+                }
+            }
+            if let Some(j) = r.slot {
+                let gx = layout.extra_index[s.bead_base + j];
+                let v = sign * p.dir.map_or(r.d1.norm(), |c| c.dot(&r.d1));
+                sys.matrix.add(ri, gx, v);
+                sys.matrix.add(gx, ri, v);
+            }
         }
+        sys.rhs[ri] = p.target() - p.gap;
     }
 }
 
-/// The gap (length unit) between neighbours `a` and `b` beyond r_a + r_b,
-/// as the arc length along the string that closes it. Beads are spheres
-/// threaded on the string: they touch when their centres are r_a + r_b
-/// apart, along the chord c = x_b − x_a. Sliding by Δs moves a centre by
-/// Δs t, so the chord shortens by c·t_a Δs_a − c·t_b Δs_b: the gap in arc
-/// length is (|c| − r_a − r_b)/c̄ with c̄ the mean of ĉ·t over the pair
-/// (1 on a straight string, cos(θ/2) on a bend that turns by θ between
-/// them). That holds while the chord runs along the string between them
-/// (c̄ > ½ and the arc, from their abscissae and |r′|, under twice the
-/// chord); otherwise (beads far apart along a string that comes back on
-/// itself) the gap is the arc length less r_a + r_b (3-point Gauss).
-fn gap(rod: &crate::rod::Rod, a: &Row, b: &Row, period: f64) -> Result<(f64, f64)> {
+/// One round of the gaps' active set after a solve: a row whose multiplier
+/// pulls leaves (for the rest of the step), a pair the solution closes
+/// past its target enters. Returns whether the set changed.
+pub(crate) fn update_gaps(world: &mut World) -> bool {
+    let ws = &mut world.ws;
+    let (s, layout, sol) = (&mut ws.beads, &ws.layout, &ws.sys.sol);
+    if !s.valid {
+        return false;
+    }
+    let mut changed = false;
+    for (i, p) in s.pairs.iter_mut().enumerate() {
+        let (a, b) = (&s.rows[p.a], &s.rows[p.b]);
+        if p.active {
+            let force = -sol[layout.row_index[s.gap_base + i]];
+            if force < 0.0 {
+                (p.active, p.pulled, changed) = (false, true, true);
+            }
+        } else if !p.pulled {
+            let (da, db) = (a.displacement(layout, sol, s.bead_base), b.displacement(layout, sol, s.bead_base));
+            let end = p.gap + p.change(a, b, da, db, layout, sol, s.bead_base);
+            if end < p.target() - 1e-9 * (a.radius + b.radius) {
+                (p.active, changed) = (true, true);
+            }
+        }
+    }
+    changed
+}
+
+/// The gap (length unit) between neighbours `a` and `b` beyond r_a + r_b
+/// and their unit line of centres. Beads are spheres threaded on the
+/// string: they touch when their centres are r_a + r_b apart, along the
+/// chord c = x_b − x_a. That holds while the chord runs along the string
+/// between them (ĉ·t, averaged over the pair, above ½ and the arc, from
+/// their abscissae and |r′|, under twice the chord); otherwise (beads far
+/// apart along a string that comes back on itself) the gap is the arc
+/// length less r_a + r_b (3-point Gauss) and the direction None.
+fn gap(rod: &crate::rod::Rod, a: &Row, b: &Row, period: f64) -> Result<(f64, Option<Vector3<f64>>)> {
     let need = a.radius + b.radius;
     let d = b.x - a.x;
     let len = d.norm();
     if len > 0.0 {
         let c = d / len;
-        let cbar = 0.5 * (c.dot(&a.t) + c.dot(&b.t));
-        let along = (b.u + period - a.u) * 0.5 * (a.speed + b.speed);
+        let cbar = 0.5 * (c.dot(&a.t()) + c.dot(&b.t()));
+        let along = (b.u + period - a.u) * 0.5 * (a.d1.norm() + b.d1.norm());
         if cbar > 0.5 && along < 2.0 * len {
-            return Ok(((len - need) / cbar, cbar));
+            return Ok((len - need, Some(c)));
         }
     }
-    Ok((arc(rod, a.u, b.u + period)? - need, 0.0))
-}
-
-/// The contact forces of one rod's projected chain, from `start` (after
-/// the cut) on. The projection moved bead i by Δs_i − Δs⁰_i, a push
-/// m_i (Δs_i − Δs⁰_i)/h² along the string, which is f_(i−1) − f_i with
-/// f_i the compression of pair (i, i+1); f is summed from each pool's free
-/// end (from both ends, so that a fixed bead, whose push is unknown, takes
-/// the rest). Two spheres touch along their line of centres ĉ: the pair
-/// gets ∓F ĉ, equal and opposite, with F = f/c̄ ([`gap`]: the multiplier
-/// of the chord's constraint), whose parts along the tangents are (to
-/// second order in the pair's turn) the ∓f the projection applied; the
-/// parts across them are what the string must bear. A ring too full to
-/// cut (its Gauss–Seidel sweeps) passes no such forces.
-fn pair_forces(s: &mut Scratch, g: &Group, start: usize, h: f64) {
-    let m = g.len;
-    let chain = |i: usize| (start + i) % m;
-    let bead = |s: &Scratch, i: usize| s.order[g.first + chain(i)];
-    let pushed = |s: &Scratch, i: usize| {
-        let k = bead(s, i);
-        s.rows[k].mass * (s.ds[k] - s.ds0[chain(i)]) / (h * h)
-    };
-    // Forward from the chain's start: f_i = f_(i−1) − push_i, reset at a
-    // pool's end (no contact) and unknown past a fixed bead (NaN).
-    s.push.clear();
-    let mut f = 0.0;
-    for i in 0..m - 1 {
-        let k = bead(s, i);
-        f = if s.rows[k].fixed { f64::NAN } else { f - pushed(s, i) };
-        if s.pool_of[i] != s.pool_of[i + 1] {
-            f = 0.0;
-        }
-        s.push.push(f);
-    }
-    // Backward for the pairs the forward sum could not reach.
-    let mut f = 0.0;
-    for i in (1..m).rev() {
-        let k = bead(s, i);
-        f = if s.rows[k].fixed { f64::NAN } else { f + pushed(s, i) };
-        if s.pool_of[i] != s.pool_of[i - 1] {
-            f = 0.0;
-        }
-        if s.push[i - 1].is_nan() {
-            s.push[i - 1] = f;
-        }
-    }
-    for i in 0..m - 1 {
-        let f = s.push[i];
-        if !(f > 0.0) {
-            continue; // apart, or two fixed beads (no way to share the push)
-        }
-        let (a, b) = (bead(s, i), bead(s, i + 1));
-        // The pair's c̄ (0: far apart along a string that comes back, no
-        // line of centres to push along).
-        let cbar = s.gaps[g.first_pair + chain(i)].1;
-        let d = s.rows[b].x - s.rows[a].x;
-        let len = d.norm();
-        if cbar > 0.0 && len > 0.0 {
-            let c = d / len;
-            s.contact[a] -= c * (f / cbar);
-            s.contact[b] += c * (f / cbar);
-        }
-    }
+    Ok((arc(rod, a.u, b.u + period)? - need, None))
 }
 
 /// Arc length of `rod` from `ua` to `ub` (≥ ua; past the end of a closed
@@ -397,30 +387,28 @@ fn arc(rod: &crate::rod::Rod, ua: f64, ub: f64) -> Result<f64> {
 /// abscissa: on a closed rod the last and first are neighbours across the
 /// seam.
 fn neighbours(world: &World, s: &mut Scratch) -> Result<()> {
-    let Scratch { rows, order, pairs, groups, .. } = s;
+    let Scratch { rows, order, pairs, .. } = s;
     order.clear();
-    groups.clear();
     order.extend(0..rows.len());
     order.sort_unstable_by(|&a, &b| rows[a].rod.index.cmp(&rows[b].rod.index).then(rows[a].u.total_cmp(&rows[b].u)).then(a.cmp(&b)));
     pairs.clear();
+    let pair = |a: usize, b: usize, period: f64| Pair { a, b, period, gap: 0.0, slack: 0.0, dir: None, active: false, pulled: false };
     let mut k = 0;
     while k < order.len() {
         let mut e = k;
         while e + 1 < order.len() && rows[order[e + 1]].rod.index == rows[order[k]].rod.index {
-            pairs.push((order[e], order[e + 1], 0.0));
+            pairs.push(pair(order[e], order[e + 1], 0.0));
             e += 1;
         }
-        let first_pair = pairs.len() - (e - k);
-        let mut closed = false;
         if e > k {
             if let Some(p) = period(world.rod(rows[order[k]].rod)?) {
-                pairs.push((order[e], order[k], p));
-                closed = true;
+                pairs.push(pair(order[e], order[k], p));
             }
         }
-        groups.push(Group { first: k, len: e + 1 - k, first_pair, closed });
         k = e + 1;
     }
+    // Two knotted beads: nothing moves between them.
+    pairs.retain(|p| !(rows[p.a].fixed && rows[p.b].fixed));
     Ok(())
 }
 
@@ -443,49 +431,56 @@ pub(crate) fn static_load(world: &mut World) {
         b.velocity = 0.0;
         b.carried = None;
     }
+    // A dynamic step's rows (one that failed) do not describe this solve.
+    world.ws.beads.valid = false;
 }
 
-/// Dynamics, after the rod solve: advance each bead along the new rod
-/// shape, keep beads from passing each other, remove those that left
-/// (their events go to `events`).
+/// Dynamics, after the rod solve: each sliding bead moves by its solved
+/// Δu (round a closed rod it wraps) and takes the velocity (x_{n+1} −
+/// x_n)/h; the pairs that pressed are remembered for the next step's
+/// active set; beads that left an open rod are removed (their events go
+/// to `events`).
 pub(crate) fn advance(world: &mut World, h: f64, events: &mut Vec<Event>) -> Result<()> {
     let mut s = std::mem::take(&mut world.ws.beads);
     let out = advance_with(world, h, events, &mut s);
+    s.valid = false;
     world.ws.beads = s;
     out
 }
 
 fn advance_with(world: &mut World, h: f64, events: &mut Vec<Event>, s: &mut Scratch) -> Result<()> {
-    // Neighbours are taken in the order before the move.
-    s.load(world);
-    neighbours(world, s)?;
-    for k in 0..s.rows.len() {
-        let Some(b) = world.beads.get(s.rows[k].id) else { continue };
+    if !s.valid {
+        return Ok(());
+    }
+    let overdamped = world.params.overdamped;
+    for (k, r) in s.rows.iter().enumerate() {
+        let Some(b) = world.beads.get(r.id) else { continue };
         if b.fixed {
             continue;
         }
-        // Sliding speed relative to the rod as it now moves (the basis at
-        // the bead is the prediction's: it has not moved yet).
         let rod = world.rod(b.rod)?;
-        let (ctrl, basis) = bead_basis(s, k, s.rows[k].id, b.u, rod)?;
-        let (_, d1, velocity) = rod.motion_from(&ctrl, &basis);
-        let speed = d1.norm();
-        let v = b.step_w - (d1 / speed).dot(&velocity);
-        let du = h * v / speed;
-        // Its own velocity: the rod's across the step's tangent, where it
-        // was, and the step's speed along it.
-        let t = Vector3::from(b.step_t);
-        let carried = velocity - t * t.dot(&velocity) + t * b.step_w;
-        // On a closed rod a bead goes round: its abscissa wraps.
         let period = period(rod);
-        if let Some(b) = world.beads.get_mut(s.rows[k].id) {
-            b.u = period.map_or(b.u + du, |p| (b.u + du).rem_euclid(p));
-            b.velocity = v;
-            b.carried = Some(carried.into());
+        let u = period.map_or(b.u + b.step_ds, |p| (b.u + b.step_ds).rem_euclid(p));
+        // Where it is now (an open rod's end for a bead that left it).
+        let (lo, hi) = rod.domain();
+        let (ctrl, basis) = rod.basis_at(if period.is_some() { u } else { u.clamp(lo, hi) })?;
+        let (_, d1, v_rod) = rod.motion_from(&ctrl, &basis);
+        let v = if overdamped { Vector3::zeros() } else { s.disp[k] / h };
+        let t = if d1.norm() > 0.0 { d1 / d1.norm() } else { r.t() };
+        if let Some(b) = world.beads.get_mut(r.id) {
+            b.u = u;
+            b.velocity = if overdamped { 0.0 } else { t.dot(&(v - v_rod)) };
+            b.carried = (!overdamped).then(|| v.into());
         }
     }
-    s.basis.clear();
-    contacts(world, s)?;
+    for (_, b) in world.beads.iter_mut() {
+        b.pressed = false;
+    }
+    for p in s.pairs.iter().filter(|p| p.active) {
+        if let Some(b) = world.beads.get_mut(s.rows[p.a].id) {
+            b.pressed = true;
+        }
+    }
     for r in &s.rows {
         let Some(b) = world.beads.get(r.id) else { continue };
         let (a, z) = world.rod(b.rod)?.domain();
@@ -497,75 +492,24 @@ fn advance_with(world: &mut World, h: f64, events: &mut Vec<Event>, s: &mut Scra
     Ok(())
 }
 
-/// Sets `row` to the point of `rod` at its abscissa (an open rod's end
-/// for a bead past it, which is leaving): position, unit tangent, |r′|.
-fn place(rod: &crate::rod::Rod, row: &mut Row) -> Result<()> {
-    let (lo, hi) = rod.domain();
-    let u = if period(rod).is_some() { row.u } else { row.u.clamp(lo, hi) };
-    let (ctrl, b) = rod.basis_at(u)?;
-    let (x, d1, _) = rod.motion_from(&ctrl, &b);
-    row.speed = d1.norm();
-    row.x = x;
-    row.t = if row.speed > 0.0 { d1 / row.speed } else { Vector3::zeros() };
-    Ok(())
-}
-
-/// After the step, what the predicted increments could not foresee (the
-/// rod stretched or bent under them): neighbours whose gap ([`gap`], at
-/// the new shape) is negative are moved apart along the string by it,
-/// about their centre of mass, with a common velocity (inelastic; a fixed
-/// bead acts as an infinite mass).
-fn contacts(world: &mut World, s: &mut Scratch) -> Result<()> {
-    for r in s.rows.iter_mut() {
-        if let Some(b) = world.beads.get(r.id) {
-            r.u = b.u;
-            place(world.rod(b.rod)?, r)?;
+/// Records each sliding bead's abscissa increment Δu (`scale` × the
+/// solution's) for [`advance`].
+pub(crate) fn record_increments(world: &mut World, scale: f64) {
+    let World { beads, ws, .. } = world;
+    let s = &mut ws.beads;
+    if !s.valid {
+        return;
+    }
+    s.disp.clear();
+    for r in &s.rows {
+        s.disp.push(r.displacement(&ws.layout, &ws.sys.sol, s.bead_base) * scale);
+    }
+    for r in &s.rows {
+        let (Some(j), Some(b)) = (r.slot, beads.get_mut(r.id)) else { continue };
+        if let Some(&g) = ws.layout.extra_index.get(s.bead_base + j) {
+            b.step_ds = scale * ws.sys.sol[g];
         }
     }
-    for p in 0..s.pairs.len() {
-        let (ka, kb, period) = s.pairs[p];
-        let (ia, ib) = (s.rows[ka].id, s.rows[kb].id);
-        let (Some(a), Some(b)) = (world.beads.get(ia), world.beads.get(ib)) else { continue };
-        let (ma, mb) = match (a.fixed, b.fixed) {
-            (true, true) => continue,
-            (true, false) => (1.0, 0.0),
-            (false, true) => (0.0, 1.0),
-            (false, false) => (a.mass, b.mass),
-        };
-        let handle = a.rod;
-        let rod = world.rod(handle)?;
-        // A bead past an open rod's end has left: it pushes no one.
-        let (lo, hi) = rod.domain();
-        let off = |u: f64| self::period(rod).is_none() && !(lo..=hi).contains(&u);
-        if off(a.u) || off(b.u) {
-            continue;
-        }
-        let (g, _) = gap(rod, &s.rows[ka], &s.rows[kb], period)?;
-        if g >= 0.0 {
-            continue;
-        }
-        let m = ma + mb;
-        let v = (ma * a.velocity + mb * b.velocity) / m;
-        let ring = self::period(rod);
-        let wrap = |u: f64| ring.map_or(u, |q| u.rem_euclid(q));
-        // Arc length to abscissa with each bead's |r′|.
-        let ua = wrap(a.u + g * mb / m / s.rows[ka].speed.max(f64::MIN_POSITIVE));
-        let ub = wrap(b.u - g * ma / m / s.rows[kb].speed.max(f64::MIN_POSITIVE));
-        for (k, i, u) in [(ka, ia, ua), (kb, ib, ub)] {
-            if let Some(bead) = world.beads.get_mut(i) {
-                bead.u = u;
-                // The common speed along the rod replaces the bead's own.
-                if let Some(c) = bead.carried {
-                    let t = Vector3::from(bead.step_t);
-                    bead.carried = Some((Vector3::from(c) + t * (v - bead.velocity)).into());
-                }
-                bead.velocity = v;
-            }
-            s.rows[k].u = u;
-            place(world.rod(handle)?, &mut s.rows[k])?;
-        }
-    }
-    Ok(())
 }
 
 /// Statics: moves the sliding beads (in arena order, fixed ones skipped)

@@ -148,9 +148,9 @@ fn step_by(world: &mut World, h: f64) -> Result<StepReport> {
     })
 }
 
-/// The scheme's solves of one step of `h` (beads predicted first).
+/// The scheme's solves of one step of `h` (the beads' start of step first).
 fn advance(world: &mut World, h: f64) -> Result<(f64, crate::system::Solved, usize)> {
-    super::beads::predict(world, h)?;
+    super::beads::prepare(world, h)?;
     Ok(match world.params.scheme {
         Scheme::ImplicitEuler => {
             let (energy, solved) = solve::assemble_and_solve(world, Regime::Dynamic { h })?;

@@ -10,7 +10,6 @@
 //! behaviour, and the world never calls into it (`World::step` and
 //! `World::relax` are one-line conveniences defined here).
 mod assemble;
-mod bead_chain;
 pub(crate) mod beads;
 mod clips;
 mod definedness;

@@ -128,7 +128,10 @@ fn settle_and_solve(world: &mut World, regime: Regime) -> Result<(f64, Solved)> 
             Err(e) if block_dependent_contact(world, &e) => continue,
             other => other?,
         };
-        if world.contacts.is_empty() || rounds >= MAX_ACTIVE_SET_ROUNDS || !update_active_set(world, rounds >= crate::contact::friction::FREE_ROUNDS)? {
+        let contacts_moved = !world.contacts.is_empty() && rounds < MAX_ACTIVE_SET_ROUNDS && update_active_set(world, rounds >= crate::contact::friction::FREE_ROUNDS)?;
+        // The beads' gap rows settle in the same rounds (dynamics only).
+        let beads_moved = rounds < MAX_ACTIVE_SET_ROUNDS && super::beads::update_gaps(world);
+        if !(contacts_moved || beads_moved) {
             check_blocked(world)?;
             return Ok((energy, solved));
         }
@@ -673,6 +676,7 @@ pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) ->
             }
         }
     }
+    super::beads::record_increments(world, scale);
     (dx_max, dth_max)
 }
 

@@ -144,30 +144,17 @@ fn next_batch(rods: &[&Rod], batch: usize, at: &mut (usize, usize), ranges: &mut
     filled
 }
 
-/// P = I − s sᵀ: what a sliding bead's mass acts on (s = 0: all of it).
-fn slide_projector(s: &[f64; 3]) -> [[f64; 3]; 3] {
-    let mut p = [[0.0f64; 3]; 3];
-    for a in 0..3 {
-        for c in 0..3 {
-            p[a][c] = if a == c { 1.0 } else { 0.0 } - s[a] * s[c];
-        }
-    }
-    p
-}
-
-/// Adds c_m m b_k b_l P, a bead's mass on its segment's control points,
+/// Adds c_m m b_k b_l I₃, a bead's mass on its segment's control points,
 /// to the segment's block (upper half, rows of `d` dofs per point).
 fn add_point_mass(blk: &mut SegBlock, d: usize, c_m: f64, pm: &PointMass) {
-    let p = slide_projector(&pm.slide);
     let mb = c_m * pm.mass;
     for kk in 0..4 {
         for ll in kk..4 {
             let w = mb * pm.b[kk] * pm.b[ll];
             for a in 0..3 {
                 let row = (kk * d + a) * 16 + ll * d;
-                for c in if ll == kk { a } else { 0 }..3 {
-                    blk.hess[row + c] += w * p[a][c];
-                }
+                // The diagonal of I₃ (the upper half of a diagonal block too).
+                blk.hess[row + a] += w;
             }
         }
     }
@@ -486,9 +473,10 @@ pub struct KktSystem {
 /// A point mass (bead) on a rod: `mass` at the point of segment `seg` of
 /// the rod at position `rod` in the layout whose basis is `b` on control
 /// points `ctrl` (evaluated once by the caller, which spreads the bead's
-/// force with it too); `slide` the unit direction along which it is free
-/// (its own unknown), or zero for a mass riding with the rod. Its mass
-/// block joins its segment's before that is scattered.
+/// force with it too). A sliding bead's motion along the rod is the
+/// abscissa unknown of [`crate::pipeline::beads`], coupled to these
+/// coordinates there. Its mass block joins its segment's before that is
+/// scattered.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PointMass {
     pub rod: usize,
@@ -497,7 +485,6 @@ pub struct PointMass {
     pub ctrl: [usize; 4],
     pub b: [f64; 4],
     pub mass: f64,
-    pub slide: [f64; 3],
 }
 
 impl KktSystem {
@@ -593,9 +580,7 @@ impl KktSystem {
             }
         }
         self.pm_order = pm_order;
-        // Point masses (beads): c_m m b_i b_j P and c_v m b_i P v(u), with
-        // P = I − s sᵀ (s the unit sliding direction of a sliding bead, whose
-        // motion along the rod is its own unknown; s = 0 for a fixed one).
+        // Point masses (beads): c_m m b_i b_j I₃ and c_v m b_i v(u).
         for pm in point_masses {
             let rod = rods[pm.rod];
             let (d, b) = (rod.dofs, &pm.b);
@@ -604,12 +589,10 @@ impl KktSystem {
                 v += Vector3::new(rod.v[i * d], rod.v[i * d + 1], rod.v[i * d + 2]) * b[kk];
             }
             // Its mass block went in with its segment's (scatter above).
-            let p = slide_projector(&pm.slide);
             for kk in 0..4 {
                 for a in 0..3 {
                     let gi = layout.cp_index[pm.rod][pm.ctrl[kk]] + a;
-                    let pv = p[a][0] * v[0] + p[a][1] * v[1] + p[a][2] * v[2];
-                    self.rhs[gi] += k.momentum * pm.mass * b[kk] * pv;
+                    self.rhs[gi] += k.momentum * pm.mass * b[kk] * v[a];
                 }
             }
         }

@@ -26,7 +26,13 @@ pub struct ConstraintSlot {
     /// `constraint::Touched`): the rows are placed among these.
     pub held: [bool; crate::constraint::MAX_TOUCHED],
     pub len: usize,
+    /// Slots whose abscissa unknowns these rows also act on (a bead gap's
+    /// two beads), `NO_LINK` for none: they count in the bandwidth.
+    pub links: [usize; 2],
 }
+
+/// No linked slot ([`ConstraintSlot::links`]).
+pub const NO_LINK: usize = usize::MAX;
 
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct Layout {
@@ -153,6 +159,10 @@ impl Layout {
                 let (lo, hi) = (self.cp_index[r][i], self.cp_index[r][i] + self.dofs[r] - 1);
                 bw = bw.max(r1.saturating_sub(lo)).max(hi.saturating_sub(r0));
             }
+            for &e in s.links.iter().filter(|&&e| e != NO_LINK) {
+                let x = self.extra_index[e];
+                bw = bw.max(r1.saturating_sub(x)).max(x.saturating_sub(r0));
+            }
         }
         self.bandwidth = bw;
     }
@@ -185,7 +195,7 @@ mod tests {
                 len += 1;
             }
         }
-        ConstraintSlot { rods, n_rows, n_extra: 0, touched, held: [true; crate::constraint::MAX_TOUCHED], len }
+        ConstraintSlot { rods, n_rows, n_extra: 0, touched, held: [true; crate::constraint::MAX_TOUCHED], len, links: [NO_LINK; 2] }
     }
     /// The bandwidth of a rod with constraints spread along it does not grow
     /// with the number of constraints (IV.A).
