@@ -204,8 +204,10 @@ fn flexible_pendulum_reaches_2_mm_with_a_20x_larger_step() {
 /// notes). The trapezoidal rule is not run here: with curved constraints
 /// its undamped constraint chatter blows up (see `Scheme::Trapezoidal`).
 /// The scenes with sliding beads (necklace, spring) are refused by both
-/// second-order schemes with a clear error, the world unchanged: their
-/// beads' first-order update pumped energy in (this test ran them 300
+/// second-order schemes with a clear error, the world unchanged (a bead's
+/// abscissa is an unknown of implicit Euler steps only). When the beads'
+/// motion was a first-order update beside the step it pumped energy in
+/// (this test ran them 300
 /// steps, which the necklace survived; over 2000 steps, TR-BDF2: the
 /// necklace with 6–14 beads went from −0.01…−0.03 J to 1–45 J before its
 /// Newton iterations failed at steps 235–368, one bead alone to 67 J by

@@ -59,19 +59,19 @@ fn step_here(world: &mut World) -> Result<StepReport> {
     last
 }
 
-/// The second-order schemes do not take sliding beads: the bead's motion
-/// along the rod is a first-order update coupled to the rod's step, and
-/// beside a second-order rod step it pumps energy in (measured, TR-BDF2:
-/// one 2 g bead on the necklace's string went from −3.6e-3 J to 67 J in
-/// 200 steps of 0.8 ms; the beads on the spring from −3.1e-3 to 4.4e-2 J
-/// in 446 steps; the trapezoidal rule alike). Refused up front, the world
-/// unchanged; knotted (fixed) beads ride with the rod and are fine.
+/// The second-order schemes do not take sliding beads: a bead's abscissa
+/// is an unknown of the implicit Euler step only (their Newton iterations
+/// do not carry it; when the bead's motion along the rod was a first-order
+/// update beside their step it pumped energy in — TR-BDF2: one 2 g bead
+/// on the necklace's string from −3.6e-3 J to 67 J in 200 steps of
+/// 0.8 ms). Refused up front, the world unchanged; knotted (fixed) beads
+/// ride with the rod and are fine.
 fn check_scheme(world: &World) -> Result<()> {
     let scheme = world.params.scheme;
     if scheme != Scheme::ImplicitEuler && world.beads.iter().any(|(_, b)| !b.fixed) {
         let name = if scheme == Scheme::TrBdf2 { "tr_bdf2" } else { "trapezoidal" };
         return Err(Error::input(format!(
-            "scheme '{name}' with sliding beads is not supported (their first-order update along the rod pumps energy into a second-order step); use scheme 'implicit_euler', or fix the beads"
+            "scheme '{name}' with sliding beads is not supported (a bead's abscissa is an unknown of implicit Euler steps only); use scheme 'implicit_euler', or fix the beads"
         )));
     }
     Ok(())

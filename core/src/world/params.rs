@@ -172,9 +172,9 @@ pub enum Scheme {
     /// L-stable: resolved vibrations keep their amplitude (99.2 % over 10
     /// periods at 20 steps per period, period +0.40 %), unresolved ones
     /// (stiff stretching, constraint chatter) are damped out as by
-    /// implicit Euler. A world with sliding beads is refused (their
-    /// first-order update along the rod pumps energy into a second-order
-    /// step; knotted beads are fine).
+    /// implicit Euler. A world with sliding beads is refused (a
+    /// bead's abscissa is an unknown of implicit Euler steps only; knotted
+    /// beads are fine).
     TrBdf2,
 }
 
