@@ -61,8 +61,8 @@ struct Row {
     /// dynamics).
     load: Vector3<f64>,
     drive: Vector3<f64>,
-    /// Position among the sliding beads (the order of their abscissa
-    /// unknowns), None for a fixed bead.
+    /// Position among the sliding beads, None for a fixed bead; then
+    /// (once the slots are placed) the slot of its abscissa unknown.
     slot: Option<usize>,
     /// Its force on the rod besides the point mass's (force unit).
     rod_force: Vector3<f64>,
@@ -74,14 +74,14 @@ impl Row {
         self.d1 / self.d1.norm()
     }
     /// J [Δq; Δu] from a solution: the bead's linearised displacement.
-    fn displacement(&self, layout: &Layout, sol: &[f64], bead_base: usize) -> Vector3<f64> {
+    fn displacement(&self, layout: &Layout, sol: &[f64]) -> Vector3<f64> {
         let mut d = Vector3::zeros();
         for (k, &c) in self.ctrl.iter().enumerate() {
             let g = layout.cp_index[self.rod_pos][c];
             d += Vector3::new(sol[g], sol[g + 1], sol[g + 2]) * self.basis[0][k];
         }
         if let Some(j) = self.slot {
-            d += self.d1 * sol[layout.extra_index[bead_base + j]];
+            d += self.d1 * sol[layout.extra_index[j]];
         }
         d
     }
@@ -102,6 +102,8 @@ struct Pair {
     /// along the string between them (beads far apart along a string that
     /// comes back on itself): the gap is then the arc's, ∂/∂u = ±|r′|.
     dir: Option<Vector3<f64>>,
+    /// Its slot (set when the slots are placed).
+    slot: usize,
     /// Its row is in the system; it pulled and left for this step.
     active: bool,
     pulled: bool,
@@ -114,11 +116,11 @@ impl Pair {
         -(-self.gap).clamp(0.0, self.slack)
     }
     /// The gap's increment for the beads' displacements (linearised).
-    fn change(&self, a: &Row, b: &Row, da: Vector3<f64>, db: Vector3<f64>, layout: &Layout, sol: &[f64], bead_base: usize) -> f64 {
+    fn change(&self, a: &Row, b: &Row, da: Vector3<f64>, db: Vector3<f64>, layout: &Layout, sol: &[f64]) -> f64 {
         match self.dir {
             Some(c) => c.dot(&(db - da)),
             None => {
-                let du = |r: &Row| r.slot.map_or(0.0, |j| sol[layout.extra_index[bead_base + j]]) * r.d1.norm();
+                let du = |r: &Row| r.slot.map_or(0.0, |j| sol[layout.extra_index[j]]) * r.d1.norm();
                 du(b) - du(a)
             }
         }
@@ -136,10 +138,6 @@ pub(crate) struct Scratch {
     pairs: Vec<Pair>,
     /// The rows describe this step (from [`prepare`] to [`advance`]).
     valid: bool,
-    /// Slot index of the first sliding bead's abscissa and of the first
-    /// active gap row (set when the slots are placed).
-    bead_base: usize,
-    gap_base: usize,
 }
 
 /// The basis of bead `k` (arena order) at `u` on `rod`: the one this
@@ -237,32 +235,42 @@ pub(crate) fn place(s: &mut Scratch, slots: &mut Vec<ConstraintSlot>, rod_pos: i
     for r in s.rows.iter_mut() {
         r.rod_pos = rod_pos(r.rod)?;
     }
-    s.bead_base = slots.len();
     let touched_of = |ctrl: &[usize; 4], touched: &mut [(u8, usize); MAX_TOUCHED], from: usize| {
         for (t, &c) in touched[from..from + 4].iter_mut().zip(ctrl) {
             *t = (0, c);
         }
     };
-    for r in s.rows.iter().filter(|r| r.slot.is_some()) {
-        let mut touched = [(0u8, 0usize); MAX_TOUCHED];
-        touched_of(&r.ctrl, &mut touched, 0);
-        slots.push(ConstraintSlot { rods: [r.rod_pos; 2], n_rows: 0, n_extra: 1, touched, held: [true; MAX_TOUCHED], len: 4, links: [NO_LINK; 2] });
+    // Along each rod, a bead's abscissa and then the gap to its next
+    // neighbour: placed at the same control point, they alternate, and a
+    // gap row sits beside the abscissae it acts on. One slot per pair, a
+    // row in it while the pair is active: the slots' count stays put as
+    // pairs come and go (the layout's buffers with it).
+    let mut next_pair = 0;
+    for i in 0..s.order.len() {
+        let k = s.order[i];
+        if s.rows[k].slot.is_some() {
+            let mut touched = [(0u8, 0usize); MAX_TOUCHED];
+            touched_of(&s.rows[k].ctrl, &mut touched, 0);
+            s.rows[k].slot = Some(slots.len());
+            slots.push(ConstraintSlot { rods: [s.rows[k].rod_pos; 2], n_rows: 0, n_extra: 1, touched, held: [true; MAX_TOUCHED], len: 4, links: [NO_LINK; 2] });
+        }
+        while next_pair < s.pairs.len() && s.pairs[next_pair].a == k {
+            s.pairs[next_pair].slot = slots.len();
+            slots.push(ConstraintSlot { rods: [s.rows[k].rod_pos; 2], n_rows: 0, n_extra: 0, touched: [(0, 0); MAX_TOUCHED], held: [true; MAX_TOUCHED], len: 0, links: [NO_LINK; 2] });
+            next_pair += 1;
+        }
     }
-    // One slot per pair, a row in it while the pair is active: the slots'
-    // count stays put as pairs come and go (the layout's buffers with it).
-    s.gap_base = slots.len();
+    debug_assert_eq!(next_pair, s.pairs.len(), "pairs follow their first bead along the rod");
+    // The active pairs' rows, now that every abscissa has its slot.
     for p in &s.pairs {
         let (a, b) = (&s.rows[p.a], &s.rows[p.b]);
-        let mut touched = [(0u8, 0usize); MAX_TOUCHED];
-        let link = |r: &Row| r.slot.map_or(NO_LINK, |j| s.bead_base + j);
-        let (len, links) = if p.active {
-            touched_of(&a.ctrl, &mut touched, 0);
-            touched_of(&b.ctrl, &mut touched, 4);
-            (8, [link(a), link(b)])
-        } else {
-            (0, [NO_LINK; 2])
-        };
-        slots.push(ConstraintSlot { rods: [a.rod_pos; 2], n_rows: p.active as usize, n_extra: 0, touched, held: [true; MAX_TOUCHED], len, links });
+        if p.active {
+            let slot = &mut slots[p.slot];
+            touched_of(&a.ctrl, &mut slot.touched, 0);
+            touched_of(&b.ctrl, &mut slot.touched, 4);
+            (slot.n_rows, slot.len) = (1, 8);
+            slot.links = [a.slot.unwrap_or(NO_LINK), b.slot.unwrap_or(NO_LINK)];
+        }
     }
     Ok(())
 }
@@ -276,7 +284,7 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &Scratch, k: Coe
     }
     for r in &s.rows {
         let Some(j) = r.slot else { continue };
-        let g = layout.extra_index[s.bead_base + j];
+        let g = layout.extra_index[j];
         let speed2 = r.d1.norm_squared();
         sys.matrix.add(g, g, (k.mass * r.mass + k.drag * r.friction) * speed2 - r.load.dot(&r.d2));
         sys.rhs[g] = k.force * r.drive.dot(&r.d1);
@@ -290,7 +298,7 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &Scratch, k: Coe
         }
     }
     for (i, p) in s.pairs.iter().enumerate().filter(|(_, p)| p.active) {
-        let ri = layout.row_index[s.gap_base + i];
+        let ri = layout.row_index[p.slot];
         // ∂gap/∂(q, u): ∓ĉ N_k on each bead's points, ∓ĉ·r′ on its abscissa.
         for (r, sign) in [(&s.rows[p.a], -1.0), (&s.rows[p.b], 1.0)] {
             if let Some(c) = p.dir {
@@ -304,7 +312,7 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &Scratch, k: Coe
                 }
             }
             if let Some(j) = r.slot {
-                let gx = layout.extra_index[s.bead_base + j];
+                let gx = layout.extra_index[j];
                 let v = sign * p.dir.map_or(r.d1.norm(), |c| c.dot(&r.d1));
                 sys.matrix.add(ri, gx, v);
                 sys.matrix.add(gx, ri, v);
@@ -327,13 +335,13 @@ pub(crate) fn update_gaps(world: &mut World) -> bool {
     for (i, p) in s.pairs.iter_mut().enumerate() {
         let (a, b) = (&s.rows[p.a], &s.rows[p.b]);
         if p.active {
-            let force = -sol[layout.row_index[s.gap_base + i]];
+            let force = -sol[layout.row_index[p.slot]];
             if force < 0.0 {
                 (p.active, p.pulled, changed) = (false, true, true);
             }
         } else if !p.pulled {
-            let (da, db) = (a.displacement(layout, sol, s.bead_base), b.displacement(layout, sol, s.bead_base));
-            let end = p.gap + p.change(a, b, da, db, layout, sol, s.bead_base);
+            let (da, db) = (a.displacement(layout, sol), b.displacement(layout, sol));
+            let end = p.gap + p.change(a, b, da, db, layout, sol);
             if end < p.target() - 1e-9 * (a.radius + b.radius) {
                 (p.active, changed) = (true, true);
             }
@@ -392,7 +400,7 @@ fn neighbours(world: &World, s: &mut Scratch) -> Result<()> {
     order.extend(0..rows.len());
     order.sort_unstable_by(|&a, &b| rows[a].rod.index.cmp(&rows[b].rod.index).then(rows[a].u.total_cmp(&rows[b].u)).then(a.cmp(&b)));
     pairs.clear();
-    let pair = |a: usize, b: usize, period: f64| Pair { a, b, period, gap: 0.0, slack: 0.0, dir: None, active: false, pulled: false };
+    let pair = |a: usize, b: usize, period: f64| Pair { a, b, period, gap: 0.0, slack: 0.0, dir: None, slot: 0, active: false, pulled: false };
     let mut k = 0;
     while k < order.len() {
         let mut e = k;
@@ -502,11 +510,11 @@ pub(crate) fn record_increments(world: &mut World, scale: f64) {
     }
     s.disp.clear();
     for r in &s.rows {
-        s.disp.push(r.displacement(&ws.layout, &ws.sys.sol, s.bead_base) * scale);
+        s.disp.push(r.displacement(&ws.layout, &ws.sys.sol) * scale);
     }
     for r in &s.rows {
         let (Some(j), Some(b)) = (r.slot, beads.get_mut(r.id)) else { continue };
-        if let Some(&g) = ws.layout.extra_index.get(s.bead_base + j) {
+        if let Some(&g) = ws.layout.extra_index.get(j) {
             b.step_ds = scale * ws.sys.sol[g];
         }
     }
@@ -598,7 +606,7 @@ mod tests {
             let f = bead_load(&w, bd);
             let (x0, d10) = (x_of(&base, bd.u), d1_of(&base, bd.u));
             let grad_u = |rod: &crate::rod::Rod, u: f64| d1_of(rod, u).dot(&((x_of(rod, u) - x0) * (bd.mass / (h * h)) - f)) + bd.friction / h * d10.norm_squared() * (u - bd.u);
-            let g = layout.extra_index[s.bead_base + row.slot.unwrap()];
+            let g = layout.extra_index[row.slot.unwrap()];
             check(sys.rhs[g], -grad_u(&base, bd.u), "abscissa rhs");
             check(sys.matrix.get(g, g), (grad_u(&base, bd.u + eu) - grad_u(&base, bd.u - eu)) / (2.0 * eu), "(u, u)");
             for &c in &cps {
@@ -613,11 +621,11 @@ mod tests {
         }
         let (ba, bb) = (w.bead(a).unwrap().clone(), w.bead(b).unwrap().clone());
         let gap = |rod: &crate::rod::Rod, ua: f64, ub: f64| (x_of(rod, ub) - x_of(rod, ua)).norm() - ba.radius - bb.radius;
-        let ri = layout.row_index[s.gap_base];
+        let ri = layout.row_index[s.pairs[0].slot];
         check(sys.rhs[ri], 0.0, "gap rhs (touching within the slack)");
         assert!(gap(&base, ba.u, bb.u).abs() < 1e-8);
-        let ga = layout.extra_index[s.bead_base];
-        let gb = layout.extra_index[s.bead_base + 1];
+        let ga = layout.extra_index[s.rows[0].slot.unwrap()];
+        let gb = layout.extra_index[s.rows[1].slot.unwrap()];
         check(sys.matrix.get(ri, ga), (gap(&base, ba.u + eu, bb.u) - gap(&base, ba.u - eu, bb.u)) / (2.0 * eu), "∂g/∂u_a");
         check(sys.matrix.get(ri, gb), (gap(&base, ba.u, bb.u + eu) - gap(&base, ba.u, bb.u - eu)) / (2.0 * eu), "∂g/∂u_b");
         for &c in &cps {
