@@ -547,7 +547,7 @@ fn gather_and_assemble(
     ws.sys.linear_solver = params.linear_solver;
     let mut energy = ws.sys.assemble(&ws.layout, rods, &ws.drags, &ws.ext, &crefs, &ws.masses, &ws.field_k, k, params.parallel);
     if energy.is_ok() && regime.dynamic() {
-        crate::pipeline::beads::assemble(&mut ws.sys, &ws.layout, &ws.beads, k);
+        energy = energy.and_then(|e| crate::pipeline::beads::assemble(&mut ws.sys, &ws.layout, &mut ws.beads, k).map(|_| e));
     } else if energy.is_ok() && regime.bead_unknowns() {
         let static_beads: Vec<BeadRef> = beads
             .iter()

@@ -61,11 +61,19 @@ struct Row {
     /// dynamics).
     load: Vector3<f64>,
     drive: Vector3<f64>,
-    /// Position among the sliding beads, None for a fixed bead; then
-    /// (once the slots are placed) the slot of its abscissa unknown.
+    /// Position among the sliding beads, None for a fixed bead.
     slot: Option<usize>,
     /// Its force on the rod besides the point mass's (force unit).
     rod_force: Vector3<f64>,
+    /// The abscissa's equation, a Δu + c·Δq + Σ e y = b (the assembly's;
+    /// eliminated from the system, solved from it afterwards): diagonal,
+    /// coupling to its control points' 12 coordinates, to the rows of its
+    /// active gaps (their slots, `NO_LINK` for none; with ±ĉ, the row's
+    /// own entries on its coordinates being ±ĉ N_k), right-hand side.
+    a: f64,
+    c: [f64; 12],
+    e: [(usize, f64, Vector3<f64>); 2],
+    bu: f64,
 }
 
 impl Row {
@@ -80,10 +88,23 @@ impl Row {
             let g = layout.cp_index[self.rod_pos][c];
             d += Vector3::new(sol[g], sol[g + 1], sol[g + 2]) * self.basis[0][k];
         }
-        if let Some(j) = self.slot {
-            d += self.d1 * sol[layout.extra_index[j]];
+        d + self.d1 * self.du(layout, sol)
+    }
+    /// Δu from a solution of the system it was eliminated from (0 for a
+    /// fixed bead).
+    fn du(&self, layout: &Layout, sol: &[f64]) -> f64 {
+        if self.slot.is_none() {
+            return 0.0;
         }
-        d
+        let mut r = self.bu;
+        for (k, &c) in self.ctrl.iter().enumerate() {
+            let g = layout.cp_index[self.rod_pos][c];
+            r -= (0..3).map(|a| self.c[3 * k + a] * sol[g + a]).sum::<f64>();
+        }
+        for &(slot, e, _) in self.e.iter().filter(|x| x.0 != NO_LINK) {
+            r -= e * sol[layout.row_index[slot]];
+        }
+        r / self.a
     }
 }
 
@@ -120,7 +141,7 @@ impl Pair {
         match self.dir {
             Some(c) => c.dot(&(db - da)),
             None => {
-                let du = |r: &Row| r.slot.map_or(0.0, |j| sol[layout.extra_index[j]]) * r.d1.norm();
+                let du = |r: &Row| r.du(layout, sol) * r.d1.norm();
                 du(b) - du(a)
             }
         }
@@ -190,7 +211,7 @@ fn prepare_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
             return Err(Error::NonFinite { rod: Some(b.rod), detail: format!("bead {}: its force on the rod is not finite (mass {:e}); the world is unchanged", id.0, b.mass) });
         }
         #[rustfmt::skip]
-        s.rows.push(Row { id, rod: b.rod, rod_pos: 0, u: b.u, n_ctrl: rod.n_ctrl(), fixed: b.fixed, mass: b.mass, friction: b.friction, radius: b.radius, ctrl, basis, x, d1, d2, v, load: f, drive, slot: slot_of, rod_force });
+        s.rows.push(Row { id, rod: b.rod, rod_pos: 0, u: b.u, n_ctrl: rod.n_ctrl(), fixed: b.fixed, mass: b.mass, friction: b.friction, radius: b.radius, ctrl, basis, x, d1, d2, v, load: f, drive, slot: slot_of, rod_force, a: 0.0, c: [0.0; 12], e: [(NO_LINK, 0.0, Vector3::zeros()); 2], bu: 0.0 });
     }
     neighbours(world, s)?;
     for i in 0..s.pairs.len() {
@@ -240,68 +261,61 @@ pub(crate) fn place(s: &mut Scratch, slots: &mut Vec<ConstraintSlot>, rod_pos: i
             *t = (0, c);
         }
     };
-    // Along each rod, a bead's abscissa and then the gap to its next
-    // neighbour: placed at the same control point, they alternate, and a
-    // gap row sits beside the abscissae it acts on. One slot per pair, a
-    // row in it while the pair is active: the slots' count stays put as
-    // pairs come and go (the layout's buffers with it).
-    let mut next_pair = 0;
-    for i in 0..s.order.len() {
-        let k = s.order[i];
-        if s.rows[k].slot.is_some() {
-            let mut touched = [(0u8, 0usize); MAX_TOUCHED];
-            touched_of(&s.rows[k].ctrl, &mut touched, 0);
-            s.rows[k].slot = Some(slots.len());
-            slots.push(ConstraintSlot { rods: [s.rows[k].rod_pos; 2], n_rows: 0, n_extra: 1, touched, held: [true; MAX_TOUCHED], len: 4, links: [NO_LINK; 2] });
-        }
-        while next_pair < s.pairs.len() && s.pairs[next_pair].a == k {
-            s.pairs[next_pair].slot = slots.len();
-            slots.push(ConstraintSlot { rods: [s.rows[k].rod_pos; 2], n_rows: 0, n_extra: 0, touched: [(0, 0); MAX_TOUCHED], held: [true; MAX_TOUCHED], len: 0, links: [NO_LINK; 2] });
-            next_pair += 1;
-        }
+    // One slot per pair, along each rod, with a row while the pair is
+    // active: the slots' count stays put as pairs come and go (the
+    // layout's buffers with it). A row also acts on the rows of the
+    // active gaps beside it that share a sliding bead (its abscissa,
+    // eliminated, couples them).
+    for p in s.pairs.iter_mut() {
+        p.slot = slots.len();
+        slots.push(ConstraintSlot { rods: [s.rows[p.a].rod_pos; 2], n_rows: 0, n_extra: 0, touched: [(0, 0); MAX_TOUCHED], held: [true; MAX_TOUCHED], len: 0, links: [NO_LINK; 2] });
     }
-    debug_assert_eq!(next_pair, s.pairs.len(), "pairs follow their first bead along the rod");
-    // The active pairs' rows, now that every abscissa has its slot.
-    for p in &s.pairs {
-        let (a, b) = (&s.rows[p.a], &s.rows[p.b]);
-        if p.active {
-            let slot = &mut slots[p.slot];
-            touched_of(&a.ctrl, &mut slot.touched, 0);
-            touched_of(&b.ctrl, &mut slot.touched, 4);
-            (slot.n_rows, slot.len) = (1, 8);
-            slot.links = [a.slot.unwrap_or(NO_LINK), b.slot.unwrap_or(NO_LINK)];
+    for i in 0..s.pairs.len() {
+        let p = s.pairs[i];
+        if !p.active {
+            continue;
         }
+        let (a, b) = (&s.rows[p.a], &s.rows[p.b]);
+        let beside = |bead: usize, r: &Row| {
+            let q = s.pairs.iter().enumerate().find(|&(j, q)| j != i && q.active && (q.a == bead || q.b == bead));
+            match (r.slot, q) {
+                (Some(_), Some((_, q))) => q.slot,
+                _ => NO_LINK,
+            }
+        };
+        let links = [beside(p.a, a), beside(p.b, b)];
+        let slot = &mut slots[p.slot];
+        touched_of(&a.ctrl, &mut slot.touched, 0);
+        touched_of(&b.ctrl, &mut slot.touched, 4);
+        (slot.n_rows, slot.len, slot.links) = (1, 8, links);
     }
     Ok(())
 }
 
 /// Adds the beads' blocks to the assembled system `sys` (see the module's
-/// comment): each sliding bead's abscissa (diagonal, coupling to its
-/// control points, right-hand side) and each active gap's row.
-pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &Scratch, k: Coefficients) {
+/// comment): each active gap's row, then each sliding bead's abscissa
+/// equation a Δu + c·Δq + Σ e y = b eliminated (a Schur complement: −c cᵀ/a
+/// on its control points, −c e/a and −e e/a on its gaps' rows, −c b/a and
+/// −e b/a on their right-hand sides). Kept in the system, a train of beads
+/// pressed together put its abscissae beside its rows on the same few
+/// control points and widened the band by as many (34 against 16 for the
+/// thesis' necklace). An abscissa whose diagonal is not positive (no mass,
+/// no friction and a load that pulls it off a bend) has no motion of its own
+/// to solve: an error.
+pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k: Coefficients) -> Result<()> {
     if !s.valid {
-        return;
+        return Ok(());
     }
-    for r in &s.rows {
-        let Some(j) = r.slot else { continue };
-        let g = layout.extra_index[j];
-        let speed2 = r.d1.norm_squared();
-        sys.matrix.add(g, g, (k.mass * r.mass + k.drag * r.friction) * speed2 - r.load.dot(&r.d2));
-        sys.rhs[g] = k.force * r.drive.dot(&r.d1);
-        for (kk, &c) in r.ctrl.iter().enumerate() {
-            for a in 0..3 {
-                let gj = layout.cp_index[r.rod_pos][c] + a;
-                let v = k.mass * r.mass * r.basis[0][kk] * r.d1[a] - r.load[a] * r.basis[1][kk];
-                sys.matrix.add(gj, g, v);
-                sys.matrix.add(g, gj, v);
-            }
-        }
+    for r in s.rows.iter_mut() {
+        r.e = [(NO_LINK, 0.0, Vector3::zeros()); 2];
     }
-    for (i, p) in s.pairs.iter().enumerate().filter(|(_, p)| p.active) {
+    for p in s.pairs.iter().filter(|p| p.active) {
         let ri = layout.row_index[p.slot];
-        // ∂gap/∂(q, u): ∓ĉ N_k on each bead's points, ∓ĉ·r′ on its abscissa.
-        for (r, sign) in [(&s.rows[p.a], -1.0), (&s.rows[p.b], 1.0)] {
-            if let Some(c) = p.dir {
+        // ∂gap/∂(q, u): ∓ĉ N_k on each bead's points (a sliding bead's go
+        // with its block below), ∓ĉ·r′ on its abscissa.
+        for (bead, sign) in [(p.a, -1.0), (p.b, 1.0)] {
+            let r = &mut s.rows[bead];
+            if let (Some(c), None) = (p.dir, r.slot) {
                 for (kk, &cp) in r.ctrl.iter().enumerate() {
                     for a in 0..3 {
                         let gj = layout.cp_index[r.rod_pos][cp] + a;
@@ -311,15 +325,67 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &Scratch, k: Coe
                     }
                 }
             }
-            if let Some(j) = r.slot {
-                let gx = layout.extra_index[j];
+            if r.slot.is_some() {
                 let v = sign * p.dir.map_or(r.d1.norm(), |c| c.dot(&r.d1));
-                sys.matrix.add(ri, gx, v);
-                sys.matrix.add(gx, ri, v);
+                let free = if r.e[0].0 == NO_LINK { 0 } else { 1 };
+                r.e[free] = (p.slot, v, p.dir.map_or(Vector3::zeros(), |c| c * sign));
             }
         }
         sys.rhs[ri] = p.target() - p.gap;
     }
+    // The eliminated abscissae: one symmetric block each over its 12
+    // coordinates and its (at most two) rows.
+    let mut idx = [0usize; 14];
+    let mut blk = [0.0f64; 14 * 14];
+    for r in s.rows.iter_mut() {
+        if r.slot.is_none() {
+            continue;
+        }
+        let speed2 = r.d1.norm_squared();
+        r.a = (k.mass * r.mass + k.drag * r.friction) * speed2 - r.load.dot(&r.d2);
+        if !(r.a > 0.0) {
+            return Err(Error::singular(format!(
+                "bead {} at u = {}: its motion along the rod has no mass, no friction and a load that pulls it off the bend (diagonal {:e}); give it mass or friction",
+                r.id.0, r.u, r.a
+            )));
+        }
+        r.bu = k.force * r.drive.dot(&r.d1);
+        if !(r.a.is_finite() && r.bu.is_finite()) {
+            return Err(Error::NonFinite { rod: Some(r.rod), detail: format!("bead {} (mass {:e}): its equation along the rod is not finite; the world is unchanged", r.id.0, r.mass) });
+        }
+        let mut v = [0.0f64; 14];
+        let mut m = 0;
+        for (kk, &c) in r.ctrl.iter().enumerate() {
+            for a in 0..3 {
+                r.c[3 * kk + a] = k.mass * r.mass * r.basis[0][kk] * r.d1[a] - r.load[a] * r.basis[1][kk];
+                idx[m] = layout.cp_index[r.rod_pos][c] + a;
+                v[m] = r.c[3 * kk + a];
+                m += 1;
+            }
+        }
+        for &(slot, e, _) in r.e.iter().filter(|x| x.0 != NO_LINK) {
+            idx[m] = layout.row_index[slot];
+            v[m] = e;
+            m += 1;
+        }
+        // v v/a as v (v/a): the product first overflows for huge masses.
+        for i in 0..m {
+            sys.rhs[idx[i]] -= v[i] * (r.bu / r.a);
+            for j in i..m {
+                blk[i * 14 + j] = -v[i] * (v[j] / r.a);
+            }
+        }
+        // Its gap rows' own entries on its coordinates, ±ĉ N_k.
+        for (t, &(_, _, c)) in r.e.iter().filter(|x| x.0 != NO_LINK).enumerate() {
+            for kk in 0..4 {
+                for a in 0..3 {
+                    blk[(3 * kk + a) * 14 + 12 + t] += c[a] * r.basis[0][kk];
+                }
+            }
+        }
+        sys.matrix.add_sym_block(&idx[..m], &blk, 14);
+    }
+    Ok(())
 }
 
 /// One round of the gaps' active set after a solve: a row whose multiplier
@@ -332,7 +398,7 @@ pub(crate) fn update_gaps(world: &mut World) -> bool {
         return false;
     }
     let mut changed = false;
-    for (i, p) in s.pairs.iter_mut().enumerate() {
+    for p in s.pairs.iter_mut() {
         let (a, b) = (&s.rows[p.a], &s.rows[p.b]);
         if p.active {
             let force = -sol[layout.row_index[p.slot]];
@@ -513,9 +579,8 @@ pub(crate) fn record_increments(world: &mut World, scale: f64) {
         s.disp.push(r.displacement(&ws.layout, &ws.sys.sol) * scale);
     }
     for r in &s.rows {
-        let (Some(j), Some(b)) = (r.slot, beads.get_mut(r.id)) else { continue };
-        if let Some(&g) = ws.layout.extra_index.get(j) {
-            b.step_ds = scale * ws.sys.sol[g];
+        if let (Some(_), Some(b)) = (r.slot, beads.get_mut(r.id)) {
+            b.step_ds = scale * r.du(&ws.layout, &ws.sys.sol);
         }
     }
 }
@@ -549,15 +614,16 @@ mod tests {
     use crate::{IntegrationParameters, Material, RodBuilder, Section};
 
     /// Two beads pressed together on a helix (a curved string in 3-D), at
-    /// rest, one with friction: the entries the step writes for them
-    /// against central differences. With v_b = 0 the bead's part of the
-    /// step is the minimum of Φ(q, u) = m |r(q, u) − x₀|²/(2h²) − F·r(q, u)
-    /// + c |r′₀|² (u − u₀)²/(2h), so its abscissa's column is ∂(∂Φ/∂u), its
-    /// right-hand side −∂Φ/∂u; the gap row's entries are ∂g/∂(q, u) of
-    /// g = |r(q, u_b) − r(q, u_a)| − r_a − r_b and its right-hand side
-    /// the gap to close (−g, the pair touching within its slack: 0).
-    /// Measured: 1.3e-8 at most (relative); leaving out −F·r″ fails it
-    /// (4.9e-2 against 4.6e-2 on (u, u)).
+    /// rest, one with friction: what the step writes for them against
+    /// central differences. With v_b = 0 a bead's part of the step is the
+    /// minimum of Φ(q, u) = m |r(q, u) − x₀|²/(2h²) − F·r(q, u) + c |r′₀|²
+    /// (u − u₀)²/(2h): its abscissa's equation a Δu + c·Δq + e y = b has
+    /// a = ∂²Φ/∂u², c = ∂²Φ/∂u∂q, b = −∂Φ/∂u, e = ∂g/∂u, with g = |r(q, u_b)
+    /// − r(q, u_a)| − r_a − r_b the gap. The abscissae eliminated, the gap
+    /// row holds ∂g/∂q − Σ e c/a on the coordinates, −Σ e²/a on its
+    /// diagonal and the gap to close (0: touching within its slack) less
+    /// Σ e b/a on the right. Measured: 1.3e-8 at most (relative); leaving
+    /// out −F·r″ fails it (4.9e-2 against 4.6e-2 for a).
     #[test]
     fn bead_blocks_and_gap_rows_match_finite_differences() {
         let rod = RodBuilder::helix(0.1, 0.05, 1.0)
@@ -593,7 +659,7 @@ mod tests {
             rod.state_mut().0[j] += e;
             rod
         };
-        let cps: Vec<usize> = (0..base.n_ctrl()).collect();
+        let n_cp = base.n_ctrl();
         let (eu, eq) = (1e-5, 1e-7);
         let mut worst = 0.0f64;
         let mut check = |got: f64, want: f64, what: &str| {
@@ -601,40 +667,42 @@ mod tests {
             worst = worst.max(err);
             assert!(err < 1e-5, "{what}: assembled {got:.9e}, finite differences {want:.9e}");
         };
-        for (bead, row) in [(a, &s.rows[0]), (b, &s.rows[1])] {
-            let bd = w.bead(bead).unwrap();
-            let f = bead_load(&w, bd);
-            let (x0, d10) = (x_of(&base, bd.u), d1_of(&base, bd.u));
-            let grad_u = |rod: &crate::rod::Rod, u: f64| d1_of(rod, u).dot(&((x_of(rod, u) - x0) * (bd.mass / (h * h)) - f)) + bd.friction / h * d10.norm_squared() * (u - bd.u);
-            let g = layout.extra_index[row.slot.unwrap()];
-            check(sys.rhs[g], -grad_u(&base, bd.u), "abscissa rhs");
-            check(sys.matrix.get(g, g), (grad_u(&base, bd.u + eu) - grad_u(&base, bd.u - eu)) / (2.0 * eu), "(u, u)");
-            for &c in &cps {
-                for ax in 0..3 {
-                    let j = c * dofs + ax;
-                    let fd = (grad_u(&perturbed(j, eq), bd.u) - grad_u(&perturbed(j, -eq), bd.u)) / (2.0 * eq);
-                    let gj = layout.cp_index[0][c] + ax;
-                    check(sys.matrix.get(g, gj), fd, "(u, q)");
-                    check(sys.matrix.get(gj, g), fd, "(q, u)");
-                }
-            }
-        }
         let (ba, bb) = (w.bead(a).unwrap().clone(), w.bead(b).unwrap().clone());
         let gap = |rod: &crate::rod::Rod, ua: f64, ub: f64| (x_of(rod, ub) - x_of(rod, ua)).norm() - ba.radius - bb.radius;
-        let ri = layout.row_index[s.pairs[0].slot];
-        check(sys.rhs[ri], 0.0, "gap rhs (touching within the slack)");
         assert!(gap(&base, ba.u, bb.u).abs() < 1e-8);
-        let ga = layout.extra_index[s.rows[0].slot.unwrap()];
-        let gb = layout.extra_index[s.rows[1].slot.unwrap()];
-        check(sys.matrix.get(ri, ga), (gap(&base, ba.u + eu, bb.u) - gap(&base, ba.u - eu, bb.u)) / (2.0 * eu), "∂g/∂u_a");
-        check(sys.matrix.get(ri, gb), (gap(&base, ba.u, bb.u + eu) - gap(&base, ba.u, bb.u - eu)) / (2.0 * eu), "∂g/∂u_b");
-        for &c in &cps {
+        // Per bead, from differences: a, c (all coordinates, zero off its
+        // points), b, e.
+        let mut fd = Vec::new();
+        for (bead, row) in [(&ba, &s.rows[0]), (&bb, &s.rows[1])] {
+            let f = bead_load(&w, bead);
+            let (x0, d10) = (x_of(&base, bead.u), d1_of(&base, bead.u));
+            let grad_u = |rod: &crate::rod::Rod, u: f64| d1_of(rod, u).dot(&((x_of(rod, u) - x0) * (bead.mass / (h * h)) - f)) + bead.friction / h * d10.norm_squared() * (u - bead.u);
+            let a_fd = (grad_u(&base, bead.u + eu) - grad_u(&base, bead.u - eu)) / (2.0 * eu);
+            let c_fd: Vec<f64> = (0..n_cp * dofs).map(|j| (grad_u(&perturbed(j, eq), bead.u) - grad_u(&perturbed(j, -eq), bead.u)) / (2.0 * eq)).collect();
+            let b_fd = -grad_u(&base, bead.u);
+            let shift = |d: f64| if std::ptr::eq(bead, &ba) { gap(&base, ba.u + d, bb.u) } else { gap(&base, ba.u, bb.u + d) };
+            let e_fd = (shift(eu) - shift(-eu)) / (2.0 * eu);
+            check(row.a, a_fd, "a");
+            check(row.bu, b_fd, "b");
+            check(row.e[0].1, e_fd, "e");
+            for (kk, &cp) in row.ctrl.iter().enumerate() {
+                for ax in 0..3 {
+                    check(row.c[3 * kk + ax], c_fd[cp * dofs + ax], "c");
+                }
+            }
+            fd.push((a_fd, c_fd, b_fd, e_fd));
+        }
+        let ri = layout.row_index[s.pairs[0].slot];
+        check(sys.rhs[ri], -fd.iter().map(|(a, _, b, e)| e * b / a).sum::<f64>(), "gap rhs");
+        check(sys.matrix.get(ri, ri), -fd.iter().map(|(a, _, _, e)| e * e / a).sum::<f64>(), "gap row diagonal");
+        for cp in 0..n_cp {
             for ax in 0..3 {
-                let j = c * dofs + ax;
-                let fd = (gap(&perturbed(j, eq), ba.u, bb.u) - gap(&perturbed(j, -eq), ba.u, bb.u)) / (2.0 * eq);
-                let gj = layout.cp_index[0][c] + ax;
-                check(sys.matrix.get(ri, gj), fd, "∂g/∂q");
-                check(sys.matrix.get(gj, ri), fd, "∂g/∂q (transpose)");
+                let j = cp * dofs + ax;
+                let dg = (gap(&perturbed(j, eq), ba.u, bb.u) - gap(&perturbed(j, -eq), ba.u, bb.u)) / (2.0 * eq);
+                let want = dg - fd.iter().map(|(a, c, _, e)| e * c[j] / a).sum::<f64>();
+                let gj = layout.cp_index[0][cp] + ax;
+                check(sys.matrix.get(ri, gj), want, "gap row on the coordinates");
+                check(sys.matrix.get(gj, ri), want, "gap row on the coordinates (transpose)");
             }
         }
         println!("largest relative difference {worst:.2e}");

@@ -26,8 +26,9 @@ pub struct ConstraintSlot {
     /// `constraint::Touched`): the rows are placed among these.
     pub held: [bool; crate::constraint::MAX_TOUCHED],
     pub len: usize,
-    /// Slots whose abscissa unknowns these rows also act on (a bead gap's
-    /// two beads), `NO_LINK` for none: they count in the bandwidth.
+    /// Slots whose rows or abscissa unknowns these rows also act on (a
+    /// bead gap's neighbouring gaps, coupled through the bead they share),
+    /// `NO_LINK` for none: they count in the bandwidth.
     pub links: [usize; 2],
 }
 
@@ -160,8 +161,9 @@ impl Layout {
                 bw = bw.max(r1.saturating_sub(lo)).max(hi.saturating_sub(r0));
             }
             for &e in s.links.iter().filter(|&&e| e != NO_LINK) {
-                let x = self.extra_index[e];
-                bw = bw.max(r1.saturating_sub(x)).max(x.saturating_sub(r0));
+                // The linked slot's rows and abscissae.
+                let (x0, x1) = (self.row_index[e], (self.extra_index[e] + cons[e].n_extra).saturating_sub(1).max(self.row_index[e]));
+                bw = bw.max(r1.saturating_sub(x0)).max(x1.saturating_sub(r0));
             }
         }
         self.bandwidth = bw;
