@@ -1,20 +1,20 @@
 //! Bead updates around the rod solve (see [`crate::bead`]).
 //!
-//! Dynamics: a sliding bead's abscissa u is an unknown of the step's
-//! system beside its rod's coordinates q. Its position x = r(q, u) =
-//! Σ_k N_k(u) P_k moves by J [Δq; Δu] with J = [N_k I₃ …, r′], so its
-//! linearised implicit Euler step m (J Δ − h v_b)/h² = F + (the string's
-//! reaction and the neighbours' pushes), written in (q, u), puts m JᵀJ/h²
-//! in the matrix and Jᵀ (F + m v_b/h) on the right. The Hessian of −F·r
-//! adds −F·r″ on (u, u) and −F N′_k on (q_k, u), as in statics; the
-//! derivative of J in the inertia term, −(m v_b/h)·∂J, is left out (it is
-//! indefinite: with it two beads swinging on the thesis' string gained
-//! 8e-6 J in a step). Viscous friction c on the sliding speed |r′| u̇
-//! acts on u alone (the bead's and the string's shares cancel on q):
-//! c |r′|²/h on (u, u). The bead's new velocity is J Δ/h, the step's own
-//! (the displacement r(q + Δq, u + Δu) − r(q, u) over h, which adds the
-//! rod's motion times the slide and the bend's chord, made the swinging
-//! necklace gain up to 2e-4 J above an earlier low).
+//! Dynamics: a sliding bead's abscissa u is an unknown of the step beside
+//! its rod's coordinates q. Its position x = r(q, u) = Σ_k N_k(u) P_k moves
+//! by J [Δq; Δu] with J = [N_k I₃ …, r′], so its linearised implicit Euler
+//! step m (J Δ − h v_b)/h² = F + (the string's reaction and the
+//! neighbours' pushes), written in (q, u), has m JᵀJ/h² on the left and
+//! Jᵀ (F + m v_b/h) on the right. The Hessian of −F·r adds −F·r″ on (u, u)
+//! and −F N′_k on (q_k, u), as in statics; the derivative of J in the
+//! inertia term, −(m v_b/h)·∂J, is left out (it is indefinite: with it two
+//! beads swinging on the thesis' string gained 8e-6 J in a step). Viscous
+//! friction c on the sliding speed |r′| u̇ acts on u alone (the bead's and
+//! the string's shares cancel on q): c |r′|²/h on (u, u). The bead's new
+//! velocity is J Δ/h, the step's own (the displacement r(q + Δq, u + Δu)
+//! − r(q, u) over h, which adds the rod's motion times the slide and the
+//! bend's chord, made the swinging necklace gain up to 2e-4 J above an
+//! earlier low).
 //! Neighbours on one rod are spheres that touch when their centres are
 //! r_a + r_b apart: a unilateral row on the chord |x_b − x_a| − r_a − r_b ≥
 //! 0, linear in both beads' q and u, whose multiplier pushes them apart
@@ -22,7 +22,8 @@
 //! same solve). The rows enter and leave with the contacts' active-set
 //! rounds ([`update_gaps`]); like a contact row, one holds a penetration of
 //! up to [`crate::pipeline::assemble::CONTACT_SLACK`] of the radii instead
-//! of pushing it out.
+//! of pushing it out. Each abscissa is eliminated from the system before
+//! the factorisation ([`assemble`]) and Δu solved back from the solution.
 use crate::error::{Error, Result};
 use crate::handles::{Index, RodHandle};
 use crate::system::layout::{ConstraintSlot, NO_LINK};
@@ -61,8 +62,6 @@ struct Row {
     /// dynamics).
     load: Vector3<f64>,
     drive: Vector3<f64>,
-    /// Position among the sliding beads, None for a fixed bead.
-    slot: Option<usize>,
     /// Its force on the rod besides the point mass's (force unit).
     rod_force: Vector3<f64>,
     /// The abscissa's equation, a Δu + c·Δq + Σ e y = b (the assembly's;
@@ -93,7 +92,7 @@ impl Row {
     /// Δu from a solution of the system it was eliminated from (0 for a
     /// fixed bead).
     fn du(&self, layout: &Layout, sol: &[f64]) -> f64 {
-        if self.slot.is_none() {
+        if self.fixed {
             return 0.0;
         }
         let mut r = self.bu;
@@ -190,7 +189,6 @@ pub(crate) fn prepare(world: &mut World, h: f64) -> Result<()> {
 fn prepare_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
     let momentum = if world.params.overdamped { 0.0 } else { 1.0 / h };
     s.rows.clear();
-    let mut slot = 0;
     for (id, b) in world.beads.iter() {
         let rod = world.rod(b.rod)?;
         let (ctrl, basis) = rod.basis_at(b.u)?;
@@ -201,17 +199,12 @@ fn prepare_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
         }
         let f = bead_load(world, b);
         let v = b.velocity_from(v_rod, d1 / d1.norm());
-        let (drive, rod_force, slot_of) = if b.fixed {
-            (f, f, None)
-        } else {
-            slot += 1;
-            (f + v * (momentum * b.mass), f + (v - v_rod) * (momentum * b.mass), Some(slot - 1))
-        };
+        let (drive, rod_force) = if b.fixed { (f, f) } else { (f + v * (momentum * b.mass), f + (v - v_rod) * (momentum * b.mass)) };
         if !rod_force.iter().chain(drive.iter()).all(|x| x.is_finite()) {
             return Err(Error::NonFinite { rod: Some(b.rod), detail: format!("bead {}: its force on the rod is not finite (mass {:e}); the world is unchanged", id.0, b.mass) });
         }
         #[rustfmt::skip]
-        s.rows.push(Row { id, rod: b.rod, rod_pos: 0, u: b.u, n_ctrl: rod.n_ctrl(), fixed: b.fixed, mass: b.mass, friction: b.friction, radius: b.radius, ctrl, basis, x, d1, d2, v, load: f, drive, slot: slot_of, rod_force, a: 0.0, c: [0.0; 12], e: [(NO_LINK, 0.0, Vector3::zeros()); 2], bu: 0.0 });
+        s.rows.push(Row { id, rod: b.rod, rod_pos: 0, u: b.u, n_ctrl: rod.n_ctrl(), fixed: b.fixed, mass: b.mass, friction: b.friction, radius: b.radius, ctrl, basis, x, d1, d2, v, load: f, drive, rod_force, a: 0.0, c: [0.0; 12], e: [(NO_LINK, 0.0, Vector3::zeros()); 2], bu: 0.0 });
     }
     neighbours(world, s)?;
     for i in 0..s.pairs.len() {
@@ -244,10 +237,10 @@ fn second_derivative(rod: &crate::rod::Rod, ctrl: &[usize; 4], basis: &[[f64; 4]
     ctrl.iter().zip(&basis[2]).fold(Vector3::zeros(), |acc, (&i, &w)| acc + Vector3::new(q[i * d], q[i * d + 1], q[i * d + 2]) * w)
 }
 
-/// The slots of the step's bead unknowns (after `slots`' constraints,
-/// contacts and friction rows): one abscissa per sliding bead, then one row
-/// per active gap, linked to its beads' abscissae. `rod_pos` gives a rod's
-/// position in the layout.
+/// The slots of the step's bead rows (after `slots`' constraints, contacts
+/// and friction rows): one per neighbour pair, with a row while the pair
+/// is active, linked to the active gaps beside it that share a sliding
+/// bead. `rod_pos` gives a rod's position in the layout.
 pub(crate) fn place(s: &mut Scratch, slots: &mut Vec<ConstraintSlot>, rod_pos: impl Fn(RodHandle) -> Result<usize>) -> Result<()> {
     use crate::constraint::MAX_TOUCHED;
     if !s.valid {
@@ -278,8 +271,8 @@ pub(crate) fn place(s: &mut Scratch, slots: &mut Vec<ConstraintSlot>, rod_pos: i
         let (a, b) = (&s.rows[p.a], &s.rows[p.b]);
         let beside = |bead: usize, r: &Row| {
             let q = s.pairs.iter().enumerate().find(|&(j, q)| j != i && q.active && (q.a == bead || q.b == bead));
-            match (r.slot, q) {
-                (Some(_), Some((_, q))) => q.slot,
+            match (r.fixed, q) {
+                (false, Some((_, q))) => q.slot,
                 _ => NO_LINK,
             }
         };
@@ -315,7 +308,7 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k:
         // with its block below), ∓ĉ·r′ on its abscissa.
         for (bead, sign) in [(p.a, -1.0), (p.b, 1.0)] {
             let r = &mut s.rows[bead];
-            if let (Some(c), None) = (p.dir, r.slot) {
+            if let (Some(c), true) = (p.dir, r.fixed) {
                 for (kk, &cp) in r.ctrl.iter().enumerate() {
                     for a in 0..3 {
                         let gj = layout.cp_index[r.rod_pos][cp] + a;
@@ -325,7 +318,7 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k:
                     }
                 }
             }
-            if r.slot.is_some() {
+            if !r.fixed {
                 let v = sign * p.dir.map_or(r.d1.norm(), |c| c.dot(&r.d1));
                 let free = if r.e[0].0 == NO_LINK { 0 } else { 1 };
                 r.e[free] = (p.slot, v, p.dir.map_or(Vector3::zeros(), |c| c * sign));
@@ -338,7 +331,7 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k:
     let mut idx = [0usize; 14];
     let mut blk = [0.0f64; 14 * 14];
     for r in s.rows.iter_mut() {
-        if r.slot.is_none() {
+        if r.fixed {
             continue;
         }
         let speed2 = r.d1.norm_squared();
@@ -579,7 +572,7 @@ pub(crate) fn record_increments(world: &mut World, scale: f64) {
         s.disp.push(r.displacement(&ws.layout, &ws.sys.sol) * scale);
     }
     for r in &s.rows {
-        if let (Some(_), Some(b)) = (r.slot, beads.get_mut(r.id)) {
+        if let (false, Some(b)) = (r.fixed, beads.get_mut(r.id)) {
             b.step_ds = scale * r.du(&ws.layout, &ws.sys.sol);
         }
     }
