@@ -503,10 +503,10 @@ pub(crate) fn static_load(world: &mut World) {
 }
 
 /// Dynamics, after the rod solve: each sliding bead moves by its solved
-/// Δu (round a closed rod it wraps) and takes the velocity (x_{n+1} −
-/// x_n)/h; the pairs that pressed are remembered for the next step's
-/// active set; beads that left an open rod are removed (their events go
-/// to `events`).
+/// Δu (round a closed rod it wraps) and takes the velocity J [Δq; Δu]/h
+/// (see the module's comment); the pairs that pressed are remembered for
+/// the next step's active set; beads that left an open rod are removed
+/// (their events go to `events`).
 pub(crate) fn advance(world: &mut World, h: f64, events: &mut Vec<Event>) -> Result<()> {
     let mut s = std::mem::take(&mut world.ws.beads);
     let out = advance_with(world, h, events, &mut s);
