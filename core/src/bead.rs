@@ -4,9 +4,9 @@
 //! position r(q, u) carries its whole mass, its load and its momentum, and
 //! viscous friction c acts on its sliding speed |r′| u̇ (force per unit
 //! sliding speed). Where it arrives on a bend or on a part of the rod
-//! moving differently it meets it inelastically (its velocity is its
-//! displacement over the step), which never adds energy; the thesis'
-//! explicit centripetal and Coriolis forces did. In statics u is an
+//! moving differently it meets it inelastically (its velocity is the
+//! step's linearised displacement over h), which never adds energy; the
+//! thesis' explicit centripetal and Coriolis forces did. In statics u is an
 //! unknown of the Newton system (the bead sits where its load is normal to
 //! the rod).
 //! Beads on one rod do not pass each other: they are spheres threaded on
@@ -46,9 +46,9 @@ pub struct Bead {
     /// Abscissa at which `rod_force` was last assembled (statics).
     #[serde(default)]
     pub(crate) u_assembled: f64,
-    /// The bead's own velocity (length/time) after a dynamic step, its
-    /// displacement over the step: a bead carries its momentum into the
-    /// next. None: the rod's velocity at u plus `velocity` along the
+    /// The bead's own velocity (length/time) after a dynamic step, the
+    /// step's linearised displacement J [Δq; Δu] over h: a bead carries its
+    /// momentum into the next. None: the rod's velocity at u plus `velocity` along the
     /// tangent.
     #[serde(default)]
     pub(crate) carried: Option<[f64; 3]>,
