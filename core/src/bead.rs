@@ -40,7 +40,7 @@ pub struct Bead {
     /// This step's abscissa increment Δu (dynamics) and the force the bead
     /// puts on the rod besides its point mass (force unit).
     #[serde(default)]
-    pub(crate) step_ds: f64,
+    pub(crate) step_du: f64,
     #[serde(default)]
     pub(crate) rod_force: [f64; 3],
     /// Abscissa at which `rod_force` was last assembled (statics).
@@ -62,7 +62,7 @@ impl Bead {
     /// A bead at rest at abscissa `u`: mass (> 0), viscous friction (force
     /// per unit sliding speed, ≥ 0), radius (length, ≥ 0).
     pub fn new(rod: RodHandle, u: f64, mass: f64, friction: f64, radius: f64) -> crate::error::Result<Bead> {
-        let b = Bead { rod, u, velocity: 0.0, mass, friction, radius, force: [0.0; 3], fixed: false, step_ds: 0.0, rod_force: [0.0; 3], u_assembled: u, carried: None, pressed: false };
+        let b = Bead { rod, u, velocity: 0.0, mass, friction, radius, force: [0.0; 3], fixed: false, step_du: 0.0, rod_force: [0.0; 3], u_assembled: u, carried: None, pressed: false };
         b.check_values()?;
         Ok(b)
     }

@@ -80,14 +80,15 @@ impl Row {
     fn t(&self) -> Vector3<f64> {
         self.d1 / self.d1.norm()
     }
-    /// J [Δq; Δu] from a solution: the bead's linearised displacement.
-    fn displacement(&self, layout: &Layout, sol: &[f64]) -> Vector3<f64> {
+    /// J [Δq; Δu] from a solution and its Δu ([`Self::du`]): the bead's
+    /// linearised displacement.
+    fn displacement(&self, layout: &Layout, sol: &[f64], du: f64) -> Vector3<f64> {
         let mut d = Vector3::zeros();
         for (k, &c) in self.ctrl.iter().enumerate() {
             let g = layout.cp_index[self.rod_pos][c];
             d += Vector3::new(sol[g], sol[g + 1], sol[g + 2]) * self.basis[0][k];
         }
-        d + self.d1 * self.du(layout, sol)
+        d + self.d1 * du
     }
     /// Δu from a solution of the system it was eliminated from (0 for a
     /// fixed bead).
@@ -136,13 +137,10 @@ impl Pair {
         -(-self.gap).clamp(0.0, self.slack)
     }
     /// The gap's increment for the beads' displacements (linearised).
-    fn change(&self, a: &Row, b: &Row, da: Vector3<f64>, db: Vector3<f64>, layout: &Layout, sol: &[f64]) -> f64 {
+    fn change(&self, a: &Row, b: &Row, da: Vector3<f64>, db: Vector3<f64>, dua: f64, dub: f64) -> f64 {
         match self.dir {
             Some(c) => c.dot(&(db - da)),
-            None => {
-                let du = |r: &Row| r.du(layout, sol) * r.d1.norm();
-                du(b) - du(a)
-            }
+            None => dub * b.d1.norm() - dua * a.d1.norm(),
         }
     }
 }
@@ -187,7 +185,9 @@ pub(crate) fn prepare(world: &mut World, h: f64) -> Result<()> {
 }
 
 fn prepare_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
-    let momentum = if world.params.overdamped { 0.0 } else { 1.0 / h };
+    // Brownian dynamics refuses sliding beads (`pipeline/thermal.rs`): a
+    // sliding bead always has its momentum.
+    let momentum = 1.0 / h;
     s.rows.clear();
     for (id, b) in world.beads.iter() {
         let rod = world.rod(b.rod)?;
@@ -226,7 +226,7 @@ fn prepare_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
     }
     for (k, (_, b)) in world.beads.iter_mut().enumerate() {
         b.rod_force = s.rows[k].rod_force.into();
-        b.step_ds = 0.0;
+        b.step_du = 0.0;
     }
     Ok(())
 }
@@ -263,20 +263,24 @@ pub(crate) fn place(s: &mut Scratch, slots: &mut Vec<ConstraintSlot>, rod_pos: i
         p.slot = slots.len();
         slots.push(ConstraintSlot { rods: [s.rows[p.a].rod_pos; 2], n_rows: 0, n_extra: 0, touched: [(0, 0); MAX_TOUCHED], held: [true; MAX_TOUCHED], len: 0, links: [NO_LINK; 2] });
     }
-    for i in 0..s.pairs.len() {
-        let p = s.pairs[i];
-        if !p.active {
-            continue;
-        }
-        let (a, b) = (&s.rows[p.a], &s.rows[p.b]);
-        let beside = |bead: usize, r: &Row| {
-            let q = s.pairs.iter().enumerate().find(|&(j, q)| j != i && q.active && (q.a == bead || q.b == bead));
-            match (r.fixed, q) {
-                (false, Some((_, q))) => q.slot,
-                _ => NO_LINK,
+    // Each sliding bead's active gaps (their values come with the assembly).
+    for r in s.rows.iter_mut() {
+        r.e = [(NO_LINK, 0.0, Vector3::zeros()); 2];
+    }
+    for p in s.pairs.iter().filter(|p| p.active) {
+        for bead in [p.a, p.b] {
+            let r = &mut s.rows[bead];
+            if !r.fixed {
+                let free = if r.e[0].0 == NO_LINK { 0 } else { 1 };
+                r.e[free].0 = p.slot;
             }
-        };
-        let links = [beside(p.a, a), beside(p.b, b)];
+        }
+    }
+    for p in s.pairs.iter().filter(|p| p.active) {
+        let (a, b) = (&s.rows[p.a], &s.rows[p.b]);
+        // The bead's other active gap, if it slides.
+        let beside = |r: &Row| r.e.iter().map(|x| x.0).find(|&q| q != NO_LINK && q != p.slot).unwrap_or(NO_LINK);
+        let links = [beside(a), beside(b)];
         let slot = &mut slots[p.slot];
         touched_of(&a.ctrl, &mut slot.touched, 0);
         touched_of(&b.ctrl, &mut slot.touched, 4);
@@ -299,9 +303,6 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k:
     if !s.valid {
         return Ok(());
     }
-    for r in s.rows.iter_mut() {
-        r.e = [(NO_LINK, 0.0, Vector3::zeros()); 2];
-    }
     for p in s.pairs.iter().filter(|p| p.active) {
         let ri = layout.row_index[p.slot];
         // ∂gap/∂(q, u): ∓ĉ N_k on each bead's points (a sliding bead's go
@@ -320,8 +321,10 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k:
             }
             if !r.fixed {
                 let v = sign * p.dir.map_or(r.d1.norm(), |c| c.dot(&r.d1));
-                let free = if r.e[0].0 == NO_LINK { 0 } else { 1 };
-                r.e[free] = (p.slot, v, p.dir.map_or(Vector3::zeros(), |c| c * sign));
+                // Its entry for this gap, placed by `place`.
+                if let Some(x) = r.e.iter_mut().find(|x| x.0 == p.slot) {
+                    (x.1, x.2) = (v, p.dir.map_or(Vector3::zeros(), |c| c * sign));
+                }
             }
         }
         sys.rhs[ri] = p.target() - p.gap;
@@ -399,8 +402,9 @@ pub(crate) fn update_gaps(world: &mut World) -> bool {
                 (p.active, p.pulled, changed) = (false, true, true);
             }
         } else if !p.pulled {
-            let (da, db) = (a.displacement(layout, sol), b.displacement(layout, sol));
-            let end = p.gap + p.change(a, b, da, db, layout, sol);
+            let (dua, dub) = (a.du(layout, sol), b.du(layout, sol));
+            let (da, db) = (a.displacement(layout, sol, dua), b.displacement(layout, sol, dub));
+            let end = p.gap + p.change(a, b, da, db, dua, dub);
             if end < p.target() - 1e-9 * (a.radius + b.radius) {
                 (p.active, changed) = (true, true);
             }
@@ -494,7 +498,7 @@ pub(crate) fn static_load(world: &mut World) {
     let g = Vector3::from(world.params.gravity);
     for (_, b) in world.beads.iter_mut() {
         b.rod_force = (g * b.mass + Vector3::from(b.force)).into();
-        b.step_ds = 0.0;
+        b.step_du = 0.0;
         b.velocity = 0.0;
         b.carried = None;
     }
@@ -519,7 +523,6 @@ fn advance_with(world: &mut World, h: f64, events: &mut Vec<Event>, s: &mut Scra
     if !s.valid {
         return Ok(());
     }
-    let overdamped = world.params.overdamped;
     for (k, r) in s.rows.iter().enumerate() {
         let Some(b) = world.beads.get(r.id) else { continue };
         if b.fixed {
@@ -527,17 +530,17 @@ fn advance_with(world: &mut World, h: f64, events: &mut Vec<Event>, s: &mut Scra
         }
         let rod = world.rod(b.rod)?;
         let period = period(rod);
-        let u = period.map_or(b.u + b.step_ds, |p| (b.u + b.step_ds).rem_euclid(p));
+        let u = period.map_or(b.u + b.step_du, |p| (b.u + b.step_du).rem_euclid(p));
         // Where it is now (an open rod's end for a bead that left it).
         let (lo, hi) = rod.domain();
         let (ctrl, basis) = rod.basis_at(if period.is_some() { u } else { u.clamp(lo, hi) })?;
         let (_, d1, v_rod) = rod.motion_from(&ctrl, &basis);
-        let v = if overdamped { Vector3::zeros() } else { s.disp[k] / h };
+        let v = s.disp[k] / h;
         let t = if d1.norm() > 0.0 { d1 / d1.norm() } else { r.t() };
         if let Some(b) = world.beads.get_mut(r.id) {
             b.u = u;
-            b.velocity = if overdamped { 0.0 } else { t.dot(&(v - v_rod)) };
-            b.carried = (!overdamped).then(|| v.into());
+            b.velocity = t.dot(&(v - v_rod));
+            b.carried = Some(v.into());
         }
     }
     for (_, b) in world.beads.iter_mut() {
@@ -569,11 +572,10 @@ pub(crate) fn record_increments(world: &mut World, scale: f64) {
     }
     s.disp.clear();
     for r in &s.rows {
-        s.disp.push(r.displacement(&ws.layout, &ws.sys.sol) * scale);
-    }
-    for r in &s.rows {
+        let du = r.du(&ws.layout, &ws.sys.sol);
+        s.disp.push(r.displacement(&ws.layout, &ws.sys.sol, du) * scale);
         if let (false, Some(b)) = (r.fixed, beads.get_mut(r.id)) {
-            b.step_ds = scale * r.du(&ws.layout, &ws.sys.sol);
+            b.step_du = scale * du;
         }
     }
 }
