@@ -8,8 +8,18 @@ use nalgebra::Vector3;
 /// Parameters (s, t) ∈ [0, 1]² of the closest points p1 + s d1 and
 /// p2 + t d2 of segments [p1, q1] and [p2, q2], and their distance.
 pub fn closest_on_segments(p1: &Vector3<f64>, q1: &Vector3<f64>, p2: &Vector3<f64>, q2: &Vector3<f64>) -> (f64, f64, f64) {
-    let (d1, d2, r) = (q1 - p1, q2 - p2, p1 - p2);
-    let (a, e, f) = (d1.norm_squared(), d2.norm_squared(), d2.dot(&r));
+    let (d1, d2) = (q1 - p1, q2 - p2);
+    let (s, t, gap2) = closest_on_axes(p1, &d1, d1.norm_squared(), p2, &d2, d2.norm_squared());
+    (s, t, gap2.sqrt())
+}
+
+/// [`closest_on_segments`] of segments given as p1 + s d1 and p2 + t d2
+/// with |d1|² = `a` and |d2|² = `e` known (a detector keeps them per
+/// capsule): (s, t) and the squared distance.
+#[inline]
+pub fn closest_on_axes(p1: &Vector3<f64>, d1: &Vector3<f64>, a: f64, p2: &Vector3<f64>, d2: &Vector3<f64>, e: f64) -> (f64, f64, f64) {
+    let r = p1 - p2;
+    let f = d2.dot(&r);
     let tiny = 1e-300;
     let (s, t) = if a <= tiny && e <= tiny {
         (0.0, 0.0)
@@ -20,7 +30,7 @@ pub fn closest_on_segments(p1: &Vector3<f64>, q1: &Vector3<f64>, p2: &Vector3<f6
         if e <= tiny {
             ((-c / a).clamp(0.0, 1.0), 0.0)
         } else {
-            let b = d1.dot(&d2);
+            let b = d1.dot(d2);
             let denom = a * e - b * b; // ≥ 0, zero when parallel
             if denom <= 1e-12 * a * e {
                 parallel(a, b, c, e, f)
@@ -38,7 +48,7 @@ pub fn closest_on_segments(p1: &Vector3<f64>, q1: &Vector3<f64>, p2: &Vector3<f6
         }
     };
     let gap = (p1 + d1 * s) - (p2 + d2 * t);
-    (s, t, gap.norm())
+    (s, t, gap.norm_squared())
 }
 
 /// Parallel segments: the middle of the overlap of segment 2 projected on
