@@ -312,7 +312,7 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
     let mut rods: Vec<&Rod> = recycle(std::mem::take(&mut ws.rod_refs));
     rods.extend(rod_arena.iter().map(|(_, r)| r));
     let placed = place(ws, &rods, constraints, beads, contacts, interleave, regime);
-    let energy = placed.and_then(|_| gather_and_assemble(ws, &rods, constraints, loads, beads, contacts, params, *time, regime));
+    let energy = placed.and_then(|_| gather_and_assemble(ws, &rods, constraints, loads, beads, contacts, params, *time, *steps + 1, regime));
     ws.rod_refs = recycle(rods);
     let energy = energy?;
     for (_, b) in beads.iter_mut() {
@@ -442,6 +442,7 @@ fn gather_and_assemble(
     contacts: &ContactSet,
     params: &IntegrationParameters,
     time: f64,
+    step: u64,
     regime: Regime,
 ) -> Result<f64> {
     let t = regime.force_time(time);
@@ -477,7 +478,8 @@ fn gather_and_assemble(
     for (k, (id, b)) in beads.iter().enumerate() {
         let r = position_of(pos, b.rod)?;
         let (ctrl, bs) = crate::pipeline::beads::bead_basis(&ws.beads, k, id, b.u, rods[r])?;
-        crate::force::spread(&mut ws.ext[r], rods[r].dofs(), &ctrl, &bs[0], &b.rod_force);
+        let force = crate::pipeline::beads::bead_rod_force(&ws.beads, k, id, b.rod_force);
+        crate::force::spread(&mut ws.ext[r], rods[r].dofs(), &ctrl, &bs[0], &force);
         let seg = rods[r].knots().locate(b.u)?;
         ws.masses.push(PointMass { rod: r, seg, ctrl, b: bs[0], mass: b.mass });
     }
@@ -547,7 +549,7 @@ fn gather_and_assemble(
     ws.sys.linear_solver = params.linear_solver;
     let mut energy = ws.sys.assemble(&ws.layout, rods, &ws.drags, &ws.ext, &crefs, &ws.masses, &ws.field_k, k, params.parallel);
     if energy.is_ok() && regime.dynamic() {
-        energy = energy.and_then(|e| crate::pipeline::beads::assemble(&mut ws.sys, &ws.layout, &mut ws.beads, k).map(|_| e));
+        energy = energy.and_then(|e| crate::pipeline::beads::assemble(&mut ws.sys, &ws.layout, &mut ws.beads, k, step).map(|_| e));
     } else if energy.is_ok() && regime.bead_unknowns() {
         let static_beads: Vec<BeadRef> = beads
             .iter()

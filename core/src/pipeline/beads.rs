@@ -168,6 +168,14 @@ pub(crate) fn bead_basis(s: &Scratch, k: usize, id: Index, u: f64, rod: &crate::
     }
 }
 
+/// Bead `id`'s force on its rod (force unit) for this assembly: the
+/// step's, from its row, while the dynamic step's rows are valid (the
+/// world's copy is written only once the step has succeeded); else the
+/// world's `fallback`.
+pub(crate) fn bead_rod_force(s: &Scratch, k: usize, id: Index, fallback: [f64; 3]) -> [f64; 3] {
+    s.rows.get(k).filter(|r| s.valid && r.id == id).map_or(fallback, |r| r.rod_force.into())
+}
+
 /// Dynamics, before the rod solve: each bead's state at the start of the
 /// step, its force on the rod (the load, and the momentum it brings,
 /// m (v_b − v_rod)/h, beside the c_v m v_rod the rod's point mass adds),
@@ -224,10 +232,8 @@ fn prepare_with(world: &mut World, h: f64, s: &mut Scratch) -> Result<()> {
         p.active = pressed || p.gap + h * closing < p.target();
         p.pulled = false;
     }
-    for (k, (_, b)) in world.beads.iter_mut().enumerate() {
-        b.rod_force = s.rows[k].rod_force.into();
-        b.step_du = 0.0;
-    }
+    // The world's beads are not written here: a step refused later leaves
+    // them as they were (their force on the rod is read from the rows).
     Ok(())
 }
 
@@ -299,7 +305,7 @@ pub(crate) fn place(s: &mut Scratch, slots: &mut Vec<ConstraintSlot>, rod_pos: i
 /// thesis' necklace). An abscissa whose diagonal is not positive (no mass,
 /// no friction and a load that pulls it off a bend) has no motion of its own
 /// to solve: an error.
-pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k: Coefficients) -> Result<()> {
+pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k: Coefficients, step: u64) -> Result<()> {
     if !s.valid {
         return Ok(());
     }
@@ -340,6 +346,24 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k:
         let speed2 = r.d1.norm_squared();
         r.a = (k.mass * r.mass + k.drag * r.friction) * speed2 - r.load.dot(&r.d2);
         if !(r.a > 0.0) {
+            // With mass or friction the step is too long for the bend: its
+            // inertia m |r′|²/h² (and drag c |r′|²/h) fall below the load's
+            // pull off the bend, F·r″; a shorter step restores them (and
+            // `adaptive_dt` retries a diverged step in sub-steps).
+            let hold = (k.mass * r.mass + k.drag * r.friction) * speed2;
+            if hold > 0.0 {
+                return Err(Error::Diverged {
+                    step,
+                    rod: Some(r.rod),
+                    factor: r.load.dot(&r.d2) / hold,
+                    detail: format!(
+                        "bead {} at u = {}: the time step is too long for its load on the bend of its rod (the load's pull off the bend, F·r″ = {:.3e}, exceeds its inertia and drag along the rod, {hold:.3e}); the world is unchanged (reduce dt, or World(adaptive_dt=True))",
+                        r.id.0,
+                        r.u,
+                        r.load.dot(&r.d2)
+                    ),
+                });
+            }
             return Err(Error::singular(format!(
                 "bead {} at u = {}: its motion along the rod has no mass, no friction and a load that pulls it off the bend (diagonal {:e}); give it mass or friction",
                 r.id.0, r.u, r.a
@@ -385,9 +409,13 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k:
 }
 
 /// One round of the gaps' active set after a solve: a row whose multiplier
-/// pulls leaves (for the rest of the step), a pair the solution closes
-/// past its target enters. Returns whether the set changed.
-pub(crate) fn update_gaps(world: &mut World) -> bool {
+/// pulls leaves, a pair the solution closes past its target enters — again
+/// after it left, unless `lock` (the late rounds, as for contacts: rows
+/// that pull together all leave, and one of them may still be needed; kept
+/// out for the rest of the step, a train of beads pushed by changing forces
+/// ended steps overlapping by up to 3 times the slack). Returns whether the
+/// set changed.
+pub(crate) fn update_gaps(world: &mut World, lock: bool) -> bool {
     let ws = &mut world.ws;
     let (s, layout, sol) = (&mut ws.beads, &ws.layout, &ws.sys.sol);
     if !s.valid {
@@ -401,7 +429,7 @@ pub(crate) fn update_gaps(world: &mut World) -> bool {
             if force < 0.0 {
                 (p.active, p.pulled, changed) = (false, true, true);
             }
-        } else if !p.pulled {
+        } else if !(lock && p.pulled) {
             let (dua, dub) = (a.du(layout, sol), b.du(layout, sol));
             let (da, db) = (a.displacement(layout, sol, dua), b.displacement(layout, sol, dub));
             let end = p.gap + p.change(a, b, da, db, dua, dub);
@@ -522,6 +550,15 @@ pub(crate) fn advance(world: &mut World, h: f64, events: &mut Vec<Event>) -> Res
 fn advance_with(world: &mut World, h: f64, events: &mut Vec<Event>, s: &mut Scratch) -> Result<()> {
     if !s.valid {
         return Ok(());
+    }
+    // The step succeeded: its forces on the rods become the world's.
+    for r in &s.rows {
+        if let Some(b) = world.beads.get_mut(r.id) {
+            b.rod_force = r.rod_force.into();
+            if b.fixed {
+                b.step_du = 0.0;
+            }
+        }
     }
     for (k, r) in s.rows.iter().enumerate() {
         let Some(b) = world.beads.get(r.id) else { continue };

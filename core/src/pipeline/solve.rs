@@ -130,7 +130,7 @@ fn settle_and_solve(world: &mut World, regime: Regime) -> Result<(f64, Solved)> 
         };
         let contacts_moved = !world.contacts.is_empty() && rounds < MAX_ACTIVE_SET_ROUNDS && update_active_set(world, rounds >= crate::contact::friction::FREE_ROUNDS)?;
         // The beads' gap rows settle in the same rounds (dynamics only).
-        let beads_moved = rounds < MAX_ACTIVE_SET_ROUNDS && super::beads::update_gaps(world);
+        let beads_moved = rounds < MAX_ACTIVE_SET_ROUNDS && super::beads::update_gaps(world, rounds >= crate::contact::friction::FREE_ROUNDS);
         if !(contacts_moved || beads_moved) {
             check_blocked(world)?;
             return Ok((energy, solved));
