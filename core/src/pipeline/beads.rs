@@ -302,9 +302,10 @@ pub(crate) fn place(s: &mut Scratch, slots: &mut Vec<ConstraintSlot>, rod_pos: i
 /// −e b/a on their right-hand sides). Kept in the system, a train of beads
 /// pressed together put its abscissae beside its rows on the same few
 /// control points and widened the band by as many (34 against 16 for the
-/// thesis' necklace). An abscissa whose diagonal is not positive (no mass,
-/// no friction and a load that pulls it off a bend) has no motion of its own
-/// to solve: an error.
+/// thesis' necklace). An abscissa whose diagonal is not positive has no
+/// motion of its own to solve: with mass or friction the step is too long
+/// for the bend (`Diverged`, which `adaptive_dt` retries in sub-steps);
+/// without either, a load that pulls it off a bend (`Singular`).
 pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k: Coefficients, step: u64) -> Result<()> {
     if !s.valid {
         return Ok(());
@@ -412,9 +413,9 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k:
 /// pulls leaves, a pair the solution closes past its target enters — again
 /// after it left, unless `lock` (the late rounds, as for contacts: rows
 /// that pull together all leave, and one of them may still be needed; kept
-/// out for the rest of the step, a train of beads pushed by changing forces
-/// ended steps overlapping by up to 3 times the slack). Returns whether the
-/// set changed.
+/// out for the rest of the step, trains of beads pushed by changing forces
+/// ended steps overlapping by up to 3e-4 m beyond the slack of 1e-4 m).
+/// Returns whether the set changed.
 pub(crate) fn update_gaps(world: &mut World, lock: bool) -> bool {
     let ws = &mut world.ws;
     let (s, layout, sol) = (&mut ws.beads, &ws.layout, &ws.sys.sol);
