@@ -54,18 +54,24 @@ fn bead_on_a_string_matches_the_reference() {
 
 fn inclined_rod(w: &mut World, alpha: f64) -> RodHandle {
     let end = Vector3::new(alpha.cos(), alpha.sin(), 0.0) * 2.0;
+    pinned_straight(w, end, 0.02, Material::new("steel", 200e9, 0.3, 7800.0).unwrap())
+}
+
+/// A straight rod (12 control points, circle of `radius`) from the origin
+/// to `end`, pinned at both ends.
+fn pinned_straight(w: &mut World, end: Vector3<f64>, radius: f64, material: Material) -> RodHandle {
     let rod = RodBuilder::straight(Vector3::zeros(), end)
         .control_points(12)
         .with_roll(false)
-        .section(Section::circle(0.02).unwrap())
-        .material(Material::new("steel", 200e9, 0.3, 7800.0).unwrap())
+        .section(Section::circle(radius).unwrap())
+        .material(material)
         .build()
         .unwrap();
     let h = w.add_rod(rod);
     let (u0, u1) = w.rod(h).unwrap().domain();
     let xyz = [true, true, true, false];
     w.add_constraint(h, ConstraintKind::Position(Position { u: u0, axes: xyz, target: [0.0; 4] }), 0.0).unwrap();
-    w.add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: xyz, target: [end.x, end.y, 0.0, 0.0] }), 0.0).unwrap();
+    w.add_constraint(h, ConstraintKind::Position(Position { u: u1, axes: xyz, target: [end.x, end.y, end.z, 0.0] }), 0.0).unwrap();
     h
 }
 
@@ -147,19 +153,7 @@ fn beads_do_not_pass_each_other() {
 
 /// A straight nylon string (1 m, 12 control points) pinned at both ends.
 fn pinned_string(w: &mut World) -> RodHandle {
-    let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(1.0, 0.0, 0.0))
-        .control_points(12)
-        .with_roll(false)
-        .section(Section::circle(0.002).unwrap())
-        .material(Material::new("nylon", 3e9, 0.4, 1150.0).unwrap())
-        .build()
-        .unwrap();
-    let r = w.add_rod(rod);
-    let (u0, u1) = w.rod(r).unwrap().domain();
-    let xyz = [true, true, true, false];
-    w.add_constraint(r, ConstraintKind::Position(Position { u: u0, axes: xyz, target: [0.0; 4] }), 0.0).unwrap();
-    w.add_constraint(r, ConstraintKind::Position(Position { u: u1, axes: xyz, target: [1.0, 0.0, 0.0, 0.0] }), 0.0).unwrap();
-    r
+    pinned_straight(w, Vector3::new(1.0, 0.0, 0.0), 0.002, Material::new("nylon", 3e9, 0.4, 1150.0).unwrap())
 }
 
 /// Trains of 2–6 sliding beads of random sizes and masses between two
