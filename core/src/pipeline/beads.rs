@@ -344,14 +344,14 @@ pub(crate) fn assemble(sys: &mut KktSystem, layout: &Layout, s: &mut Scratch, k:
         if r.fixed {
             continue;
         }
-        let speed2 = r.d1.norm_squared();
-        r.a = (k.mass * r.mass + k.drag * r.friction) * speed2 - r.load.dot(&r.d2);
+        // Inertia m |r′|²/h² and drag c |r′|²/h along the rod, less the
+        // load's pull off the bend, F·r″.
+        let hold = (k.mass * r.mass + k.drag * r.friction) * r.d1.norm_squared();
+        r.a = hold - r.load.dot(&r.d2);
         if !(r.a > 0.0) {
-            // With mass or friction the step is too long for the bend: its
-            // inertia m |r′|²/h² (and drag c |r′|²/h) fall below the load's
-            // pull off the bend, F·r″; a shorter step restores them (and
-            // `adaptive_dt` retries a diverged step in sub-steps).
-            let hold = (k.mass * r.mass + k.drag * r.friction) * speed2;
+            // With mass or friction the step is too long for the bend; a
+            // shorter step restores the diagonal (and `adaptive_dt` retries
+            // a diverged step in sub-steps).
             if hold > 0.0 {
                 return Err(Error::Diverged {
                     step,
