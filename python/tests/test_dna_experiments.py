@@ -162,3 +162,36 @@ def test_an_interrupted_run_keeps_its_records_on_disk(tmp_path):
     assert float(rows[-1].split(",")[0]) == pytest.approx(2.0, abs=1e-9)
     import mdtraj as md
     assert md.load(prefix + ".dcd", top=prefix + ".psf").n_frames == 11
+
+
+def test_a_trapped_free_duplex_with_noise_has_the_traps_equipartition():
+    # A free 12 bp duplex held only by the two traps on its a3′ and b5′
+    # ends (k each, static): the total trap force along z is 2k times its
+    # end pair's centre displacement, and the centre is free apart from
+    # the traps (trap energy k|δc|² + (k/4)|δb|², b the rung), so
+    # var(F) = 2 k kT exactly at equilibrium. Measured 0.983 ± 0.080 of it
+    # (10 blocks); the noise's drag, its random stream and the trapezoidal
+    # rule's Gibbs-exact sampling are what this checks inside `pull`.
+    kt = sk.units.kT(298.15, "molecular")
+    k, steps, dt = 5.0, 10_000, 0.005
+    d = sk.dna.duplex("GATTACAGATTA", break_forces=[math.inf] * 12)
+    r = ex.pull(d, held=[], pulled=["a3'", "b5'"], direction=(0.0, 0.0, 1.0), speed=1e-6, distance=1e-6 * steps * dt,
+                trap_stiffness=k, temperature=298.15, viscosity=0.1, dt=dt, record_every=1, progress_bar=False, seed=1)
+    f = r.force[steps // 10:]
+    assert float(np.var(f)) == pytest.approx(2 * k * kt, rel=0.2)
+
+
+def test_noise_in_pull_is_seeded_and_off_at_zero_kelvin():
+    d = sk.dna.duplex("GATTACAGATTA", break_forces=[math.inf] * 12)
+    run = lambda **kw: ex.stretch(d, distance=0.02, speed=0.1, dt=0.005, viscosity=0.1, record_every=4,  # noqa: E731
+                                  progress_bar=False, **kw).extension
+    a, b, c = run(temperature=298.15, seed=3), run(temperature=298.15, seed=3), run(temperature=298.15, seed=4)
+    cold = run()
+    assert np.array_equal(a, b) and not np.array_equal(a, c)
+    # The noise moves the ends by tenths of a nm; without it the slow pull
+    # moves them by far less.
+    assert np.std(np.diff(a)) > 20 * np.std(np.diff(cold))
+    for kw, what in ((dict(temperature=-1.0), "temperature"), (dict(temperature=math.nan), "temperature"),
+                     (dict(seed=-1), "seed"), (dict(seed=1.5), "seed"), (dict(scheme="rk4"), "scheme")):
+        with pytest.raises(sk.InvalidInputError, match=what):
+            ex.stretch(d, progress_bar=False, **kw)

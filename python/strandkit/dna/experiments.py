@@ -1,6 +1,7 @@
-"""Single-molecule experiments on a duplex (issue 17), at zero temperature
-in a viscous fluid: optical-trap pulling at constant velocity, and the
-unzipping, shear and stretching set-ups built on it. Units: nm, pN, ns.
+"""Single-molecule experiments on a duplex (issue 17) in a viscous fluid, at
+zero temperature or with thermal noise (``temperature=`` K, ``seed=``):
+optical-trap pulling at constant velocity, force clamps and ramps, and the
+unzipping, shear and stretching set-ups built on them. Units: nm, pN, ns.
 
 Each experiment holds some strand ends in fixed stiff traps and pulls
 others with a trap moving at constant speed, F = k (x_trap − x_end) along
@@ -118,7 +119,8 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
          viscosity: float = 1.0, dt: float = 0.01, record_every: int = 10, out: Optional[str] = None,
          frame_every: int = 100, stop_when_open: bool = True, progress_bar: bool = True,
          span_pairs: Optional[Sequence[int]] = None, force: Optional[Callable[[float], float]] = None,
-         duration: Optional[float] = None, experiment: str = "pull") -> PullResult:
+         duration: Optional[float] = None, temperature: float = 0.0, seed: int = 0,
+         scheme: Optional[str] = None, experiment: str = "pull") -> PullResult:
     """Pulls the ``pulled`` ends of duplex ``d`` with traps moving at
     ``speed`` (nm/ns) for ``distance`` (nm) while fixed traps hold the
     ``held`` ends (each trap starts on its end: no initial force). With
@@ -135,7 +137,14 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     between records; out: file prefix for the CSV and trajectory;
     frame_every: steps between trajectory frames; stop_when_open: stop once
     every pair is open; span_pairs: the two pairs whose midpoints ``span``
-    follows (default: the 4th from each end, or the end pairs below 10 bp).
+    follows (default: the 4th from each end, or the end pairs below 10 bp);
+    temperature: K (0: no noise; above it Langevin noise of the fluid's
+    drag, drawn from ``seed``: a run is reproducible); scheme: the World's
+    (default: the trapezoidal rule with noise, which keeps the harmonic
+    modes' Gibbs distribution at any step, implicit Euler without). With
+    noise a rigid bond's instantaneous tension swings by tens of pN: give
+    the duplex ``break_averaging_time`` (``duplex``) so that bonds break on
+    the averaged force.
     """
     if not isinstance(d, Duplex):
         raise _invalid(f"expected a strandkit.dna.Duplex, got {type(d).__name__}")
@@ -151,6 +160,9 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     k, kh = number("trap_stiffness (pN/nm)", trap_stiffness), number("hold_stiffness (pN/nm)", hold_stiffness)
     viscosity, dt = number("viscosity (pN·ns/nm²)", viscosity), number("dt (ns)", dt)
     record_every, frame_every = integer("record_every", record_every, 1), integer("frame_every", frame_every, 1)
+    temperature, seed = number("temperature (K)", temperature, strict=False), integer("seed", seed, 0)
+    if scheme is None:
+        scheme = "trapezoidal" if temperature > 0 else "implicit_euler"
     n = len(d)
     if span_pairs is None:
         span_pairs = (3, n - 4) if n >= 10 else (0, n - 1)
@@ -169,7 +181,8 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     if n_steps > 50_000_000:
         raise _invalid(f"{n_steps} steps: raise speed or dt")
 
-    world = World(units="molecular", dt=dt, viscosity=viscosity, adaptive_dt=True)
+    world = World(units="molecular", dt=dt, viscosity=viscosity, adaptive_dt=True, temperature=temperature, seed=seed,
+                  scheme=scheme)
     ins = world.insert(d.assembly)
     rods = [ins.rods[i] for i in d.strands]
     pos = lambda e: np.asarray(rods[e[0]].position(e[1]), dtype=float)  # noqa: E731
@@ -244,6 +257,8 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     ext0 = float(np.dot(x_p0, e)) - x_h0
     protocol = (f"speed {speed} nm/ns, trap {k} pN/nm" if force is None
                 else f"force protocol over {duration} ns (trap_nm: NaN)")
+    if temperature > 0:
+        protocol += f", {temperature:g} K (seed {seed}, {scheme})"
     records = Records(COLUMNS, ["time_ns", "trap_nm", "extension_nm", "force_pN", "open_bp", "span_nm"], out,
                       f"strandkit.dna.experiments.{experiment}: {d!r}; held {held}, pulled {pulled}, {protocol}, "
                       f"direction {e.tolist()}", world, d, ins, frame_every)
