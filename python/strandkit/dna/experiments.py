@@ -277,8 +277,9 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
         record()
         for step in progress(range(n_steps), desc=experiment, enable=progress_bar):
             if force is not None:
-                # Implicit Euler: the load at the step's end.
-                f_next = applied(world.time + dt) * share
+                # Held over the step: implicit Euler weighs the step's end,
+                # the second-order schemes its middle.
+                f_next = applied(world.time + (dt if scheme == "implicit_euler" else 0.5 * dt)) * share
                 for h, (s, u) in zip(pushes, ends_p):
                     world.set_load(h, point_force(rods[s], u, f_next * e))
             report = world.step()
