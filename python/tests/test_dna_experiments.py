@@ -191,6 +191,8 @@ def test_noise_in_pull_is_seeded_and_off_at_zero_kelvin():
     # The noise moves the ends by tenths of a nm; without it the slow pull
     # moves them by far less.
     assert np.std(np.diff(a)) > 20 * np.std(np.diff(cold))
+    with pytest.raises(sk.InvalidInputError, match="break_averaging_time"):
+        ex.stretch("GATTACAGATTA", temperature=298.15, progress_bar=False)
     for kw, what in ((dict(temperature=-1.0), "temperature"), (dict(temperature=math.nan), "temperature"),
                      (dict(seed=-1), "seed"), (dict(seed=1.5), "seed"), (dict(scheme="rk4"), "scheme")):
         with pytest.raises(sk.InvalidInputError, match=what):

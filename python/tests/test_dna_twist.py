@@ -46,6 +46,18 @@ def test_magnetic_tweezers_refuses_bad_input(kw):
         ex.magnetic_tweezers("GATTACA" * 3, progress_bar=False, **kw)
 
 
+def test_noise_on_bonds_that_break_on_their_instant_tension_is_refused():
+    # With noise, every breakable bond would break in the first steps (the
+    # run then diverged at step 28, blaming the energy): refused, naming
+    # the fix; averaged or unbreakable bonds run.
+    with pytest.raises(sk.errors.InvalidInputError, match="break_averaging_time"):
+        ex.magnetic_tweezers("GATTACA" * 4, temperature=298.15, progress_bar=False)
+    for options in (dict(break_averaging_time=1.0), dict(break_forces=[math.inf] * 28)):
+        r = ex.magnetic_tweezers("GATTACA" * 4, force=5.0, turns=0.1, turns_per_ns=0.1, wait=0.5, dt=0.005,
+                                 viscosity=0.1, temperature=298.15, seed=2, progress_bar=False, duplex_options=options)
+        assert r.turns[-1] == pytest.approx(0.1) and np.all(np.isfinite(r.torque))
+
+
 def test_too_short_a_duplex_is_refused():
     with pytest.raises(sk.errors.InvalidInputError, match="too short"):
         ex.magnetic_tweezers("GATTAC", progress_bar=False)

@@ -26,3 +26,26 @@ def integer(name: str, x, low: int) -> int:
             or x < low:
         raise _invalid(f"{name} must be an integer ≥ {low}, got {x!r}")
     return int(x)
+
+
+def noise_scheme(temperature: float, scheme):
+    """The World scheme for a run at ``temperature`` (K): ``scheme`` as
+    given, else the trapezoidal rule with noise (it keeps the harmonic
+    modes' Gibbs distribution at any step; implicit Euler cools the stiff
+    ones) and implicit Euler without."""
+    if scheme is not None:
+        return scheme
+    return "trapezoidal" if temperature > 0 else "implicit_euler"
+
+
+def check_bonds_under_noise(d, temperature: float) -> None:
+    """With thermal noise a bond's instantaneous tension swings by tens of
+    pN (|F| 58 pN on average at 1 ps steps): bonds that break on it all
+    break in the first steps. Refused unless they break on an average."""
+    if temperature <= 0 or d.params.get("break_averaging_time", 0.0) > 0:
+        return
+    staggers = d.params.get("stagger_break_forces") or []
+    if any(math.isfinite(f) for f in list(d.break_forces) + list(staggers)):
+        raise _invalid(f"at {temperature:g} K the duplex's bonds would all break in the first steps (their "
+                       "instantaneous tension swings by tens of pN): build it with break_averaging_time (ns, "
+                       "about 1) or with unbreakable bonds (break_forces=[math.inf] * n)")

@@ -49,7 +49,7 @@ from ..errors import _invalid
 from .._native import World
 from .._progress import progress
 from ..loads import point_force, trap
-from ._checks import integer, number
+from ._checks import check_bonds_under_noise, integer, noise_scheme, number
 from .duplex import Duplex, as_duplex, duplex as build_duplex
 from ._records import Records
 from .fluctuations import ThermalElasticity, thermal_elasticity
@@ -142,9 +142,9 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     drag, drawn from ``seed``: a run is reproducible); scheme: the World's
     (default: the trapezoidal rule with noise, which keeps the harmonic
     modes' Gibbs distribution at any step, implicit Euler without). With
-    noise a rigid bond's instantaneous tension swings by tens of pN: give
-    the duplex ``break_averaging_time`` (``duplex``) so that bonds break on
-    the averaged force.
+    noise a rigid bond's instantaneous tension swings by tens of pN: the
+    duplex needs ``break_averaging_time`` (``duplex``), so that bonds break
+    on the averaged force, or unbreakable bonds (refused otherwise).
     """
     if not isinstance(d, Duplex):
         raise _invalid(f"expected a strandkit.dna.Duplex, got {type(d).__name__}")
@@ -161,8 +161,8 @@ def pull(d: Duplex, *, held: Sequence[str], pulled: Sequence[str], speed: float 
     viscosity, dt = number("viscosity (pN·ns/nm²)", viscosity), number("dt (ns)", dt)
     record_every, frame_every = integer("record_every", record_every, 1), integer("frame_every", frame_every, 1)
     temperature, seed = number("temperature (K)", temperature, strict=False), integer("seed", seed, 0)
-    if scheme is None:
-        scheme = "trapezoidal" if temperature > 0 else "implicit_euler"
+    scheme = noise_scheme(temperature, scheme)
+    check_bonds_under_noise(d, temperature)
     n = len(d)
     if span_pairs is None:
         span_pairs = (3, n - 4) if n >= 10 else (0, n - 1)

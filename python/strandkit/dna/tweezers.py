@@ -48,7 +48,7 @@ from .._native import World
 from .._progress import progress
 from ..constraints import position
 from ..loads import point_force
-from ._checks import integer, number
+from ._checks import check_bonds_under_noise, integer, noise_scheme, number
 from .duplex import as_duplex
 from .fluctuations import pair_frames
 from ._records import Records
@@ -105,7 +105,7 @@ class TwistResult:
 def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 3.0,
                       turns_per_ns: Union[float, Callable[[float], float]] = 0.02,
                       wait: float = 20.0, dt: float = 0.01, viscosity: float = 1.0, temperature: float = 0.0,
-                      seed: int = 0, held_pairs: int = 2, imperfection: float = 0.01, record_every: int = 10, out: Optional[str] = None,
+                      seed: int = 0, scheme: Optional[str] = None, held_pairs: int = 2, imperfection: float = 0.01, record_every: int = 10, out: Optional[str] = None,
                       frame_every: int = 100, progress_bar: bool = True, duplex_options=None) -> TwistResult:
     """Turns the bead end of a duplex by ``turns`` (negative: unwinding) at
     ``turns_per_ns`` (a number, or a function of the turns done giving the
@@ -113,7 +113,9 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     (pN) after ``wait`` ns at rest (see the module). dt: ns; viscosity: pN·ns/nm² (water: 1; with the
     rate it sets how far from quasi-static the run is: the duplex's twist
     relaxes over ~γ_θ L²/(π² C)); temperature: K (0: no noise; seed for the
-    noise); held_pairs: pairs held at each end; imperfection: the lateral
+    noise; the duplex's bonds must then break on an averaged tension,
+    ``duplex(break_averaging_time=…)``, or not at all); scheme: the World's
+    (default: trapezoidal with noise, implicit Euler without); held_pairs: pairs held at each end; imperfection: the lateral
     force at the middle pair as a fraction of ``force``; record_every: steps between
     records; out: file prefix for ``.csv`` (streamed, so an interrupted run
     keeps its records) and the trajectory; frame_every: steps between
@@ -139,6 +141,7 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     if not callable(turns_per_ns) and n_wait + abs(turns) / fixed / dt > MAX_STEPS:  # before the schedule is built
         raise _invalid(f"{abs(turns) / fixed / dt:.3g} steps to turn {turns} turns: raise turns_per_ns or dt")
     d = as_duplex(sequence_or_duplex, duplex_options)
+    check_bonds_under_noise(d, temperature)
     n = len(d)
     if n < 2 * held_pairs + 4:
         raise _invalid(f"a {n} bp duplex is too short to twist with {held_pairs} pairs held at each end: "
@@ -156,7 +159,8 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
             raise _invalid(f"more than {MAX_STEPS:.0e} steps to turn {turns} turns: raise turns_per_ns or dt")
     n_turn = len(schedule) - 1
 
-    world = World(units="molecular", dt=dt, viscosity=viscosity, temperature=temperature, seed=seed)
+    world = World(units="molecular", dt=dt, viscosity=viscosity, temperature=temperature, seed=seed,
+                  scheme=noise_scheme(temperature, scheme))
     ins = world.insert(d.assembly)
     rods = [ins.rods[i] for i in d.strands]
     surface = list(range(held_pairs))
