@@ -105,8 +105,9 @@ class TwistResult:
 def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 3.0,
                       turns_per_ns: Union[float, Callable[[float], float]] = 0.02,
                       wait: float = 20.0, dt: float = 0.01, viscosity: float = 1.0, temperature: float = 0.0,
-                      seed: int = 0, scheme: Optional[str] = None, held_pairs: int = 2, imperfection: float = 0.01, record_every: int = 10, out: Optional[str] = None,
-                      frame_every: int = 100, progress_bar: bool = True, duplex_options=None) -> TwistResult:
+                      seed: int = 0, scheme: Optional[str] = None, held_pairs: int = 2, imperfection: float = 0.01,
+                      record_every: int = 10, out: Optional[str] = None, frame_every: int = 100,
+                      progress_bar: bool = True, duplex_options=None) -> TwistResult:
     """Turns the bead end of a duplex by ``turns`` (negative: unwinding) at
     ``turns_per_ns`` (a number, or a function of the turns done giving the
     rate: fast, then slow near the buckling) under a constant ``force``
@@ -115,7 +116,8 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     relaxes over ~γ_θ L²/(π² C)); temperature: K (0: no noise; seed for the
     noise; the duplex's bonds must then break on an averaged tension,
     ``duplex(break_averaging_time=…)``, or not at all); scheme: the World's
-    (default: trapezoidal with noise, implicit Euler without); held_pairs: pairs held at each end; imperfection: the lateral
+    (default: trapezoidal with noise, implicit Euler without); held_pairs:
+    pairs held at each end; imperfection: the lateral
     force at the middle pair as a fraction of ``force``; record_every: steps between
     records; out: file prefix for ``.csv`` (streamed, so an interrupted run
     keeps its records) and the trajectory; frame_every: steps between
