@@ -24,8 +24,9 @@ Measured 2026-11-29 (first fifth of each run dropped, 8 blocks):
   0.9689 ± 0.0024 (m = 30); Bouchiat 0.9546: shortening 3.1 % against
   4.5 %. At 3 pN, 14000 steps: 0.9534 ± 0.0059 (m = 15), 0.9565 ±
   0.0065 (m = 30), Bouchiat 0.9171 (4.7 % against 8.3 %; 5000 steps read
-  0.9613 ± 0.0017: the slowest modes relax in ~8 ns there). Zero temperature: z/Lc 1.0000, Lc 23.635 nm (m = 15)
-  against 23.694 nm with noise.
+  0.9613 ± 0.0017: the slowest modes relax in ~8 ns there). Zero
+  temperature: z/Lc 1.0000, Lc 23.635 nm (m = 15) against 23.694 nm with
+  noise.
 - rod 34 nm, 10 pN, 20000 steps: 0.9564 ± 0.0008 pinned, 0.9572 ± 0.0008
   clamped (shortening 4.4 %, 4.3 %); 3 pN clamped 0.9235 ± 0.0023 (7.7 %
   against Bouchiat's 8.3 %): finite length and ends take 5–8 % of the
@@ -44,7 +45,8 @@ import time
 import numpy as np
 
 import strandkit as sk
-from strandkit.dna.fluctuations import _steps, pair_frames
+from strandkit.dna._checks import noise_scheme
+from strandkit.dna.fluctuations import _steps, pair_frames, standard_error
 from strandkit.loads import point_force, trap
 from strandkit.polymer import bouchiat_extension
 
@@ -55,16 +57,15 @@ A = 50.0  # nm
 
 def blocks(x, n=8):
     """Mean and standard error of ``x`` from ``n`` consecutive blocks."""
-    means = [b.mean() for b in np.array_split(np.asarray(x), n)]
-    return float(np.mean(x)), float(np.std(means) / math.sqrt(n))
+    return float(np.mean(x)), standard_error([b.mean() for b in np.array_split(np.asarray(x), n)])
 
 
 def duplex_run(n, force, steps, temperature=T, spans=(15, 30)):
     spans = [m for m in spans if n - 1 - 2 * m >= 4]  # interior spans of at least 4 steps
     d = sk.dna.duplex(("GATTACA" * (n // 7 + 1))[:n], break_forces=[math.inf] * n)
     noisy = temperature > 0
-    w = sk.World(units="molecular", dt=0.005 if noisy else 0.05, viscosity=0.1 if noisy else 1.0, temperature=temperature,
-                 seed=3, scheme="trapezoidal" if noisy else "implicit_euler")
+    w = sk.World(units="molecular", dt=0.005 if noisy else 0.05, viscosity=0.1 if noisy else 1.0,
+                 temperature=temperature, seed=3, scheme=noise_scheme(temperature, None))
     ins = w.insert(d.assembly)
     a, b = (ins.rods[i] for i in d.strands)
     ends = lambda k: ((a, float(d.abscissae[0][k])), (b, float(d.abscissae[1][int(d.partner[k])])))  # noqa: E731
@@ -81,7 +82,8 @@ def duplex_run(n, force, steps, temperature=T, spans=(15, 30)):
         if step % 5 == 0 and step >= steps // 5:
             o, x, z = pair_frames(d, a, b)
             rise = _steps(o, x, z)[1]
-            rows.append([v for m in spans for v in (float(np.dot(o[n - 1 - m] - o[m], e)), float(rise[m:n - 1 - m].sum()))])
+            rows.append([v for m in spans
+                         for v in (float(np.dot(o[n - 1 - m] - o[m], e)), float(rise[m:n - 1 - m].sum()))])
     r = np.array(rows)
     print(f"duplex {n} bp, {force:g} pN, {temperature:g} K: {(time.time() - start) / steps * 1e3:.1f} ms/step; "
           f"Bouchiat {bouchiat_extension(force, A, KT):.4f}")
@@ -94,7 +96,8 @@ def rod_run(length, force, steps, clamped):
     dna = sk.Material("dna", A * KT / (math.pi / 4), 0.3, 1.7e-3)  # B = A kT at radius 1 nm
     rod = sk.straight((0, 0, 0), (length, 0, 0), section=1.0, material=dna, n_control_points=int(length) + 4,
                       with_roll=False, stretch_at_greville=True, sampling_length=3.0)
-    w = sk.World(units="molecular", temperature=T, viscosity=0.01, dt=0.01, scheme="trapezoidal", seed=11, adaptive_dt=True)
+    w = sk.World(units="molecular", temperature=T, viscosity=0.01, dt=0.01, scheme=noise_scheme(T, None), seed=11,
+                 adaptive_dt=True)
     r = w.add_rod(rod)
     w.add_constraint(r, sk.position(r.u_start, (0, 0, 0)))
     if clamped:
@@ -116,7 +119,8 @@ def rod_run(length, force, steps, clamped):
 def free_run(n, steps, ks=(2, 5, 10, 20, 30, 40)):
     ks = [k for k in ks if n - 10 - k > 0]  # windows between pairs 5 … n − 5
     d = sk.dna.duplex(("GATTACA" * (n // 7 + 1))[:n], break_forces=[math.inf] * n)
-    w = sk.World(units="molecular", dt=0.005, viscosity=0.1, temperature=T, seed=5, scheme="trapezoidal", adaptive_dt=True)
+    w = sk.World(units="molecular", dt=0.005, viscosity=0.1, temperature=T, seed=5, scheme=noise_scheme(T, None),
+                 adaptive_dt=True)
     ins = w.insert(d.assembly)
     a, b = (ins.rods[i] for i in d.strands)
     acc = {k: [] for k in ks}

@@ -86,6 +86,13 @@ class ThermalElasticity:
                 f"g {self.twist_stretch:.0f} ± {e.get('twist_stretch', math.nan):.0f} pN·nm)")
 
 
+def standard_error(block_values) -> float:
+    """The standard error of the mean of a run from its blocks' values
+    (one estimate per block, blocks long against the correlation time)."""
+    v = np.asarray(block_values, dtype=float)
+    return float(np.std(v, ddof=1) / math.sqrt(len(v)))
+
+
 def pair_frames(d: Duplex, a, b):
     """Each pair's frame (origin on the helix axis, x along the rung, z the
     local axis), read from the inserted strands ``a`` and ``b``: arrays
@@ -202,6 +209,6 @@ def thermal_elasticity(sequence_or_duplex, *, temperature: float = 298.15, durat
     size = len(twist) // blocks
     parts = [_estimate(twist[j * size:(j + 1) * size], rise[j * size:(j + 1) * size],
                        axes[j * size:(j + 1) * size], skip, rise0, kt)[0] for j in range(blocks)]
-    errors = {f: float(np.std([p[f] for p in parts], ddof=1) / math.sqrt(blocks)) for f in FIELDS}
+    errors = {f: standard_error([p[f] for p in parts]) for f in FIELDS}
     return ThermalElasticity(len(d), float(temperature), n_run * dt, len(twist), stiffness=stiffness, errors=errors,
                              contour=contour, variances=variances, **{f: float(values[f]) for f in FIELDS})
