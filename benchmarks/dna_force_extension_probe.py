@@ -60,12 +60,14 @@ def blocks(x, n=8):
     return float(np.mean(x)), standard_error([b.mean() for b in np.array_split(np.asarray(x), n)])
 
 
-def duplex_run(n, force, steps, temperature=T, spans=(15, 30)):
+def duplex_run(n, force, steps, temperature=T, averaged=False, spans=(15, 30)):
     spans = [m for m in spans if n - 1 - 2 * m >= 4]  # interior spans of at least 4 steps
-    d = sk.dna.duplex(("GATTACA" * (n // 7 + 1))[:n], break_forces=[math.inf] * n)
+    d = sk.dna.duplex(("GATTACA" * (n // 7 + 1))[:n], break_forces=[math.inf] * n, averaged_stacking=averaged)
     noisy = temperature > 0
-    w = sk.World(units="molecular", dt=0.005 if noisy else 0.05, viscosity=0.1 if noisy else 1.0,
-                 temperature=temperature, seed=3, scheme=noise_scheme(temperature, None))
+    every = 20 if averaged else 5
+    dt = 0.00025 if averaged else 0.005 if noisy else 0.05
+    w = sk.World(units="molecular", dt=dt, viscosity=0.1 if noisy else 1.0,
+                 temperature=temperature, seed=3, scheme=noise_scheme(temperature, None), adaptive_dt=True)
     ins = w.insert(d.assembly)
     a, b = (ins.rods[i] for i in d.strands)
     ends = lambda k: ((a, float(d.abscissae[0][k])), (b, float(d.abscissae[1][int(d.partner[k])])))  # noqa: E731
@@ -79,13 +81,14 @@ def duplex_run(n, force, steps, temperature=T, spans=(15, 30)):
     rows, start = [], time.time()
     for step in range(steps):
         w.step()
-        if step % 5 == 0 and step >= steps // 5:
+        if step % every == 0 and step >= steps // 5:
             o, x, z = pair_frames(d, a, b)
             rise = _steps(o, x, z)[1]
             rows.append([v for m in spans
                          for v in (float(np.dot(o[n - 1 - m] - o[m], e)), float(rise[m:n - 1 - m].sum()))])
     r = np.array(rows)
-    print(f"duplex {n} bp, {force:g} pN, {temperature:g} K: {(time.time() - start) / steps * 1e3:.1f} ms/step; "
+    print(f"duplex {n} bp, {force:g} pN, {temperature:g} K, {'averaged' if averaged else 'held'} stacking, "
+          f"dt {dt * 1e3:g} ps: {(time.time() - start) / steps * 1e3:.1f} ms/step; "
           f"Bouchiat {bouchiat_extension(force, A, KT):.4f}")
     for j, m in enumerate(spans):
         q = blocks(r[:, 2 * j] / r[:, 2 * j + 1])
@@ -141,7 +144,8 @@ def free_run(n, steps, ks=(2, 5, 10, 20, 30, 40)):
 if __name__ == "__main__":
     mode, args = sys.argv[1], sys.argv[2:]
     if mode == "duplex":
-        duplex_run(int(args[0]), float(args[1]), int(args[2]), float(args[3]) if len(args) > 3 else T)
+        duplex_run(int(args[0]), float(args[1]), int(args[2]), float(args[3]) if len(args) > 3 else T,
+                   averaged=len(args) > 4 and args[4] == "averaged")
     elif mode == "rod":
         rod_run(float(args[0]), float(args[1]), int(args[2]), args[3] == "clamp")
     elif mode == "free":

@@ -207,6 +207,14 @@ pub struct Duplex {
     pub stacking: Option<Elasticity>,
     /// Temperature (K) at which persistence lengths are converted to stiffness.
     pub temperature: f64,
+    /// Under the trapezoidal rule, the duplex's compliant constraints
+    /// (stacking, compliant bonds, staggers) averaged over each step like
+    /// elastic energies: exact base-pair-scale thermal statistics, but
+    /// their stiff, strongly nonlinear rows need steps of ~0.25 ps (at
+    /// 1–10 ps the Newton iterations stall or diverge). False (default):
+    /// held at the step's end, robust at 5–10 ps, the base-pair modes
+    /// damped — cooled under noise (`docs/dna_calibration.md`).
+    pub averaged_stacking: bool,
 }
 
 impl Duplex {
@@ -230,6 +238,7 @@ impl Duplex {
             elasticity: Elasticity::default(),
             stacking: None,
             temperature: 298.15,
+            averaged_stacking: false,
         }
     }
 
@@ -468,6 +477,10 @@ pub fn duplex(p: &Duplex) -> Result<(Assembly, DuplexLayout)> {
             c.breaks_with(format!("hbond[{j}]"));
         }
         stacks[k] = Some(asm.constraints.len() - 1);
+    }
+    // Only compliant constraints are averaged or held (rigid ones are held).
+    for c in asm.constraints.iter_mut().filter(|c| c.compliance > 0.0) {
+        c.held_at_end(!p.averaged_stacking);
     }
     let pitch = p.pitch();
     let minor = p.minor_groove * pitch;

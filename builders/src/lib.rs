@@ -10,7 +10,8 @@
 //! - [`harness`]: cables of several radii joined at junctions (§9.5).
 //! - [`dna::duplex`]: a B-DNA duplex from a sequence: two strands, hydrogen
 //!   bonds, breakable stacking (§9.1); [`dna_elasticity`]: its elastic
-//!   constants measured at zero temperature.
+//!   constants measured at zero temperature; [`dna_harmonic`]: its exact
+//!   thermal statistics in the harmonic approximation.
 //! - [`knit::fabric`]: weft-knit fabrics (jersey, rib, garter, seed, any
 //!   knit/purl grid) of naturally straight yarns held by contact (§9.3).
 //! - [`rope::Rope`]: a rope given by linear density, EA and EI.
@@ -20,6 +21,7 @@ pub mod cable;
 pub mod curves;
 pub mod dna;
 pub mod dna_elasticity;
+pub mod dna_harmonic;
 pub mod harness;
 pub mod knit;
 pub mod necklace;

@@ -160,7 +160,7 @@ impl PyAssembly {
         let kind = constraint_kind(kind, None)?;
         let breaking = breaking(break_force, policy, tension_only)?;
         let label = label_arg(label)?;
-        self.inner.constraints.push(AssemblyConstraint { rod, other, kind, compliance, breaking, label, breaks_with: Vec::new(), fails_with: Vec::new() });
+        self.inner.constraints.push(AssemblyConstraint { rod, other, kind, compliance, breaking, label, breaks_with: Vec::new(), fails_with: Vec::new(), held_at_end: false });
         Ok(self.inner.constraints.len() - 1)
     }
     fn labels(&self) -> Vec<String> {

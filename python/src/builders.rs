@@ -167,7 +167,7 @@ fn build_beads_on_spring<'py>(
 
 /// A B-DNA duplex (SPEC §9.1); see `strandkit.dna.duplex`. Molecular units.
 #[pyfunction]
-#[pyo3(signature = (*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond, hbond_compliance, stagger_compliance, break_force_at, break_force_gc, break_forces, stagger_break_forces, break_averaging_time, strand_stretch_modulus, strand_persistence, bending_persistence, stretch_modulus, twist_persistence, twist_stretch, temperature))]
+#[pyo3(signature = (*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond, hbond_compliance, stagger_compliance, break_force_at, break_force_gc, break_forces, stagger_break_forces, break_averaging_time, strand_stretch_modulus, strand_persistence, bending_persistence, stretch_modulus, twist_persistence, twist_stretch, temperature, averaged_stacking))]
 #[allow(clippy::too_many_arguments)]
 fn build_duplex<'py>(
     py: Python<'py>,
@@ -192,6 +192,7 @@ fn build_duplex<'py>(
     twist_persistence: f64,
     twist_stretch: f64,
     temperature: f64,
+    averaged_stacking: bool,
 ) -> PyResult<(PyAssembly, Bound<'py, PyDict>)> {
     use strandkit_builders::dna::{duplex, Duplex, Elasticity, HBond};
     let hbond = match hbond.as_str() {
@@ -201,6 +202,7 @@ fn build_duplex<'py>(
     };
     let mut p = Duplex::new(&sequence);
     p.temperature = temperature;
+    p.averaged_stacking = averaged_stacking;
     p.strand.stretch_modulus = strand_stretch_modulus;
     p.strand.persistence_length = strand_persistence;
     p.elasticity = Elasticity { bending_persistence, stretch_modulus, twist_persistence, twist_stretch, ..p.elasticity };

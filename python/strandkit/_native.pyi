@@ -11,7 +11,7 @@ def build_beads_on_spring(*, coil_radius, pitch, turns, wire_radius, young_modul
     """Particles on a spring (SPEC §9.4); see `strandkit.builders.beads_on_spring`."""
 def build_cable_on_clips(*, path, clip_positions, clip_radius, clip_axis, clip_resistance, cable_radius, young_modulus, density, bend_radius, clamp_start, clamp_end, control_points):
     """A cable on clips (SPEC §9.5); see `strandkit.builders.cable_on_clips`."""
-def build_duplex(*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond, hbond_compliance, stagger_compliance, break_force_at, break_force_gc, break_forces, stagger_break_forces, break_averaging_time, strand_stretch_modulus, strand_persistence, bending_persistence, stretch_modulus, twist_persistence, twist_stretch, temperature):
+def build_duplex(*, sequence, complement, bp_per_turn, rise, radius, minor_groove, hbond, hbond_compliance, stagger_compliance, break_force_at, break_force_gc, break_forces, stagger_break_forces, break_averaging_time, strand_stretch_modulus, strand_persistence, bending_persistence, stretch_modulus, twist_persistence, twist_stretch, temperature, averaged_stacking):
     """A B-DNA duplex (SPEC §9.1); see `strandkit.dna.duplex`."""
 def build_harness(*, branches, radii, junctions, connectors, bend_radius, young_modulus, density, control_points_per_metre):
     """A wiring harness (SPEC §9.5); see `strandkit.builders.harness`."""

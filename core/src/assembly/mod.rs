@@ -51,6 +51,10 @@ pub struct AssemblyConstraint {
     /// this one too (not their removal with a third one).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub fails_with: Vec<String>,
+    /// Compliant, held at the step's end under the trapezoidal rule
+    /// instead of averaged ([`crate::world::Constraint::held_at_end`]).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub held_at_end: bool,
 }
 
 impl AssemblyConstraint {
@@ -66,6 +70,12 @@ impl AssemblyConstraint {
     }
     pub fn label(&mut self, label: impl Into<String>) -> &mut Self {
         self.label = Some(label.into());
+        self
+    }
+    /// Held at the step's end under the trapezoidal rule instead of
+    /// averaged (a compliant constraint; see `Constraint::held_at_end`).
+    pub fn held_at_end(&mut self, held: bool) -> &mut Self {
+        self.held_at_end = held;
         self
     }
     /// Removed when the constraint labelled `label` breaks.
@@ -168,13 +178,13 @@ impl Assembly {
     }
     /// A one-rod constraint on rod `rod` (hard, unbreakable, unlabelled until set).
     pub fn constrain(&mut self, rod: usize, kind: impl Into<ConstraintKind>) -> &mut AssemblyConstraint {
-        self.constraints.push(AssemblyConstraint { rod, other: None, kind: kind.into(), compliance: 0.0, breaking: None, label: None, breaks_with: Vec::new(), fails_with: Vec::new() });
+        self.constraints.push(AssemblyConstraint { rod, other: None, kind: kind.into(), compliance: 0.0, breaking: None, label: None, breaks_with: Vec::new(), fails_with: Vec::new(), held_at_end: false });
         let n = self.constraints.len() - 1;
         &mut self.constraints[n]
     }
     /// A relative constraint between rods `a` and `b`.
     pub fn link(&mut self, a: usize, b: usize, kind: impl Into<ConstraintKind>) -> &mut AssemblyConstraint {
-        self.constraints.push(AssemblyConstraint { rod: a, other: Some(b), kind: kind.into(), compliance: 0.0, breaking: None, label: None, breaks_with: Vec::new(), fails_with: Vec::new() });
+        self.constraints.push(AssemblyConstraint { rod: a, other: Some(b), kind: kind.into(), compliance: 0.0, breaking: None, label: None, breaks_with: Vec::new(), fails_with: Vec::new(), held_at_end: false });
         let n = self.constraints.len() - 1;
         &mut self.constraints[n]
     }
@@ -267,7 +277,7 @@ impl World {
             let a = asm.rod_index("constraint rod", c.rod).map_err(ctx)?;
             let b = c.other.map(|o| asm.rod_index("constraint other rod", o)).transpose().map_err(ctx)?;
             let rods = [&asm.rods[a].rod, &asm.rods[b.unwrap_or(a)].rod];
-            let probe = Constraint { breaking: c.breaking, label: c.label.clone(), breaks_with: c.breaks_with.clone(), fails_with: c.fails_with.clone(), ..Constraint::new(RodHandle { index: 0, generation: 0 }, b.map(|_| RodHandle { index: 1, generation: 0 }), c.kind.clone(), c.compliance) };
+            let probe = Constraint { breaking: c.breaking, label: c.label.clone(), breaks_with: c.breaks_with.clone(), fails_with: c.fails_with.clone(), held_at_end: c.held_at_end, ..Constraint::new(RodHandle { index: 0, generation: 0 }, b.map(|_| RodHandle { index: 1, generation: 0 }), c.kind.clone(), c.compliance) };
             probe.check(&rods).map_err(ctx)?;
         }
         for (i, l) in asm.loads.iter().enumerate() {
@@ -305,7 +315,7 @@ impl World {
         let local_batch: Vec<Constraint> = asm
             .constraints
             .iter()
-            .map(|c| Constraint { breaking: c.breaking, label: c.label.clone(), breaks_with: c.breaks_with.clone(), fails_with: c.fails_with.clone(), ..Constraint::new(local(c.rod), c.other.map(local), c.kind.clone(), c.compliance) })
+            .map(|c| Constraint { breaking: c.breaking, label: c.label.clone(), breaks_with: c.breaks_with.clone(), fails_with: c.fails_with.clone(), held_at_end: c.held_at_end, ..Constraint::new(local(c.rod), c.other.map(local), c.kind.clone(), c.compliance) })
             .collect();
         let rod_of = |h: RodHandle| -> Result<&Rod> {
             asm.rods.get(h.index as usize).map(|r| &r.rod).ok_or_else(|| Error::handle(format!("assembly rod {}", h.index)))

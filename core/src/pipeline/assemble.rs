@@ -518,13 +518,13 @@ fn gather_and_assemble(
     let mut crefs: Vec<ConstraintRef<'_>> = recycle(std::mem::take(&mut ws.con_refs));
     for (_, c) in constraints.iter() {
         let (a, b) = (position_of(pos, c.rod)?, position_of(pos, c.other.unwrap_or(c.rod))?);
-        crefs.push(ConstraintRef { rods: [a, b], kind: &c.kind, compliance: c.compliance, lambda: &c.multipliers, slack: 0.0 });
+        crefs.push(ConstraintRef { rods: [a, b], kind: &c.kind, compliance: c.compliance, lambda: &c.multipliers, slack: 0.0, elastic: c.is_elastic() });
     }
     for &i in &ws.contact_ids {
         let p = &contacts.pairs[i];
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
         let slack = contact_slack(ws.contact_slack, p, [ws.radii[a], ws.radii[b]]);
-        crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: 0.0, lambda: std::slice::from_ref(&p.force), slack });
+        crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: 0.0, lambda: std::slice::from_ref(&p.force), slack, elastic: false });
     }
     for &i in &ws.stick_ids {
         let p = &contacts.pairs[i];
@@ -532,7 +532,7 @@ fn gather_and_assemble(
         // Placed only for pairs with friction rows (see `place`).
         let kind = p.friction.as_ref().and_then(|f| f.rows.as_ref()).expect("a placed pair has its friction rows");
         let compliance = p.friction.as_ref().map_or(0.0, |f| f.compliance);
-        crefs.push(ConstraintRef { rods: [a, b], kind, compliance, lambda: &[0.0, 0.0][..kind.n_rows()], slack: 0.0 });
+        crefs.push(ConstraintRef { rods: [a, b], kind, compliance, lambda: &[0.0, 0.0][..kind.n_rows()], slack: 0.0, elastic: false });
     }
     let mut k = regime.coefficients();
     if params.overdamped && matches!(regime, Regime::Dynamic { .. } | Regime::Trapezoidal { .. }) {

@@ -631,8 +631,10 @@ pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) ->
     }
     for (c, (h, con)) in constraints.iter_mut().enumerate() {
         let r0 = ws.layout.row_index[c];
+        // An elastic constraint's unknown is c_k × its multiplier (`ConstraintRef::elastic`).
+        let share = if con.is_elastic() && ws.sys.elastic_share > 0.0 { ws.sys.elastic_share } else { 1.0 };
         for (i, m) in con.multipliers.iter_mut().enumerate() {
-            *m = -ws.sys.sol[r0 + i];
+            *m = -ws.sys.sol[r0 + i] / share;
         }
         let ne = con.kind.n_extra();
         if ne > 0 {

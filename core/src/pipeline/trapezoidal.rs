@@ -262,5 +262,52 @@ fn finish_velocities(world: &mut World, h: f64) -> Result<()> {
             *v = if keep { *v0 } else { 2.0 * x / h - v0 };
         }
     }
+    if !keep {
+        project_velocities(world)?;
+    }
+    Ok(())
+}
+
+/// Removes from V' = 2ΔX/h − V_n what the rigid constraints forbid. The
+/// rule holds them on the positions only: V' keeps V_n's component along
+/// each constraint's normal (flipped), which the normals' turning feeds
+/// and nothing damps (drag acts on ΔX). Under thermal noise that velocity
+/// grew without bound (a free 30 bp duplex's kinetic energy 0.8 → 2.3 of
+/// equipartition in 1 ns, then non-finite). The correction δ solves the
+/// last Newton matrix with right-hand side 0 but −L V' on the rigid world
+/// constraints' rows (linearised at the end): L (V' + δ) = 0, δ the
+/// smallest in that matrix's metric (2M/h² + D/h + K/2, compliant rows
+/// included). One re-solve with the last factors; nothing to do without
+/// rigid world constraints.
+fn project_velocities(world: &mut World) -> Result<()> {
+    let World { rods, constraints, ws, .. } = world;
+    if !constraints.iter().any(|(_, c)| c.compliance == 0.0) {
+        return Ok(());
+    }
+    ws.sys.rhs.iter_mut().for_each(|x| *x = 0.0);
+    for (c, (_, con)) in constraints.iter().enumerate() {
+        if con.compliance != 0.0 {
+            continue;
+        }
+        let (Some(a), Some(b)) = (rods.get(con.rod.into()), rods.get(con.other.unwrap_or(con.rod).into())) else {
+            continue;
+        };
+        let nr = con.kind.n_rows();
+        ws.rows.resize(nr.max(ws.rows.len()), Default::default());
+        con.kind.linearize(&[a, b], &mut ws.rows[..nr])?;
+        for (i, row) in ws.rows[..nr].iter().enumerate() {
+            // Slider entries (side 2) move abscissae, not velocities.
+            let lv: f64 = row.entries().iter().filter(|e| e.0 < 2).map(|&(w, local, v)| v * [a, b][w as usize].velocities()[local]).sum();
+            ws.sys.rhs[ws.layout.row_index[c] + i] = -lv;
+        }
+    }
+    ws.sys.resolve()?;
+    for (r, (_, rod)) in rods.iter_mut().enumerate() {
+        let d = rod.dofs();
+        let (_, v) = rod.state_mut();
+        for (i, v) in v.iter_mut().enumerate() {
+            *v += ws.sys.sol[ws.layout.cp_index[r][i / d] + i % d];
+        }
+    }
     Ok(())
 }

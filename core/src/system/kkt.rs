@@ -99,6 +99,13 @@ pub struct ConstraintRef<'a> {
     /// A violation up to this much (the measure's unit) is held rather
     /// than corrected (contact rows in dynamics; 0 elsewhere).
     pub slack: f64,
+    /// A compliant constraint that is an elastic energy ½ g²/α (a world
+    /// constraint without sliders): weighted like the rods' elastic forces,
+    /// c_k of its force at the solve's end (compliance α/c_k) and the rest
+    /// at the step's start, so that the trapezoidal rule averages it as it
+    /// does them. False: held at the solve's end (rigid rows, contacts,
+    /// friction's regularised rows).
+    pub elastic: bool,
 }
 
 /// A bead whose abscissa is an unknown (statics): load F (force unit) and mass.
@@ -458,6 +465,9 @@ pub struct KktSystem {
     /// coordinates) in `elastic_forces`.
     pub(crate) record_forces: bool,
     pub(crate) elastic_forces: Vec<Vec<f64>>,
+    /// c_k of the last assembly: an elastic constraint's solved unknown is
+    /// c_k × its multiplier ([`ConstraintRef::elastic`]).
+    pub(crate) elastic_share: f64,
     /// The last assembly ran on rayon's pool (its passes over the band may too).
     parallel: bool,
     /// The split assembly's tail's c_v M V scratch.
@@ -521,6 +531,7 @@ impl KktSystem {
         if self.record_forces {
             self.elastic_forces.resize_with(rods.len(), Vec::new);
         }
+        self.elastic_share = k.stiffness;
         // Kernels in batches that stay in cache, each scattered at once in
         // rod and segment order. A batch spans rods, so that with rayon
         // many small rods (a fabric's yarns) run in parallel too.
@@ -626,7 +637,22 @@ impl KktSystem {
                     self.matrix.add(gi, gj, v);
                     self.matrix.add(gj, gi, v);
                 }
-                self.matrix.add(gi, gi, -cr.compliance);
+                if cr.elastic {
+                    // Unknown y = c_k g_end/α: c_k of the force −Lᵀg/α at
+                    // the end; the rest, (1 − c_k) of it at the start, on
+                    // the first solve of a step (later ones have it in the
+                    // recorded forces' share, like the rods' P).
+                    self.matrix.add(gi, gi, -cr.compliance / k.stiffness);
+                    if self.record_forces {
+                        for &(w, local, v) in row.entries() {
+                            let f = v * row.rhs / cr.compliance;
+                            self.elastic_forces[cr.rods[w as usize]][local] += f;
+                            self.rhs[layout.dof(cr.rods[w as usize], local)] += (1.0 - k.stiffness) * f;
+                        }
+                    }
+                } else {
+                    self.matrix.add(gi, gi, -cr.compliance);
+                }
                 self.rhs[gi] = row.rhs - row.rhs.clamp(0.0, cr.slack);
             }
         }

@@ -47,6 +47,8 @@ pub struct Workspace {
     pub(crate) con_ids: Vec<Index>,
     /// Slot index → position of each rod in iteration order.
     pub(crate) rod_pos: Vec<Option<(u32, usize)>>,
+    /// Rows of one constraint (the trapezoidal rule's velocity projection).
+    pub(crate) rows: Vec<crate::constraint::Row>,
     /// Contact pairs in the system (indices into the contact set), after
     /// the constraints.
     pub(crate) contact_ids: Vec<usize>,

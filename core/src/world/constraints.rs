@@ -39,13 +39,27 @@ pub struct Constraint {
     /// The averaged break measure so far ([`Breaking::averaging_time`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub break_measure: Option<f64>,
+    /// A compliant constraint held at the step's end under the trapezoidal
+    /// rule, as implicit Euler holds it, instead of averaged over the step
+    /// like an elastic energy ([`Constraint::is_elastic`]): its stiff modes
+    /// are then damped (and cooled under thermal noise) but the Newton
+    /// iterations stay robust where averaged rows are stiff and strongly
+    /// nonlinear (a duplex's stacking at steps of picoseconds).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub held_at_end: bool,
 }
 
 impl Constraint {
     /// A constraint with zero multipliers, not breakable, unlabelled.
     pub fn new(rod: RodHandle, other: Option<RodHandle>, kind: ConstraintKind, compliance: f64) -> Constraint {
         let n = kind.n_rows();
-        Constraint { rod, other, kind, compliance, multipliers: vec![0.0; n], breaking: None, label: None, breaks_with: Vec::new(), fails_with: Vec::new(), break_measure: None }
+        Constraint { rod, other, kind, compliance, multipliers: vec![0.0; n], breaking: None, label: None, breaks_with: Vec::new(), fails_with: Vec::new(), break_measure: None, held_at_end: false }
+    }
+    /// A compliant constraint without sliders, not `held_at_end`: an
+    /// elastic energy ½ g²/α that a trapezoidal step averages like the
+    /// rods' elastic forces ([`crate::system::kkt::ConstraintRef::elastic`]).
+    pub fn is_elastic(&self) -> bool {
+        self.compliance > 0.0 && self.kind.n_extra() == 0 && !self.held_at_end
     }
 
     /// Everything about the constraint that can be checked against its rods.

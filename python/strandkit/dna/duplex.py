@@ -95,7 +95,8 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
            stagger_break_forces: Optional[Sequence[float]] = None, break_averaging_time: float = 0.0,
            strand_stretch_modulus: float = 400.0,
            strand_persistence: float = 0.75, bending_persistence: float = 50.0, stretch_modulus: float = 1100.0,
-           twist_persistence: float = 100.0, twist_stretch: float = -90.0, temperature: float = 298.15) -> Duplex:
+           twist_persistence: float = 100.0, twist_stretch: float = -90.0, temperature: float = 298.15,
+           averaged_stacking: bool = False) -> Duplex:
     """B-DNA duplex of ``sequence`` (strand a, 5′→3′; A, C, G, T in either
     case; any other letter is refused with its position).
 
@@ -132,7 +133,14 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
     stretched) — the whole duplex's zero-temperature elasticity, which the
     stacking is calibrated to (once per parameter set and process, a few
     seconds; ``measured`` holds what the calibration measured, pN and nm);
-    temperature: K (persistence lengths → stiffness).
+    temperature: K (persistence lengths → stiffness); averaged_stacking:
+    under the trapezoidal rule, average the duplex's compliant constraints
+    (stacking, compliant bonds, staggers) over each step like elastic
+    energies — exact base-pair-scale thermal statistics, but their stiff
+    rows need steps of ~0.25 ps (at 1–10 ps the Newton iterations stall or
+    diverge); False (default): held at the step's end, robust at 5–10 ps,
+    the base-pair modes damped and, under noise, cooled
+    (``docs/dna_calibration.md``).
     """
     params = dict(sequence=str(sequence), complement=complement, bp_per_turn=float(bp_per_turn), rise=float(rise),
                   radius=float(radius), minor_groove=float(minor_groove), hbond=str(hbond),
@@ -145,7 +153,7 @@ def duplex(sequence: str, *, complement: Optional[str] = None, bp_per_turn: floa
                   strand_stretch_modulus=float(strand_stretch_modulus), strand_persistence=float(strand_persistence),
                   bending_persistence=float(bending_persistence), stretch_modulus=float(stretch_modulus),
                   twist_persistence=float(twist_persistence), twist_stretch=float(twist_stretch),
-                  temperature=float(temperature))
+                  temperature=float(temperature), averaged_stacking=bool(averaged_stacking))
     asm, l = _native.build_duplex(**params)
     return Duplex(asm, list(l["strands"]), list(l["sequences"]), [np.asarray(a) for a in l["abscissae"]],
                   np.asarray(l["partner"]), list(l["hbonds"]), list(l["stacks"]), list(l["staggers"]), list(l["mismatches"]),
