@@ -1,7 +1,10 @@
 //! The trapezoidal rule (SPEC §3; Newmark γ = ½, β = ¼): with f = F + P
 //! the external and elastic forces and V' = 2ΔX/h − V,
 //!   R(ΔX) = 2M (ΔX − hV)/h² + D ΔX/h − ½ (f(t, q) + f(t + h, q + ΔX)) + Lᵀλ = 0,
-//! the constraints held at q + ΔX as in implicit Euler. Newton on R with
+//! the rigid constraints held at q + ΔX as in implicit Euler (and the end
+//! velocity projected onto them, [`project_velocities`]), a compliant one
+//! averaged as a part of f (`ConstraintRef::elastic`; held at q + ΔX when
+//! `held_at_end`). Newton on R with
 //! the same banded system, (2M/h² + D/h + K/2) δ + Lᵀλ = −R, the rods
 //! moved to each iterate (so constraints, sliders and contacts linearise
 //! there as in statics). The first iteration, from ΔX = 0, is the

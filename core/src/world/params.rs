@@ -154,7 +154,9 @@ pub enum Scheme {
     ImplicitEuler,
     /// The trapezoidal rule (Newmark γ = ½, β = ¼):
     /// M (V' − V)/h = ½ (f(t, q) + f(t + h, q')) with ΔX = h (V + V')/2,
-    /// f = F + P, the constraints held at the end of the step; solved by
+    /// f = F + P and the forces of compliant constraints (elastic energies;
+    /// those `held_at_end` at the end), the rigid constraints held at the
+    /// end of the step and the end velocity projected onto them; solved by
     /// Newton iterations on (2M/h² + D/h + K/2) δ = −residual, the first
     /// of which is the linearised implicit midpoint rule. Second order;
     /// keeps the energy of vibrations (no numerical damping), lengthens
