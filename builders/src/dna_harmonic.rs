@@ -53,7 +53,8 @@ fn dense_rows(rows: &[Row], sides: [usize; 2], m: usize) -> Vec<(DVector<f64>, f
 }
 
 /// The harmonic statistics of the duplex `p` (at most [`MAX_HARMONIC_BP`]
-/// base pairs, at least 2 k + 2 SKIP + 1 for each k of `ks`).
+/// base pairs, at least k + 11 for each k of `ks`: interior pairs 4 from
+/// either end).
 pub fn harmonic_statistics(p: &Duplex, ks: &[usize]) -> Result<Harmonic> {
     let n = p.sequence.len();
     if n > MAX_HARMONIC_BP {
