@@ -43,6 +43,7 @@ Measured 2026-11-29 (first fifth of each run dropped, 8 blocks):
   chain's (A_eff 51 nm at 2 bp), and the averaged stacking samples them.
 """
 import math
+import os
 import sys
 import time
 
@@ -69,7 +70,7 @@ def duplex_run(n, force, steps, temperature=T, averaged=False, spans=(15, 30)):
     d = sk.dna.duplex(("GATTACA" * (n // 7 + 1))[:n], break_forces=[math.inf] * n, averaged_stacking=averaged)
     noisy = temperature > 0
     every = 20 if averaged else 5
-    dt = 0.00025 if averaged else 0.005 if noisy else 0.05
+    dt = float(os.environ["DT"]) if "DT" in os.environ else 0.00025 if averaged else 0.005 if noisy else 0.05
     w = sk.World(units="molecular", dt=dt, viscosity=0.1 if noisy else 1.0,
                  temperature=temperature, seed=3, scheme=noise_scheme(temperature, None), adaptive_dt=True)
     ins = w.insert(d.assembly)
@@ -88,15 +89,19 @@ def duplex_run(n, force, steps, temperature=T, averaged=False, spans=(15, 30)):
         if step % every == 0 and step >= steps // 5:
             o, x, z = pair_frames(d, a, b)
             rise = _steps(o, x, z)[1]
+            tilt = 1.0 - (z @ e) ** 2  # θ² of each pair's axis from the pull
             rows.append([v for m in spans
-                         for v in (float(np.dot(o[n - 1 - m] - o[m], e)), float(rise[m:n - 1 - m].sum()))])
+                         for v in (float(np.dot(o[n - 1 - m] - o[m], e)), float(rise[m:n - 1 - m].sum()),
+                                   float(tilt[m:n - m].mean()))])
     r = np.array(rows)
     print(f"duplex {n} bp, {force:g} pN, {temperature:g} K, {'averaged' if averaged else 'held'} stacking, "
           f"dt {dt * 1e3:g} ps: {(time.time() - start) / steps * 1e3:.1f} ms/step; "
           f"Bouchiat {bouchiat_extension(force, A, KT):.4f}")
     for j, m in enumerate(spans):
-        q = blocks(r[:, 2 * j] / r[:, 2 * j + 1])
-        print(f"  pairs {m}…{n - 1 - m}: Lc {r[:, 2 * j + 1].mean():.3f} nm, z/Lc {q[0]:.4f} ± {q[1]:.4f}")
+        q = blocks(r[:, 3 * j] / r[:, 3 * j + 1])
+        t = blocks(r[:, 3 * j + 2])
+        print(f"  pairs {m}…{n - 1 - m}: Lc {r[:, 3 * j + 1].mean():.3f} nm, z/Lc {q[0]:.4f} ± {q[1]:.4f}, "
+              f"axis tilt ⟨θ²⟩ {t[0]:.4f} ± {t[1]:.4f}")
 
 
 def rod_run(length, force, steps, clamped):

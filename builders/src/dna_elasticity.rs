@@ -66,11 +66,16 @@ pub fn pair_axis(w: &World, ins: &Inserted, l: &DuplexLayout, k: usize) -> Resul
 /// nucleotides of strands a and b; pair 0 held (strand a clamped, strand
 /// b's height and tangent: the rung already fixes its distance to a).
 fn loaded(p: &Duplex, fa: Vector3<f64>, fb: Vector3<f64>) -> Result<(World, Inserted, DuplexLayout)> {
+    loaded_within(p, fa, fb, 1e-8)
+}
+
+/// [`loaded`] to a relax tolerance `tolerance` (of the length).
+pub(crate) fn loaded_within(p: &Duplex, fa: Vector3<f64>, fb: Vector3<f64>, tolerance: f64) -> Result<(World, Inserted, DuplexLayout)> {
     let (asm, l) = duplex(p)?;
     // Tolerance 1e-8 of the length: the responses read (≈ 1e-2 nm) to 1e-5;
     // the default 1e-10 stalls on a long duplex (the stacking's second
     // derivatives are not in the Newton matrix: linear convergence).
-    let mut w = World::new(IntegrationParameters { relax_max_iterations: 200, relax_tolerance: 1e-8, ..Default::default() });
+    let mut w = World::new(IntegrationParameters { relax_max_iterations: 200, relax_tolerance: tolerance, ..Default::default() });
     let ins = w.insert(&asm)?;
     let (ra, rb) = (ins.rods[l.strands[0]], ins.rods[l.strands[1]]);
     let n = l.partner.len();

@@ -15,8 +15,9 @@
 //!   Jacobian by central differences, over the interior.
 use crate::dna::{duplex, Duplex, DuplexLayout, BOLTZMANN};
 use nalgebra::{DMatrix, DVector, Vector3};
+use strandkit_core::constraint::kinds::base_pair_step::axis;
 use strandkit_core::constraint::Row;
-use strandkit_core::{Error, Result, Rod};
+use strandkit_core::{ConstraintKind, Error, Result, Rod};
 
 /// Longest duplex analysed (the Hessian is dense: 6 n coordinates).
 pub const MAX_HARMONIC_BP: usize = 120;
@@ -180,10 +181,12 @@ pub fn pair_axes(rods: [&Rod; 2], l: &DuplexLayout) -> Result<Vec<Vector3<f64>>>
     for k in 0..n {
         pts.push((rods[0].position(l.abscissae[0][k])?, rods[1].position(l.abscissae[1][l.partner[k]])?));
     }
+    let mid = |k: usize| (pts[k].0 + pts[k].1) * 0.5;
     Ok((1..n.saturating_sub(1))
         .map(|k| {
             let x = (pts[k].1 - pts[k].0).normalize();
-            let c = (pts[k + 1].0 + pts[k + 1].1 - pts[k - 1].0 - pts[k - 1].1) * 0.5;
+            // The stacking's own rule at an interior pair.
+            let c = axis(&[mid(k - 1), mid(k), mid(k + 1), mid(k + 1)], 1, [false, false]);
             (c - x * x.dot(&c)).normalize()
         })
         .collect())
@@ -197,4 +200,309 @@ pub fn interior_pairs(n: usize, k: usize) -> Result<std::ops::Range<usize>> {
         return Err(Error::invalid("axis correlation span", format!("k = {k} bp on {n} bp"), format!("1 ≤ k ≤ n − {} bp", 2 * SKIP + 3)));
     }
     Ok(SKIP..end)
+}
+
+/// One energy term of a [`Loaded`] system: a constraint on strand `a` (and
+/// `b`), rigid when its compliance is 0.
+struct Term {
+    kind: ConstraintKind,
+    sides: [usize; 2],
+    compliance: f64,
+}
+
+/// A system at a loaded equilibrium: rods, constraints, and a dead load
+/// (its generalised force, constant).
+struct Loaded {
+    rods: Vec<Rod>,
+    off: Vec<usize>,
+    m: usize,
+    terms: Vec<Term>,
+    load: DVector<f64>,
+}
+
+impl Loaded {
+    /// Coordinate `col` of the stacked system: (rod, rod-local index).
+    fn at(&self, col: usize) -> (usize, usize) {
+        let r = self.off.partition_point(|&o| o <= col) - 1;
+        (r, col - self.off[r])
+    }
+
+    /// ∇V of the elastic and compliant energies less the load (V = U +
+    /// Σ g²/2α − F·x; the compliant rows' g = −rhs), and the rigid rows
+    /// as sparse (coordinate, value) lists with their λ-weighted sum
+    /// Σ λ_r ∇g_r added when `lambda` is given.
+    fn gradient(&self, lambda: Option<&[f64]>) -> Result<(DVector<f64>, Vec<(f64, Vec<(usize, f64)>)>)> {
+        let mut g = -&self.load;
+        for (r, rod) in self.rods.iter().enumerate() {
+            for (i, f) in rod.internal_forces().into_iter().enumerate() {
+                g[self.off[r] + i] -= f;
+            }
+        }
+        let mut rigid = Vec::new();
+        for t in &self.terms {
+            let mut rows = vec![Row::default(); t.kind.n_rows()];
+            let pair = [&self.rods[t.sides[0]], &self.rods[t.sides[1]]];
+            t.kind.linearize(&pair, &mut rows)?;
+            for row in &rows {
+                let sparse: Vec<(usize, f64)> = row.entries().iter().map(|&(s, i, x)| (self.off[t.sides[s as usize]] + i, x)).collect();
+                if t.compliance == 0.0 {
+                    if let Some(l) = lambda {
+                        for &(i, x) in &sparse {
+                            g[i] -= l[rigid.len()] * x;
+                        }
+                    }
+                    rigid.push((row.rhs, sparse));
+                } else {
+                    for &(i, x) in &sparse {
+                        g[i] -= x * row.rhs / t.compliance;
+                    }
+                }
+            }
+        }
+        Ok((g, rigid))
+    }
+
+    fn set(&mut self, col: usize, v: f64) -> Result<()> {
+        let (r, i) = self.at(col);
+        let mut q = self.rods[r].coords().to_vec();
+        q[i] = v;
+        self.rods[r].set_coords(&q)
+    }
+
+    fn coord(&self, col: usize) -> f64 {
+        let (r, i) = self.at(col);
+        self.rods[r].coords()[i]
+    }
+
+    /// The rigid rows as a dense matrix R, their values c = −rhs, ∇V.
+    fn rigid(&self) -> Result<(DMatrix<f64>, DVector<f64>, DVector<f64>)> {
+        let (g, rigid) = self.gradient(None)?;
+        let mut r = DMatrix::<f64>::zeros(rigid.len(), self.m);
+        for (k, row) in rigid.iter().enumerate() {
+            for &(i, x) in &row.1 {
+                r[(k, i)] += x;
+            }
+        }
+        Ok((r, DVector::from_iterator(rigid.len(), rigid.iter().map(|row| -row.0)), g))
+    }
+
+    /// The Lagrangian's Hessian ∇²V − Σ λ ∇²g by central differences.
+    fn hessian(&mut self, lam: &[f64]) -> Result<DMatrix<f64>> {
+        let (m, eps) = (self.m, 1e-6);
+        let mut h = DMatrix::<f64>::zeros(m, m);
+        for col in 0..m {
+            let x0 = self.coord(col);
+            self.set(col, x0 + eps)?;
+            let gp = self.gradient(Some(lam))?.0;
+            self.set(col, x0 - eps)?;
+            let gm = self.gradient(Some(lam))?.0;
+            self.set(col, x0)?;
+            h.set_column(col, &((gp - gm) / (2.0 * eps)));
+        }
+        Ok((&h + h.transpose()) * 0.5)
+    }
+
+    /// λ fitted to ∇V = Rᵀλ by least squares, and the relative residual.
+    fn multipliers(r: &DMatrix<f64>, g: &DVector<f64>) -> Result<(Vec<f64>, f64)> {
+        let lambda = (r * r.transpose()).cholesky().ok_or_else(|| Error::singular("tension tilt: dependent rigid rows"))?.solve(&(r * g));
+        let residual = (g - r.transpose() * &lambda).norm() / g.norm().max(1e-300);
+        Ok((lambda.iter().copied().collect(), residual))
+    }
+
+    /// Newton steps on the equilibrium (∇V = Rᵀλ, c = 0) with the whole
+    /// Lagrangian's Hessian (relax's matrix lacks the stacking's second
+    /// derivatives and stalls near 1e-7 nm). Returns the last residual.
+    fn polish(&mut self, steps: usize) -> Result<f64> {
+        let m = self.m;
+        for _ in 0..steps {
+            let (r, c, g) = self.rigid()?;
+            let (lam, _) = Self::multipliers(&r, &g)?;
+            let h = self.hessian(&lam)?;
+            let k = r.nrows();
+            let mut a = DMatrix::<f64>::zeros(m + k, m + k);
+            a.view_mut((0, 0), (m, m)).copy_from(&h);
+            a.view_mut((0, m), (m, k)).copy_from(&r.transpose());
+            a.view_mut((m, 0), (k, m)).copy_from(&r);
+            let lv = DVector::from_column_slice(&lam);
+            let mut b = DVector::<f64>::zeros(m + k);
+            b.rows_mut(0, m).copy_from(&(-(&g - r.transpose() * &lv)));
+            b.rows_mut(m, k).copy_from(&(-&c));
+            let x = a.lu().solve(&b).ok_or_else(|| Error::singular("tension tilt: singular Newton matrix"))?;
+            for col in 0..m {
+                let v = self.coord(col) + x[col];
+                self.set(col, v)?;
+            }
+        }
+        let (r, _, g) = self.rigid()?;
+        Ok(Self::multipliers(&r, &g)?.1)
+    }
+
+    /// Covariance kT H⁺ of the Lagrangian's Hessian on the rigid rows'
+    /// null space, and its count of zero modes (left out).
+    fn covariance(&mut self, kt: f64) -> Result<(DMatrix<f64>, usize)> {
+        let m = self.m;
+        let (r, _, g) = self.rigid()?;
+        let (lam, _) = Self::multipliers(&r, &g)?;
+        let h = self.hessian(&lam)?;
+        let e = (r.transpose() * &r).symmetric_eigen();
+        let top = e.eigenvalues.amax();
+        let cols: Vec<usize> = (0..m).filter(|&i| e.eigenvalues[i].abs() < 1e-10 * top).collect();
+        let basis = DMatrix::from_fn(m, cols.len(), |i, j| e.eigenvectors[(i, cols[j])]);
+        let hr = basis.transpose() * &h * &basis;
+        let e = ((&hr + hr.transpose()) * 0.5).symmetric_eigen();
+        let top = e.eigenvalues.amax();
+        if e.eigenvalues.iter().any(|&v| v < -1e-8 * top) {
+            return Err(Error::singular("tension tilt: the loaded state is not a minimum (a negative curvature)"));
+        }
+        let mut cov_r = DMatrix::<f64>::zeros(basis.ncols(), basis.ncols());
+        let mut zero = 0;
+        for i in 0..e.eigenvalues.len() {
+            if e.eigenvalues[i] < 1e-9 * top {
+                zero += 1;
+                continue;
+            }
+            let v = e.eigenvectors.column(i);
+            cov_r += v * v.transpose() * (kt / e.eigenvalues[i]);
+        }
+        Ok((&basis * cov_r * basis.transpose(), zero))
+    }
+
+    /// ⟨|δa|²⟩ = tr(D C Dᵀ) of each unit vector of `axes` (D by central
+    /// differences).
+    fn spread(&mut self, cov: &DMatrix<f64>, axes: impl Fn(&[Rod]) -> Result<Vec<Vector3<f64>>>) -> Result<Vec<f64>> {
+        let m = self.m;
+        let n = axes(&self.rods)?.len();
+        let mut d = DMatrix::<f64>::zeros(3 * n, m);
+        let eps = 1e-6;
+        for col in 0..m {
+            let x0 = self.coord(col);
+            self.set(col, x0 + eps)?;
+            let zp = axes(&self.rods)?;
+            self.set(col, x0 - eps)?;
+            let zm = axes(&self.rods)?;
+            self.set(col, x0)?;
+            for k in 0..n {
+                for a in 0..3 {
+                    d[(3 * k + a, col)] = (zp[k][a] - zm[k][a]) / (2.0 * eps);
+                }
+            }
+        }
+        let dc = &d * cov;
+        Ok((0..n).map(|k| (0..3).map(|a| dc.row(3 * k + a).dot(&d.row(3 * k + a))).sum()).collect())
+    }
+}
+
+/// What [`tension_tilt`] computed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TensionTilt {
+    /// The pull (pN).
+    pub force: f64,
+    /// ⟨θ²⟩ of each pair's axis (pairs 1 … n − 2; rad²).
+    pub tilt: Vec<f64>,
+    /// kT/√(B F) (rad²), a long worm-like chain's ⟨θ²⟩ under the pull,
+    /// B = A kT with the duplex's target A.
+    pub worm_like_chain: f64,
+    /// |∇V − Rᵀλ| / |∇V| of the relaxed state.
+    pub residual: f64,
+    /// Modes of zero stiffness left out (a free rotation about the pull).
+    pub zero_modes: usize,
+}
+
+/// The duplex `p` held at pair 0 and pulled by `force` (pN, half on each
+/// strand's end) along its axis, relaxed, then its harmonic thermal tilt:
+/// ⟨θ²⟩ of each pair's axis, whose interior sum × rise / 2 is the
+/// entropic shortening a worm-like chain would have (kT/(2√(BF)) of the
+/// length). The Hessian is the whole Lagrangian's, stacking and rigid
+/// bonds' curvature included (a loaded state, unlike
+/// [`harmonic_statistics`]'s at rest).
+pub fn tension_tilt(p: &Duplex, force: f64) -> Result<TensionTilt> {
+    let n = p.sequence.len();
+    if n > MAX_HARMONIC_BP {
+        return Err(Error::invalid("duplex length", format!("{n} bp"), format!("at most {MAX_HARMONIC_BP} bp (a dense Hessian)")));
+    }
+    if !(force.is_finite() && force > 0.0) {
+        return Err(Error::invalid("force", force, "a positive pull (pN)"));
+    }
+    let kt = BOLTZMANN * p.temperature;
+    // Relax (its matrix lacks the stacking's second derivatives) stalls
+    // under a few pN: it starts the solution at ≤ 2 pN, Newton steps with
+    // the whole Hessian follow the pull up in stages of ≤ 1.5×.
+    let f0 = force.min(2.0);
+    let half = Vector3::new(0.0, 0.0, f0 / 2.0);
+    let (w, ins, l) = crate::dna_elasticity::loaded_within(p, half, half, 1e-3)?;
+    let handles = [ins.rods[l.strands[0]], ins.rods[l.strands[1]]];
+    let rods: Vec<Rod> = handles.iter().map(|&h| w.rod(h).cloned()).collect::<Result<_>>()?;
+    let off = vec![0, rods[0].coords().len()];
+    let m = off[1] + rods[1].coords().len();
+    let side = |h: strandkit_core::RodHandle| handles.iter().position(|&x| x == h).ok_or_else(|| Error::input("tension tilt: a constraint on a third rod"));
+    let mut terms = Vec::new();
+    for (_, c) in w.constraints() {
+        let a = side(c.rod)?;
+        terms.push(Term { kind: c.kind.clone(), sides: [a, c.other.map(side).transpose()?.unwrap_or(a)], compliance: c.compliance });
+    }
+    // The two pulls of `loaded` (1 pN in all, along z), as generalised
+    // forces N_k F.
+    let mut unit = DVector::zeros(m);
+    for (r, u) in [(0, l.abscissae[0][n - 1]), (1, l.abscissae[1][0])] {
+        let (ctrl, b) = rods[r].basis_at(u)?;
+        let d = rods[r].dofs();
+        for k in 0..4 {
+            unit[off[r] + ctrl[k] * d + 2] += b[0][k] * 0.5;
+        }
+    }
+    let mut sys = Loaded { rods, off, m, terms, load: &unit * f0 };
+    let mut f = f0;
+    let mut residual = sys.polish(3)?;
+    while f < force {
+        f = (f * 1.5).min(force);
+        sys.load = &unit * f;
+        residual = sys.polish(4)?;
+    }
+    if !(residual < 1e-8) {
+        return Err(Error::NotConverged { iterations: 0, residual, detail: format!("tension tilt: the loaded equilibrium at {force} pN not found (relative residual {residual:.1e})") });
+    }
+    let (cov, zero_modes) = sys.covariance(kt)?;
+    let tilt = sys.spread(&cov, |rods| pair_axes([&rods[0], &rods[1]], &l))?;
+    let b = p.elasticity.bending_persistence * kt;
+    Ok(TensionTilt { force, tilt, worm_like_chain: kt / (b * force).sqrt(), residual, zero_modes })
+}
+
+/// [`tension_tilt`]'s reference: a plain rod of bending stiffness A kT
+/// (A in nm, kT in pN·nm) and stretch modulus `stretch` (pN), `length` nm
+/// on `control_points`, clamped at s = 0 and pulled by `force` (pN) at
+/// its end, harmonic ⟨θ²⟩ of its tangent at the arc lengths `at` (nm).
+pub fn rod_tension_tilt(length: f64, control_points: usize, a: f64, stretch: f64, kt: f64, force: f64, at: &[f64]) -> Result<Vec<f64>> {
+    use strandkit_core::rod::RodBuilder;
+    use strandkit_core::section::Section;
+    use strandkit_core::Material;
+    for (what, v) in [("length", length), ("persistence", a), ("stretch modulus", stretch), ("kT", kt), ("force", force)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::invalid(what, v, "positive"));
+        }
+    }
+    // A circle of radius r with E π r⁴/4 = A kT and E π r² = S.
+    let r = 2.0 * (a * kt / stretch).sqrt();
+    let e = stretch / (std::f64::consts::PI * r * r);
+    let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(0.0, 0.0, length))
+        .control_points(control_points)
+        .with_roll(false)
+        .section(Section::circle(r)?)
+        .material(Material::new("reference", e, 0.3, 1.0)?)
+        .build()?;
+    let (u0, u1) = rod.domain();
+    let terms = strandkit_core::constraint::clamp_kinds(&rod, u0)?.into_iter().map(|kind| Term { kind, sides: [0, 0], compliance: 0.0 }).collect();
+    let m = rod.coords().len();
+    let mut load = DVector::zeros(m);
+    let (ctrl, b) = rod.basis_at(u1)?;
+    for k in 0..4 {
+        load[ctrl[k] * rod.dofs() + 2] += b[0][k] * force;
+    }
+    let mut sys = Loaded { rods: vec![rod], off: vec![0], m, terms, load };
+    let residual = sys.polish(4)?;
+    if !(residual < 1e-8) {
+        return Err(Error::NotConverged { iterations: 4, residual, detail: "rod tension tilt: no equilibrium".into() });
+    }
+    let (cov, _) = sys.covariance(kt)?;
+    let scale = (u1 - u0) / length;
+    sys.spread(&cov, |rods| at.iter().map(|&s| Ok(rods[0].tangent(u0 + s * scale)?.normalize())).collect())
 }
