@@ -399,6 +399,8 @@ pub struct TensionTilt {
     pub force: f64,
     /// ⟨θ²⟩ of each pair's axis (pairs 1 … n − 2; rad²).
     pub tilt: Vec<f64>,
+    /// Each pair's axis at the loaded equilibrium (pairs 1 … n − 2).
+    pub axes: Vec<Vector3<f64>>,
     /// kT/√(B F) (rad²), a long worm-like chain's ⟨θ²⟩ under the pull,
     /// B = A kT with the duplex's target A.
     pub worm_like_chain: f64,
@@ -463,8 +465,9 @@ pub fn tension_tilt(p: &Duplex, force: f64) -> Result<TensionTilt> {
     }
     let (cov, zero_modes) = sys.covariance(kt)?;
     let tilt = sys.spread(&cov, |rods| pair_axes([&rods[0], &rods[1]], &l))?;
+    let axes = pair_axes([&sys.rods[0], &sys.rods[1]], &l)?;
     let b = p.elasticity.bending_persistence * kt;
-    Ok(TensionTilt { force, tilt, worm_like_chain: kt / (b * force).sqrt(), residual, zero_modes })
+    Ok(TensionTilt { force, tilt, axes, worm_like_chain: kt / (b * force).sqrt(), residual, zero_modes })
 }
 
 /// [`tension_tilt`]'s reference: a plain rod of bending stiffness A kT
@@ -472,23 +475,10 @@ pub fn tension_tilt(p: &Duplex, force: f64) -> Result<TensionTilt> {
 /// on `control_points`, clamped at s = 0 and pulled by `force` (pN) at
 /// its end, harmonic ⟨θ²⟩ of its tangent at the arc lengths `at` (nm).
 pub fn rod_tension_tilt(length: f64, control_points: usize, a: f64, stretch: f64, kt: f64, force: f64, at: &[f64]) -> Result<Vec<f64>> {
-    use strandkit_core::rod::RodBuilder;
-    use strandkit_core::section::Section;
-    use strandkit_core::Material;
-    for (what, v) in [("length", length), ("persistence", a), ("stretch modulus", stretch), ("kT", kt), ("force", force)] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(Error::invalid(what, v, "positive"));
-        }
+    if !(force.is_finite() && force > 0.0) {
+        return Err(Error::invalid("force", force, "a positive pull (pN)"));
     }
-    // A circle of radius r with E π r⁴/4 = A kT and E π r² = S.
-    let r = 2.0 * (a * kt / stretch).sqrt();
-    let e = stretch / (std::f64::consts::PI * r * r);
-    let rod = RodBuilder::straight(Vector3::zeros(), Vector3::new(0.0, 0.0, length))
-        .control_points(control_points)
-        .with_roll(false)
-        .section(Section::circle(r)?)
-        .material(Material::new("reference", e, 0.3, 1.0)?)
-        .build()?;
+    let rod = reference_rod(length, control_points, a, stretch, kt, 1.0)?;
     let (u0, u1) = rod.domain();
     let terms = strandkit_core::constraint::clamp_kinds(&rod, u0)?.into_iter().map(|kind| Term { kind, sides: [0, 0], compliance: 0.0 }).collect();
     let m = rod.coords().len();
@@ -505,4 +495,27 @@ pub fn rod_tension_tilt(length: f64, control_points: usize, a: f64, stretch: f64
     let (cov, _) = sys.covariance(kt)?;
     let scale = (u1 - u0) / length;
     sys.spread(&cov, |rods| at.iter().map(|&s| Ok(rods[0].tangent(u0 + s * scale)?.normalize())).collect())
+}
+
+/// A straight rod along z of `length` nm on `control_points`, without
+/// roll, of bending stiffness A kT (A in nm, kT in pN·nm), stretch modulus
+/// `stretch` (pN) and mass `linear_density` per nm (molecular units): a
+/// circle of radius r with E π r⁴/4 = A kT and E π r² = S.
+pub fn reference_rod(length: f64, control_points: usize, a: f64, stretch: f64, kt: f64, linear_density: f64) -> Result<Rod> {
+    use strandkit_core::rod::RodBuilder;
+    use strandkit_core::section::Section;
+    use strandkit_core::Material;
+    for (what, v) in [("length", length), ("persistence", a), ("stretch modulus", stretch), ("kT", kt), ("linear density", linear_density)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::invalid(what, v, "positive"));
+        }
+    }
+    let r = 2.0 * (a * kt / stretch).sqrt();
+    let area = std::f64::consts::PI * r * r;
+    RodBuilder::straight(Vector3::zeros(), Vector3::new(0.0, 0.0, length))
+        .control_points(control_points)
+        .with_roll(false)
+        .section(Section::circle(r)?)
+        .material(Material::new("reference", stretch / area, 0.3, linear_density / area)?)
+        .build()
 }
