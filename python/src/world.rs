@@ -65,12 +65,13 @@ impl PyWorld {
         policy: &str,
         tension_only: bool,
         label: Option<String>,
+        held_at_end: bool,
     ) -> PyResult<PyConstraintHandle> {
         let ha = Self::rod_handle(slf, a)?;
         let hb = b.map(|b| Self::rod_handle(slf, b)).transpose()?;
         let k = assembly::constraint_kind(kind, Some(slf.as_any()))?;
         let breaking = assembly::breaking(break_force, policy, tension_only)?;
-        let c = Constraint { breaking, label, ..Constraint::new(ha, hb, k, compliance) };
+        let c = Constraint { breaking, label, held_at_end, ..Constraint::new(ha, hb, k, compliance) };
         let h = {
             let mut w = write(slf)?;
             guard(|| w.inner.insert_constraint(c))?
@@ -215,9 +216,12 @@ impl PyWorld {
     /// for moment-only kinds), "tension" or "compression" along the line of
     /// action (distance links, contacts, offset relative positions);
     /// `tension_only=True` means policy="tension". `label` (e.g. "pin[3]")
-    /// makes it a member of a group (`group("pin")`). Atomic: on an error
-    /// nothing is added.
-    #[pyo3(signature = (rod, kind, *, compliance = 0.0, break_force = None, policy = "magnitude", tension_only = false, label = None))]
+    /// makes it a member of a group (`group("pin")`). `held_at_end=True`
+    /// puts a compliant constraint's whole force at the end of a
+    /// trapezoidal step, as implicit Euler does (damped), instead of
+    /// averaging it over the step like an elastic energy (the default,
+    /// which keeps the energy). Atomic: on an error nothing is added.
+    #[pyo3(signature = (rod, kind, *, compliance = 0.0, break_force = None, policy = "magnitude", tension_only = false, label = None, held_at_end = false))]
     #[allow(clippy::too_many_arguments)]
     fn add_constraint(
         slf: &Bound<'_, Self>,
@@ -228,14 +232,15 @@ impl PyWorld {
         policy: &str,
         tension_only: bool,
         label: Option<String>,
+        held_at_end: bool,
     ) -> PyResult<PyConstraintHandle> {
-        Self::add(slf, rod, None, kind, compliance, break_force, policy, tension_only, label)
+        Self::add(slf, rod, None, kind, compliance, break_force, policy, tension_only, label, held_at_end)
     }
     /// Adds a relative constraint between rod `a` (abscissa ua) and rod `b`
     /// (ub), which may be the same rod (kinds: relative_position,
     /// relative_orientation, relative_distance, contact, …). Keywords as
     /// add_constraint.
-    #[pyo3(signature = (a, b, kind, *, compliance = 0.0, break_force = None, policy = "magnitude", tension_only = false, label = None))]
+    #[pyo3(signature = (a, b, kind, *, compliance = 0.0, break_force = None, policy = "magnitude", tension_only = false, label = None, held_at_end = false))]
     #[allow(clippy::too_many_arguments)]
     fn add_link(
         slf: &Bound<'_, Self>,
@@ -247,8 +252,9 @@ impl PyWorld {
         policy: &str,
         tension_only: bool,
         label: Option<String>,
+        held_at_end: bool,
     ) -> PyResult<PyConstraintHandle> {
-        Self::add(slf, a, Some(b), kind, compliance, break_force, policy, tension_only, label)
+        Self::add(slf, a, Some(b), kind, compliance, break_force, policy, tension_only, label, held_at_end)
     }
     /// Coplanar relative clamp (III.61) between rod `a` at `ua` and rod `b`
     /// at `ub`: the two tangent lines keep meeting at their current common

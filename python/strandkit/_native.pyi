@@ -567,11 +567,11 @@ class World:
         """Threads a bead (sliding-abscissa particle) on `rod` at abscissa `u`: `mass` (mass unit, > 0), viscous `friction` (force per sliding speed, ≥ 0), `radius` (length, ≥ 0: beads on one rod keep their centres r_a + r_b apart), `fixed` (knotted at `u`: it does not slide), `label`."""
     def add_clip(self, center, radius, axis, resistance):
         """Adds a clip (thesis algorithms 4–5): capture sphere `center` (length, 3 values) and `radius` (length, > 0), exit `axis` (3 values, non-zero), pull-out `resistance` (force, > 0)."""
-    def add_constraint(self, rod, kind, *, compliance=0.0, break_force=None, policy="magnitude", tension_only=False, label=None):
+    def add_constraint(self, rod, kind, *, compliance=0.0, break_force=None, policy="magnitude", tension_only=False, label=None, held_at_end=False):
         """Adds a constraint on one rod (`kind` from strandkit.position, tangent, …)."""
     def add_coplanar_clamp(self, a, ua, b, ub, *, compliance=0.0):
         """Coplanar relative clamp (III.61) between rod `a` at `ua` and rod `b` at `ub`: the two tangent lines keep meeting at their current common point (a hinge there, not a weld)."""
-    def add_link(self, a, b, kind, *, compliance=0.0, break_force=None, policy="magnitude", tension_only=False, label=None):
+    def add_link(self, a, b, kind, *, compliance=0.0, break_force=None, policy="magnitude", tension_only=False, label=None, held_at_end=False):
         """Adds a relative constraint between rod `a` (abscissa ua) and rod `b` (ub), which may be the same rod (kinds: relative_position, relative_orientation, relative_distance, contact, …)."""
     def add_load(self, load, *, label=None):
         """Adds a load (strandkit.point_force, point_torque, distributed, trap, …); `label` (e.g."""
