@@ -16,7 +16,8 @@
 //! values. Measured 2026-11-29 (100 bp, 10 pN, steps of 5 ps): over 20 ns
 //! the sampled duplex tilts 0.45–0.80 of the exact values in the interior,
 //! trapezoidal or implicit Euler alike; over 400 ns (implicit Euler,
-//! 80000 steps, 12 min) 0.80 ± 0.04; the plain rod cannot be sampled
+//! 80000 steps, 12 min) 0.80 ± 0.04, at 2 ps 0.77 ± 0.04; the plain
+//! rod cannot be sampled
 //! at viscosity 0.1 (the trapezoidal Newton iterations stall within 5–80
 //! steps, implicit Euler creates energy): `docs/dna_calibration.md`.
 //!
