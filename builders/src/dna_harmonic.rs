@@ -13,6 +13,10 @@
 //!   the stacking frames it ([`crate::dna_elasticity::pair_axis`]'s rule:
 //!   the central difference of the rung midpoints made ⟂ the rung), D its
 //!   Jacobian by central differences, over the interior.
+//!
+//! Under a pull ([`tension_tilt`]) the same covariance is taken at the
+//! loaded equilibrium, from the whole Lagrangian's Hessian, and gives each
+//! pair axis's ⟨θ²⟩ against a plain rod's ([`rod_tension_tilt`]).
 use crate::dna::{duplex, Duplex, DuplexLayout, BOLTZMANN};
 use nalgebra::{DMatrix, DVector, Vector3};
 use strandkit_core::constraint::kinds::base_pair_step::axis;
@@ -404,9 +408,9 @@ pub struct TensionTilt {
     /// kT/√(B F) (rad²), a long worm-like chain's ⟨θ²⟩ under the pull,
     /// B = A kT with the duplex's target A.
     pub worm_like_chain: f64,
-    /// |∇V − Rᵀλ| / |∇V| of the relaxed state.
+    /// |∇V − Rᵀλ| / |∇V| at the loaded equilibrium found.
     pub residual: f64,
-    /// Modes of zero stiffness left out (a free rotation about the pull).
+    /// Modes of zero stiffness left out (none with pair 0 held as here).
     pub zero_modes: usize,
 }
 
@@ -453,15 +457,16 @@ pub fn tension_tilt(p: &Duplex, force: f64) -> Result<TensionTilt> {
         }
     }
     let mut sys = Loaded { rods, off, m, terms, load: &unit * f0 };
-    let mut f = f0;
+    let (mut f, mut newton) = (f0, 3);
     let mut residual = sys.polish(3)?;
     while f < force {
         f = (f * 1.5).min(force);
         sys.load = &unit * f;
         residual = sys.polish(4)?;
+        newton += 4;
     }
     if !(residual < 1e-8) {
-        return Err(Error::NotConverged { iterations: 0, residual, detail: format!("tension tilt: the loaded equilibrium at {force} pN not found (relative residual {residual:.1e})") });
+        return Err(Error::NotConverged { iterations: newton, residual, detail: format!("tension tilt: the loaded equilibrium at {force} pN not found (relative residual {residual:.1e})") });
     }
     let (cov, zero_modes) = sys.covariance(kt)?;
     let tilt = sys.spread(&cov, |rods| pair_axes([&rods[0], &rods[1]], &l))?;
