@@ -67,113 +67,50 @@ pub fn harmonic_statistics(p: &Duplex, ks: &[usize]) -> Result<Harmonic> {
     }
     let kt = BOLTZMANN * p.temperature;
     let (asm, l) = duplex(p)?;
-    let mut rods: Vec<Rod> = asm.rods.iter().map(|r| r.rod.clone()).collect();
-    let off = [0, rods[0].coords().len()];
+    let rods: Vec<Rod> = asm.rods.iter().map(|r| r.rod.clone()).collect();
+    let off = vec![0, rods[0].coords().len()];
     let m = off[1] + rods[1].coords().len();
-    let eps = 1e-6;
+    let terms = asm.constraints.iter().map(|c| Term { kind: c.kind.clone(), sides: [c.rod, c.other.unwrap_or(c.rod)], compliance: c.compliance }).collect();
+    let mut sys = Loaded { rods, off, m, terms, load: DVector::zeros(m) };
 
-    let mut h_strand = DMatrix::<f64>::zeros(m, m);
-    for (r, rod) in rods.iter_mut().enumerate() {
-        let q0 = rod.coords().to_vec();
-        for i in 0..q0.len() {
-            let mut q = q0.clone();
-            q[i] += eps;
-            rod.set_coords(&q)?;
-            let fp = rod.internal_forces();
-            q[i] -= 2.0 * eps;
-            rod.set_coords(&q)?;
-            let fm = rod.internal_forces();
-            for j in 0..q0.len() {
-                h_strand[(off[r] + j, off[r] + i)] = -(fp[j] - fm[j]) / (2.0 * eps);
-            }
-        }
-        rod.set_coords(&q0)?;
-    }
-    h_strand = (&h_strand + h_strand.transpose()) * 0.5;
-
-    let refs: Vec<&Rod> = rods.iter().collect();
-    let (mut h_stack, mut h_rung) = (DMatrix::<f64>::zeros(m, m), DMatrix::<f64>::zeros(m, m));
-    let (mut stacks, mut rigid) = (Vec::new(), Vec::new());
-    for c in &asm.constraints {
-        let mut rows = vec![Row::default(); c.kind.n_rows()];
-        let pair: Vec<&Rod> = std::iter::once(refs[c.rod]).chain(c.other.map(|o| refs[o])).collect();
-        c.kind.linearize(&pair, &mut rows)?;
-        let dense = dense_rows(&rows, [off[c.rod], c.other.map(|o| off[o]).unwrap_or(0)], m);
-        if c.compliance == 0.0 {
-            rigid.extend(dense.into_iter().map(|(v, _)| v));
-            continue;
-        }
-        let target = if c.kind.name() == "BasePairStep" { &mut h_stack } else { &mut h_rung };
-        for (v, _) in &dense {
-            *target += v * v.transpose() / c.compliance;
-        }
-        if c.kind.name() == "BasePairStep" {
-            stacks.push(dense);
-        }
-    }
-    let h = &h_strand + &h_stack + &h_rung;
-
-    // Null space of the rigid rows, then the covariance without the six
-    // rigid motions (the six smallest eigenvalues, ≈ 0).
-    let basis = if rigid.is_empty() {
-        DMatrix::identity(m, m)
-    } else {
-        let g = DMatrix::from_fn(rigid.len(), m, |i, j| rigid[i][j]);
-        let e = (g.transpose() * &g).symmetric_eigen();
-        let top = e.eigenvalues.amax();
-        let cols: Vec<usize> = (0..m).filter(|&i| e.eigenvalues[i].abs() < 1e-10 * top).collect();
-        DMatrix::from_fn(m, cols.len(), |i, j| e.eigenvectors[(i, cols[j])])
-    };
-    let hr = basis.transpose() * &h * &basis;
-    let e = ((&hr + hr.transpose()) * 0.5).symmetric_eigen();
-    let mut order: Vec<usize> = (0..e.eigenvalues.len()).collect();
-    order.sort_by(|&a, &b| e.eigenvalues[a].total_cmp(&e.eigenvalues[b]));
-    if order.len() <= 6 || !(e.eigenvalues[order[6]] > 1e-9 * e.eigenvalues.amax()) {
+    // At rest: no load, the rows vanish, the six rigid motions are the
+    // zero modes (a seventh is a mechanism).
+    let (cov, zero, free) = sys.covariance(kt)?;
+    if zero != 6 {
         return Err(Error::singular("harmonic statistics: a soft mode beyond the six rigid motions"));
     }
-    let mut cov_r = DMatrix::<f64>::zeros(basis.ncols(), basis.ncols());
-    for &i in order.iter().skip(6) {
-        let v = e.eigenvectors.column(i);
-        cov_r += v * v.transpose() * (kt / e.eigenvalues[i]);
-    }
-    let cov = &basis * cov_r * basis.transpose();
-    let held = [&h_strand, &h_stack, &h_rung].map(|hh| (hh * &cov).trace() / kt);
+    let stacking = |t: &Term| t.compliance > 0.0 && t.kind.name() == "BasePairStep";
+    let parts = [sys.hessian_of(None, true, &|_| false)?, sys.hessian_of(None, false, &stacking)?, sys.hessian_of(None, false, &|t| t.compliance > 0.0 && !stacking(t))?];
+    let held = parts.each_ref().map(|hh| (hh * &cov).trace() / kt);
 
+    let mut stacks = Vec::new();
+    for t in sys.terms.iter().filter(|t| stacking(t)) {
+        let mut rows = vec![Row::default(); t.kind.n_rows()];
+        t.kind.linearize(&[&sys.rods[t.sides[0]], &sys.rods[t.sides[1]]], &mut rows)?;
+        stacks.push(dense_rows(&rows, [sys.off[t.sides[0]], sys.off[t.sides[1]]], m));
+    }
     let interior: Vec<&Vec<(DVector<f64>, f64)>> = stacks.iter().skip(SKIP).take(stacks.len().saturating_sub(2 * SKIP)).collect();
     let mut row_equipartition = [0.0; 6];
     for (r, out) in row_equipartition.iter_mut().enumerate() {
         *out = interior.iter().map(|rows| (rows[r].0.transpose() * &cov * &rows[r].0)[(0, 0)] / kt).sum::<f64>() / interior.len().max(1) as f64;
     }
 
-    // Axis directions of pairs 1 … n−2 and their Jacobians.
-    let axes = |rods: &[Rod]| pair_axes([&rods[0], &rods[1]], &l);
-    let z0 = axes(&rods)?;
-    let mut d = vec![DMatrix::<f64>::zeros(3, m); z0.len()];
-    for col in 0..m {
-        let (r, i) = if col < off[1] { (0, col) } else { (1, col - off[1]) };
-        let q0 = rods[r].coords().to_vec();
-        let mut q = q0.clone();
-        q[i] += eps;
-        rods[r].set_coords(&q)?;
-        let zp = axes(&rods)?;
-        q[i] -= 2.0 * eps;
-        rods[r].set_coords(&q)?;
-        let zm = axes(&rods)?;
-        rods[r].set_coords(&q0)?;
-        for k in 0..z0.len() {
-            let dz = (zp[k] - zm[k]) / (2.0 * eps);
-            for a in 0..3 {
-                d[k][(a, col)] = dz[a];
-            }
-        }
-    }
+    // 1 − ⟨z_i·z_{i+k}⟩ = ½ tr(ΔD C ΔDᵀ), ΔD the rows of pairs i and i + k.
+    let d = sys.jacobian(|rods| pair_axes([&rods[0], &rods[1]], &l))?;
     let mut axis_decorrelation = Vec::with_capacity(ks.len());
     for &k in ks {
         let first = interior_pairs(n, k)?;
-        let mean = first.clone().map(|i| 0.5 * ((&d[i] - &d[i + k]) * &cov * (&d[i] - &d[i + k]).transpose()).trace()).sum::<f64>() / first.len() as f64;
+        let mean = first
+            .clone()
+            .map(|i| {
+                let dd = d.rows(3 * i, 3) - d.rows(3 * (i + k), 3);
+                0.5 * (&dd * &cov * dd.transpose()).trace()
+            })
+            .sum::<f64>()
+            / first.len() as f64;
         axis_decorrelation.push((k, mean));
     }
-    Ok(Harmonic { row_equipartition, held, freedoms: basis.ncols() - 6, axis_decorrelation })
+    Ok(Harmonic { row_equipartition, held, freedoms: free - 6, axis_decorrelation })
 }
 
 /// The local axis z of pairs 1 … n−2 (unit), as the stacking frames it:
@@ -236,14 +173,25 @@ impl Loaded {
     /// as sparse (coordinate, value) lists with their λ-weighted sum
     /// Σ λ_r ∇g_r added when `lambda` is given.
     fn gradient(&self, lambda: Option<&[f64]>) -> Result<(DVector<f64>, Vec<(f64, Vec<(usize, f64)>)>)> {
-        let mut g = -&self.load;
-        for (r, rod) in self.rods.iter().enumerate() {
-            for (i, f) in rod.internal_forces().into_iter().enumerate() {
-                g[self.off[r] + i] -= f;
+        let mut g = self.gradient_of(lambda, true, &|_| true)?;
+        g.0 -= &self.load;
+        Ok(g)
+    }
+
+    /// [`Self::gradient`] of a part, without the load: the strands'
+    /// energies if `strands`, and the terms `keep` selects (λ indexes the
+    /// kept rigid rows).
+    fn gradient_of(&self, lambda: Option<&[f64]>, strands: bool, keep: &dyn Fn(&Term) -> bool) -> Result<(DVector<f64>, Vec<(f64, Vec<(usize, f64)>)>)> {
+        let mut g = DVector::zeros(self.m);
+        if strands {
+            for (r, rod) in self.rods.iter().enumerate() {
+                for (i, f) in rod.internal_forces().into_iter().enumerate() {
+                    g[self.off[r] + i] -= f;
+                }
             }
         }
         let mut rigid = Vec::new();
-        for t in &self.terms {
+        for t in self.terms.iter().filter(|t| keep(t)) {
             let mut rows = vec![Row::default(); t.kind.n_rows()];
             let pair = [&self.rods[t.sides[0]], &self.rods[t.sides[1]]];
             t.kind.linearize(&pair, &mut rows)?;
@@ -292,14 +240,19 @@ impl Loaded {
 
     /// The Lagrangian's Hessian ∇²V − Σ λ ∇²g by central differences.
     fn hessian(&mut self, lam: &[f64]) -> Result<DMatrix<f64>> {
+        self.hessian_of(Some(lam), true, &|_| true)
+    }
+
+    /// The Hessian of a part ([`Self::gradient_of`]'s selection).
+    fn hessian_of(&mut self, lam: Option<&[f64]>, strands: bool, keep: &dyn Fn(&Term) -> bool) -> Result<DMatrix<f64>> {
         let (m, eps) = (self.m, 1e-6);
         let mut h = DMatrix::<f64>::zeros(m, m);
         for col in 0..m {
             let x0 = self.coord(col);
             self.set(col, x0 + eps)?;
-            let gp = self.gradient(Some(lam))?.0;
+            let gp = self.gradient_of(lam, strands, keep)?.0;
             self.set(col, x0 - eps)?;
-            let gm = self.gradient(Some(lam))?.0;
+            let gm = self.gradient_of(lam, strands, keep)?.0;
             self.set(col, x0)?;
             h.set_column(col, &((gp - gm) / (2.0 * eps)));
         }
@@ -342,8 +295,9 @@ impl Loaded {
     }
 
     /// Covariance kT H⁺ of the Lagrangian's Hessian on the rigid rows'
-    /// null space, and its count of zero modes (left out).
-    fn covariance(&mut self, kt: f64) -> Result<(DMatrix<f64>, usize)> {
+    /// null space, its count of zero modes (left out) and the null
+    /// space's dimension.
+    fn covariance(&mut self, kt: f64) -> Result<(DMatrix<f64>, usize, usize)> {
         let m = self.m;
         let (r, _, g) = self.rigid()?;
         let (lam, _) = Self::multipliers(&r, &g)?;
@@ -368,17 +322,16 @@ impl Loaded {
             let v = e.eigenvectors.column(i);
             cov_r += v * v.transpose() * (kt / e.eigenvalues[i]);
         }
-        Ok((&basis * cov_r * basis.transpose(), zero))
+        Ok((&basis * cov_r * basis.transpose(), zero, basis.ncols()))
     }
 
-    /// ⟨|δa|²⟩ = tr(D C Dᵀ) of each unit vector of `axes` (D by central
-    /// differences).
-    fn spread(&mut self, cov: &DMatrix<f64>, axes: impl Fn(&[Rod]) -> Result<Vec<Vector3<f64>>>) -> Result<Vec<f64>> {
-        let m = self.m;
+    /// The Jacobian D (3 rows per vector) of `axes` by central
+    /// differences.
+    fn jacobian(&mut self, axes: impl Fn(&[Rod]) -> Result<Vec<Vector3<f64>>>) -> Result<DMatrix<f64>> {
         let n = axes(&self.rods)?.len();
-        let mut d = DMatrix::<f64>::zeros(3 * n, m);
+        let mut d = DMatrix::<f64>::zeros(3 * n, self.m);
         let eps = 1e-6;
-        for col in 0..m {
+        for col in 0..self.m {
             let x0 = self.coord(col);
             self.set(col, x0 + eps)?;
             let zp = axes(&self.rods)?;
@@ -391,8 +344,14 @@ impl Loaded {
                 }
             }
         }
+        Ok(d)
+    }
+
+    /// ⟨|δa|²⟩ = tr(D C Dᵀ) of each unit vector of `axes`.
+    fn spread(&mut self, cov: &DMatrix<f64>, axes: impl Fn(&[Rod]) -> Result<Vec<Vector3<f64>>>) -> Result<Vec<f64>> {
+        let d = self.jacobian(axes)?;
         let dc = &d * cov;
-        Ok((0..n).map(|k| (0..3).map(|a| dc.row(3 * k + a).dot(&d.row(3 * k + a))).sum()).collect())
+        Ok((0..d.nrows() / 3).map(|k| (0..3).map(|a| dc.row(3 * k + a).dot(&d.row(3 * k + a))).sum()).collect())
     }
 }
 
@@ -468,7 +427,7 @@ pub fn tension_tilt(p: &Duplex, force: f64) -> Result<TensionTilt> {
     if !(residual < 1e-8) {
         return Err(Error::NotConverged { iterations: newton, residual, detail: format!("tension tilt: the loaded equilibrium at {force} pN not found (relative residual {residual:.1e})") });
     }
-    let (cov, zero_modes) = sys.covariance(kt)?;
+    let (cov, zero_modes, _) = sys.covariance(kt)?;
     let tilt = sys.spread(&cov, |rods| pair_axes([&rods[0], &rods[1]], &l))?;
     let axes = pair_axes([&sys.rods[0], &sys.rods[1]], &l)?;
     let b = p.elasticity.bending_persistence * kt;
@@ -497,7 +456,7 @@ pub fn rod_tension_tilt(length: f64, control_points: usize, a: f64, stretch: f64
     if !(residual < 1e-8) {
         return Err(Error::NotConverged { iterations: 4, residual, detail: "rod tension tilt: no equilibrium".into() });
     }
-    let (cov, _) = sys.covariance(kt)?;
+    let (cov, ..) = sys.covariance(kt)?;
     let scale = (u1 - u0) / length;
     sys.spread(&cov, |rods| at.iter().map(|&s| Ok(rods[0].tangent(u0 + s * scale)?.normalize())).collect())
 }
