@@ -78,27 +78,34 @@ fn sample(p: &Duplex, f: f64, steps: usize, z0: &[Vector3<f64>]) -> Result<Vec<f
     for (rod, u) in [(a, l.abscissae[0][n - 1]), (b, l.abscissae[1][0])] {
         w.add_load(strandkit_core::force::PointForce { rod, u, force: [0.0, 0.0, f / 2.0] }.into())?;
     }
-    let (mut sum, mut count) = (vec![0.0; z0.len()], 0usize);
-    let t = std::time::Instant::now();
-    // The middle half's mean tilt per tenth of the run (equilibration).
+    run(&mut w, steps, |w| Ok(pair_axes([w.rod(a)?, w.rod(b)?], &l)?.iter().zip(z0).map(|(a, b)| (a - b).norm_squared()).collect()))
+}
+
+/// `steps` steps of `w`, `observe` after each; the mean of its values
+/// after the first fifth of the run. Prints the middle half's mean per
+/// tenth of the run (to see equilibration) and the time taken.
+fn run(w: &mut World, steps: usize, observe: impl Fn(&World) -> Result<Vec<f64>>) -> Result<Vec<f64>> {
+    let (mut sum, mut count) = (Vec::new(), 0usize);
     let (mut block, mut in_block) = (0.0, 0usize);
-    let mid = z0.len() / 4..3 * z0.len() / 4;
+    let t = std::time::Instant::now();
     for s in 0..steps {
-        w.step()?;
-        let z = pair_axes([w.rod(ins.rods[l.strands[0]])?, w.rod(ins.rods[l.strands[1]])?], &l)?;
-        block += mid.clone().map(|i| (z[i] - z0[i]).norm_squared()).sum::<f64>() / mid.len() as f64;
+        if let Err(e) = w.step() {
+            eprintln!("step {s} failed: {e}");
+            return Err(e);
+        }
+        let x = observe(w)?;
+        let mid = x.len() / 4..(3 * x.len() / 4).max(x.len() / 4 + 1);
+        block += x[mid.clone()].iter().sum::<f64>() / mid.len() as f64;
         in_block += 1;
         if (s + 1) % (steps / 10).max(1) == 0 {
             eprintln!("t = {:.1} ns: middle half ⟨θ²⟩ {:.4}", w.time(), block / in_block as f64);
             (block, in_block) = (0.0, 0);
         }
         if s >= steps / 5 {
-            for (acc, (a, b)) in sum.iter_mut().zip(z.iter().zip(z0)) {
-                *acc += (a - b).norm_squared();
-            }
+            sum.resize(x.len(), 0.0);
+            sum.iter_mut().zip(&x).for_each(|(acc, v)| *acc += v);
             count += 1;
         }
-
     }
     eprintln!("sampled {steps} steps in {:.0} s", t.elapsed().as_secs_f64());
     Ok(sum.into_iter().map(|v| v / count as f64).collect())
@@ -130,19 +137,8 @@ fn sample_rod(p: &Duplex, f: f64, steps: usize, at: &[f64], cps: usize) -> Resul
     w.clamp(h, u0, 0.0)?;
     w.add_load(strandkit_core::force::PointForce { rod: h, u: u1, force: [0.0, 0.0, f] }.into())?;
     let scale = (u1 - u0) / length;
-    let (mut sum, mut count) = (vec![0.0; at.len()], 0usize);
-    for s in 0..steps {
-        if let Err(e) = w.step() {
-            eprintln!("step {s} failed: {e}");
-            return Err(e);
-        }
-        if s >= steps / 5 {
-            let rod = w.rod(h)?;
-            for (acc, &x) in sum.iter_mut().zip(at) {
-                *acc += (rod.tangent(u0 + x * scale)?.normalize() - Vector3::z()).norm_squared();
-            }
-            count += 1;
-        }
-    }
-    Ok(sum.into_iter().map(|v| v / count as f64).collect())
+    run(&mut w, steps, |w| {
+        let rod = w.rod(h)?;
+        at.iter().map(|&x| Ok((rod.tangent(u0 + x * scale)?.normalize() - Vector3::z()).norm_squared())).collect()
+    })
 }
