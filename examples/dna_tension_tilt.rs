@@ -16,10 +16,13 @@
 //! values. Measured 2026-11-29 (100 bp, 10 pN, steps of 5 ps): over 20 ns
 //! the sampled duplex tilts 0.45–0.80 of the exact values in the interior,
 //! trapezoidal or implicit Euler alike; over 400 ns (implicit Euler,
-//! 80000 steps, 12 min) 0.80 ± 0.04, at 2 ps 0.77 ± 0.04; the plain
-//! rod cannot be sampled
-//! at viscosity 0.1 (the trapezoidal Newton iterations stall within 5–80
-//! steps, implicit Euler creates energy): `docs/dna_calibration.md`.
+//! 80000 steps, 12 min) 0.80 ± 0.04, at 2 ps 0.77 ± 0.04
+//! (`docs/dna_calibration.md`). The plain rod on its default 2 N_BP
+//! points (0.16 nm apart, where a kT stretches a segment by 15 %) is not
+//! sampled at viscosity 0.1: the trapezoidal Newton iterations diverge and
+//! ten halvings of the step do not rescue them; on 24 points for 24 bp
+//! it runs, at the cost of halved steps (2000 steps in 90 s). ISO=1
+//! isotropic drag; KE=1 prints the energies after each step.
 //!
 //!     cargo run --release --example dna_tension_tilt [-- N_BP [F_PN [STEPS]]]
 use nalgebra::Vector3;
@@ -94,6 +97,10 @@ fn run(w: &mut World, steps: usize, observe: impl Fn(&World) -> Result<Vec<f64>>
             return Err(e);
         }
         let x = observe(w)?;
+        if std::env::var("KE").is_ok() {
+            let (k, e) = w.rods().fold((0.0, 0.0), |(k, e), (_, r)| (k + r.kinetic_energy(), e + r.elastic_energy()));
+            eprintln!("step {s}: kinetic {k:.1}, elastic {e:.1} pN nm");
+        }
         let mid = x.len() / 4..(3 * x.len() / 4).max(x.len() / 4 + 1);
         block += x[mid.clone()].iter().sum::<f64>() / mid.len() as f64;
         in_block += 1;
@@ -120,6 +127,7 @@ fn params() -> IntegrationParameters {
         units: strandkit::Units::Molecular,
         seed: 1,
         adaptive_dt: std::env::var("FIXED").is_err(),
+        isotropic_drag: std::env::var("ISO").is_ok(),
         ..Default::default()
     }
 }
