@@ -28,7 +28,7 @@
 use nalgebra::Vector3;
 use strandkit::prelude::*;
 use strandkit_builders::dna::{duplex, Duplex, BOLTZMANN};
-use strandkit_builders::dna_harmonic::{pair_axes, reference_rod, rod_tension_tilt, tension_tilt};
+use strandkit_builders::dna_harmonic::{pair_axes, reference_rod, rod_tension_tilt, rod_tension_tilt_stepped, tension_tilt, tension_tilt_stepped, Stepper};
 
 fn env(k: &str) -> Option<f64> {
     std::env::var(k).ok().and_then(|v| v.parse().ok())
@@ -50,6 +50,26 @@ fn main() -> Result<()> {
     let at: Vec<f64> = (1..n - 1).map(|k| k as f64 * p.rise).collect();
     let kt = BOLTZMANN * p.temperature;
     let rod = rod_tension_tilt((n - 1) as f64 * p.rise, 2 * n, p.elasticity.bending_persistence, p.elasticity.stretch_modulus, kt, f, &at)?;
+    if env("PRED").is_some() {
+        // The stepped samplers' harmonic values for the rod as sampled.
+        let cps = env("CPS").map_or(2 * n, |c| c as usize);
+        let mu = 2.0 * 330.0 * 1.6605e-6 / p.rise;
+        let exact = rod_tension_tilt((n - 1) as f64 * p.rise, cps, p.elasticity.bending_persistence, p.elasticity.stretch_modulus, kt, f, &at)?;
+        let (h, eta) = (params().dt, params().viscosity);
+        let stepped = |s| rod_tension_tilt_stepped((n - 1) as f64 * p.rise, cps, p.elasticity.bending_persistence, p.elasticity.stretch_modulus, kt, f, &at, mu, eta, h, s);
+        let (ie, tr) = (stepped(Stepper::ImplicitEuler)?, stepped(Stepper::Trapezoidal)?);
+        println!("rod on {cps} points, steps of {h} ns, viscosity {eta}: pair | exact | implicit Euler / exact | trapezoidal / exact");
+        for (i, ((e, a), b)) in exact.iter().zip(&ie).zip(&tr).enumerate() {
+            println!("{:3} | {e:.5} | {:.3} | {:.4}", i + 1, a / e, b / e);
+        }
+        let t = std::time::Instant::now();
+        let steppers = [Stepper::ImplicitEuler, Stepper::Trapezoidal, Stepper::TrapezoidalHeld];
+        let d: Vec<Vec<f64>> = steppers.iter().map(|&s| tension_tilt_stepped(&p, f, h, eta, s)).collect::<Result<_>>()?;
+        println!("duplex, steps of {h} ns ({:.0} s): pair | exact | implicit Euler / exact | trapezoidal / exact | trapezoidal, stacking held / exact", t.elapsed().as_secs_f64());
+        for (i, e) in r.tilt.iter().enumerate() {
+            println!("{:3} | {e:.5} | {:.3} | {:.4} | {:.3}", i + 1, d[0][i] / e, d[1][i] / e, d[2][i] / e);
+        }
+    }
     let sampled = if steps > 0 && env("ROD").is_some() {
         sample_rod(&p, f, steps, &at, env("CPS").map_or(2 * n, |c| c as usize))?
     } else if steps > 0 {

@@ -294,10 +294,9 @@ impl Loaded {
         Ok(Self::multipliers(&r, &g)?.1)
     }
 
-    /// Covariance kT H⁺ of the Lagrangian's Hessian on the rigid rows'
-    /// null space, its count of zero modes (left out) and the null
-    /// space's dimension.
-    fn covariance(&mut self, kt: f64) -> Result<(DMatrix<f64>, usize, usize)> {
+    /// The rigid rows' null space N (orthonormal columns) and the
+    /// Lagrangian's Hessian H there, NᵀHN (symmetrised).
+    fn reduced_hessian(&mut self) -> Result<(DMatrix<f64>, DMatrix<f64>)> {
         let m = self.m;
         let (r, _, g) = self.rigid()?;
         let (lam, _) = Self::multipliers(&r, &g)?;
@@ -307,7 +306,15 @@ impl Loaded {
         let cols: Vec<usize> = (0..m).filter(|&i| e.eigenvalues[i].abs() < 1e-10 * top).collect();
         let basis = DMatrix::from_fn(m, cols.len(), |i, j| e.eigenvectors[(i, cols[j])]);
         let hr = basis.transpose() * &h * &basis;
-        let e = ((&hr + hr.transpose()) * 0.5).symmetric_eigen();
+        Ok(((&hr + hr.transpose()) * 0.5, basis))
+    }
+
+    /// Covariance kT H⁺ of the Lagrangian's Hessian on the rigid rows'
+    /// null space, its count of zero modes (left out) and the null
+    /// space's dimension.
+    fn covariance(&mut self, kt: f64) -> Result<(DMatrix<f64>, usize, usize)> {
+        let (hr, basis) = self.reduced_hessian()?;
+        let e = hr.symmetric_eigen();
         let top = e.eigenvalues.amax();
         if e.eigenvalues.iter().any(|&v| v < -1e-8 * top) {
             return Err(Error::singular("tension tilt: the loaded state is not a minimum (a negative curvature)"));
@@ -323,6 +330,75 @@ impl Loaded {
             cov_r += v * v.transpose() * (kt / e.eigenvalues[i]);
         }
         Ok((&basis * cov_r * basis.transpose(), zero, basis.ncols()))
+    }
+
+    /// The stationary position covariance of a linearised stepped sampler
+    /// with thermal noise about this equilibrium (steps of `h`, isotropic
+    /// drag of viscosity `eta`, the noise's force covariance 2kT D/h), on
+    /// the null space. Implicit Euler, with A = M/h² + D/h + K:
+    ///   Δy = A⁻¹ (M w/h − K y + f),  y' = y + Δy,  w' = Δy/h.
+    /// The trapezoidal rule ([`Stepper`]): A = 2M/h² + D/h + K_a/2 + K_e,
+    /// Δy = A⁻¹ (2M w/h − K y + f), w' = 2Δy/h − w, with K_a the averaged
+    /// part (all of K, or the strands' own with the constraint terms K_e
+    /// held at the step's end, as `held_at_end` stacking is). Averaged
+    /// whole it is Gibbs-exact for a harmonic system: the recursion's check.
+    /// S = Φ S Φᵀ + G (2kT D/h) Gᵀ by doubling.
+    fn stepped_covariance(&mut self, kt: f64, h: f64, eta: f64, stepper: Stepper) -> Result<DMatrix<f64>> {
+        let (k, basis) = self.reduced_hessian()?;
+        let k_end = match stepper {
+            Stepper::TrapezoidalHeld => {
+                let strands = self.hessian_of(None, true, &|_| false)?;
+                &k - basis.transpose() * strands * &basis
+            }
+            _ => DMatrix::zeros(k.nrows(), k.ncols()),
+        };
+        let trapezoidal = stepper != Stepper::ImplicitEuler;
+        let n = basis.ncols();
+        let (mut mm, mut dd) = (DMatrix::<f64>::zeros(self.m, n), DMatrix::<f64>::zeros(self.m, n));
+        for j in 0..n {
+            for (r, rod) in self.rods.iter().enumerate() {
+                let len = rod.coords().len();
+                let x: Vec<f64> = (0..len).map(|i| basis[(self.off[r] + i, j)]).collect();
+                let (mut y, mut z) = (vec![0.0; len], vec![0.0; len]);
+                rod.mass_times(&x, &mut y);
+                let drag = strandkit_core::rod::drag::Drag { axial: 0.0, ..rod.drag(eta)? };
+                rod.drag_times(&drag, &x, &mut z);
+                for i in 0..len {
+                    mm[(self.off[r] + i, j)] = y[i];
+                    dd[(self.off[r] + i, j)] = z[i];
+                }
+            }
+        }
+        let (m, d) = (basis.transpose() * mm, basis.transpose() * dd);
+        let (cm, ck) = if trapezoidal { (2.0, 0.5) } else { (1.0, 1.0) };
+        let a = &m * (cm / (h * h)) + &d / h + (&k - &k_end) * ck + &k_end;
+        let ai = a.try_inverse().ok_or_else(|| Error::singular("stepped covariance: singular step matrix"))?;
+        let eye = DMatrix::<f64>::identity(n, n);
+        let dy_y = -(&ai * &k);
+        let dy_w = &ai * &m * (cm / h);
+        let mut phi = DMatrix::<f64>::zeros(2 * n, 2 * n);
+        phi.view_mut((0, 0), (n, n)).copy_from(&(&eye + &dy_y));
+        phi.view_mut((0, n), (n, n)).copy_from(&dy_w);
+        let (wy, ww) = if trapezoidal { (&dy_y * (2.0 / h), &dy_w * (2.0 / h) - &eye) } else { (&dy_y / h, &dy_w / h) };
+        phi.view_mut((n, 0), (n, n)).copy_from(&wy);
+        phi.view_mut((n, n), (n, n)).copy_from(&ww);
+        let mut g = DMatrix::<f64>::zeros(2 * n, n);
+        g.view_mut((0, 0), (n, n)).copy_from(&ai);
+        g.view_mut((n, 0), (n, n)).copy_from(&(&ai * if trapezoidal { 2.0 / h } else { 1.0 / h }));
+        // S = Σ Φᵏ Q Φᵏᵀ by doubling (the slowest mode sets the count).
+        let mut sum = &g * (&d * (2.0 * kt / h)) * g.transpose();
+        let mut p = phi;
+        for _ in 0..60 {
+            let next = &sum + &p * &sum * p.transpose();
+            let change = (&next - &sum).amax() / next.amax().max(1e-300);
+            sum = next;
+            p = &p * &p;
+            if change < 1e-13 {
+                let cy = sum.view((0, 0), (n, n)).into_owned();
+                return Ok(&basis * cy * basis.transpose());
+            }
+        }
+        Err(Error::NotConverged { iterations: 60, residual: f64::NAN, detail: "stepped covariance: the doubling did not converge (an undamped mode?)".into() })
     }
 
     /// The Jacobian D (3 rows per vector) of `axes` by central
@@ -355,6 +431,19 @@ impl Loaded {
     }
 }
 
+/// A stepped sampler of [`tension_tilt_stepped`] and
+/// [`rod_tension_tilt_stepped`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stepper {
+    ImplicitEuler,
+    /// Everything averaged over the step (Gibbs-exact when harmonic).
+    Trapezoidal,
+    /// The strands averaged, the constraint terms (compliant stacking and
+    /// bonds, rigid rows' curvature) held at the step's end: the
+    /// trapezoidal rule with `held_at_end` stacking, the duplex's default.
+    TrapezoidalHeld,
+}
+
 /// What [`tension_tilt`] computed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TensionTilt {
@@ -381,6 +470,33 @@ pub struct TensionTilt {
 /// bonds' curvature included (a loaded state, unlike
 /// [`harmonic_statistics`]'s at rest).
 pub fn tension_tilt(p: &Duplex, force: f64) -> Result<TensionTilt> {
+    let kt = BOLTZMANN * p.temperature;
+    let (mut sys, l, residual) = loaded_duplex(p, force)?;
+    let (cov, zero_modes, _) = sys.covariance(kt)?;
+    let tilt = sys.spread(&cov, |rods| pair_axes([&rods[0], &rods[1]], &l))?;
+    let axes = pair_axes([&sys.rods[0], &sys.rods[1]], &l)?;
+    let b = p.elasticity.bending_persistence * kt;
+    Ok(TensionTilt { force, tilt, axes, worm_like_chain: kt / (b * force).sqrt(), residual, zero_modes })
+}
+
+/// [`tension_tilt`]'s ⟨θ²⟩ as a stepped sampler reads it: the harmonic
+/// stationary covariance of a linearised stepped sampler ([`Stepper`])
+/// with thermal noise, steps of `h` ns, isotropic drag of viscosity
+/// `eta` (pN·ns/nm²), the strands' own masses. Pairs 1 … n − 2.
+pub fn tension_tilt_stepped(p: &Duplex, force: f64, h: f64, eta: f64, stepper: Stepper) -> Result<Vec<f64>> {
+    for (what, v) in [("time step", h), ("viscosity", eta)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::invalid(what, v, "positive"));
+        }
+    }
+    let (mut sys, l, _) = loaded_duplex(p, force)?;
+    let cov = sys.stepped_covariance(BOLTZMANN * p.temperature, h, eta, stepper)?;
+    sys.spread(&cov, |rods| pair_axes([&rods[0], &rods[1]], &l))
+}
+
+/// The duplex `p` held at pair 0 and pulled by `force` along its axis, at
+/// its loaded equilibrium (see [`tension_tilt`]); the last relative residual.
+fn loaded_duplex(p: &Duplex, force: f64) -> Result<(Loaded, DuplexLayout, f64)> {
     let n = p.sequence.len();
     if n > MAX_HARMONIC_BP {
         return Err(Error::invalid("duplex length", format!("{n} bp"), format!("at most {MAX_HARMONIC_BP} bp (a dense Hessian)")));
@@ -388,7 +504,6 @@ pub fn tension_tilt(p: &Duplex, force: f64) -> Result<TensionTilt> {
     if !(force.is_finite() && force > 0.0) {
         return Err(Error::invalid("force", force, "a positive pull (pN)"));
     }
-    let kt = BOLTZMANN * p.temperature;
     // Relax (its matrix lacks the stacking's second derivatives) stalls
     // under a few pN: it starts the solution at ≤ 2 pN, Newton steps with
     // the whole Hessian follow the pull up in stages of ≤ 1.5×.
@@ -427,11 +542,7 @@ pub fn tension_tilt(p: &Duplex, force: f64) -> Result<TensionTilt> {
     if !(residual < 1e-8) {
         return Err(Error::NotConverged { iterations: newton, residual, detail: format!("tension tilt: the loaded equilibrium at {force} pN not found (relative residual {residual:.1e})") });
     }
-    let (cov, zero_modes, _) = sys.covariance(kt)?;
-    let tilt = sys.spread(&cov, |rods| pair_axes([&rods[0], &rods[1]], &l))?;
-    let axes = pair_axes([&sys.rods[0], &sys.rods[1]], &l)?;
-    let b = p.elasticity.bending_persistence * kt;
-    Ok(TensionTilt { force, tilt, axes, worm_like_chain: kt / (b * force).sqrt(), residual, zero_modes })
+    Ok((sys, l, residual))
 }
 
 /// [`tension_tilt`]'s reference: a plain rod of bending stiffness A kT
@@ -442,7 +553,36 @@ pub fn rod_tension_tilt(length: f64, control_points: usize, a: f64, stretch: f64
     if !(force.is_finite() && force > 0.0) {
         return Err(Error::invalid("force", force, "a positive pull (pN)"));
     }
-    let rod = reference_rod(length, control_points, a, stretch, kt, 1.0)?;
+    let mut sys = clamped_and_pulled(reference_rod(length, control_points, a, stretch, kt, 1.0)?, force)?;
+    let (u0, u1) = sys.rods[0].domain();
+    let (cov, ..) = sys.covariance(kt)?;
+    let scale = (u1 - u0) / length;
+    sys.spread(&cov, |rods| at.iter().map(|&s| Ok(rods[0].tangent(u0 + s * scale)?.normalize())).collect())
+}
+
+/// [`rod_tension_tilt`] as a stepped sampler would read it: the harmonic
+/// stationary ⟨θ²⟩ of a linearised stepped sampler ([`Stepper`]) with
+/// thermal noise, steps of `h`
+/// ns, isotropic drag of viscosity `eta` (pN·ns/nm²), mass `linear_density`
+/// per nm (molecular units). What a run of [`reference_rod`] clamped and
+/// pulled so converges to, time step's bias included.
+#[allow(clippy::too_many_arguments)]
+pub fn rod_tension_tilt_stepped(length: f64, control_points: usize, a: f64, stretch: f64, kt: f64, force: f64, at: &[f64], linear_density: f64, eta: f64, h: f64, stepper: Stepper) -> Result<Vec<f64>> {
+    for (what, v) in [("force", force), ("time step", h), ("viscosity", eta)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::invalid(what, v, "positive"));
+        }
+    }
+    let mut sys = clamped_and_pulled(reference_rod(length, control_points, a, stretch, kt, linear_density)?, force)?;
+    let cov = sys.stepped_covariance(kt, h, eta, stepper)?;
+    let (u0, u1) = sys.rods[0].domain();
+    let scale = (u1 - u0) / length;
+    sys.spread(&cov, |rods| at.iter().map(|&s| Ok(rods[0].tangent(u0 + s * scale)?.normalize())).collect())
+}
+
+/// `rod` clamped at its start and pulled by `force` along z at its end, at
+/// equilibrium.
+fn clamped_and_pulled(rod: Rod, force: f64) -> Result<Loaded> {
     let (u0, u1) = rod.domain();
     let terms = strandkit_core::constraint::clamp_kinds(&rod, u0)?.into_iter().map(|kind| Term { kind, sides: [0, 0], compliance: 0.0 }).collect();
     let m = rod.coords().len();
@@ -456,9 +596,7 @@ pub fn rod_tension_tilt(length: f64, control_points: usize, a: f64, stretch: f64
     if !(residual < 1e-8) {
         return Err(Error::NotConverged { iterations: 4, residual, detail: "rod tension tilt: no equilibrium".into() });
     }
-    let (cov, ..) = sys.covariance(kt)?;
-    let scale = (u1 - u0) / length;
-    sys.spread(&cov, |rods| at.iter().map(|&s| Ok(rods[0].tangent(u0 + s * scale)?.normalize())).collect())
+    Ok(sys)
 }
 
 /// A straight rod along z of `length` nm on `control_points`, without
