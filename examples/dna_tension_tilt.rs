@@ -22,7 +22,11 @@
 //! sampled at viscosity 0.1: the trapezoidal Newton iterations diverge and
 //! ten halvings of the step do not rescue them; on 24 points for 24 bp
 //! it runs, at the cost of halved steps (2000 steps in 90 s). ISO=1
-//! isotropic drag; KE=1 prints the energies after each step.
+//! isotropic drag; KE=1 prints the energies after each step. PRED=1
+//! prints what the stepped samplers read in the harmonic approximation
+//! (`tension_tilt_stepped`, `rod_tension_tilt_stepped`: implicit Euler,
+//! the trapezoidal rule, and with the stacking held) at DT and VISC, for
+//! the rod on CPS points and the duplex (100 bp: 90 s).
 //!
 //!     cargo run --release --example dna_tension_tilt [-- N_BP [F_PN [STEPS]]]
 use nalgebra::Vector3;

@@ -339,6 +339,10 @@ fn a_stepped_sampler_reads_its_own_harmonic_covariance() {
     for (e, t) in exact.iter().zip(&tr) {
         assert!((t / e - 1.0).abs() < 1e-6, "trapezoidal {t} against exact {e}");
     }
+    for (h, eta) in [(0.0, 0.1), (f64::NAN, 0.1), (0.005, -1.0), (0.005, f64::INFINITY)] {
+        assert!(matches!(tension_tilt_stepped(&p, 3.0, h, eta, Stepper::ImplicitEuler), Err(Error::InvalidInput { .. })), "h {h}, viscosity {eta}");
+        assert!(rod_tension_tilt_stepped(length, cps, a, s, kt, force, &at, mu, eta, h, Stepper::Trapezoidal).is_err());
+    }
     let d = tension_tilt(&p, 3.0).unwrap().tilt;
     let dt = tension_tilt_stepped(&p, 3.0, h, eta, Stepper::Trapezoidal).unwrap();
     for (e, t) in d.iter().zip(&dt) {
