@@ -30,9 +30,12 @@ def integer(name: str, x, low: int) -> int:
 
 def noise_scheme(temperature: float, scheme):
     """The World scheme for a run at ``temperature`` (K): ``scheme`` as
-    given, else the trapezoidal rule with noise (it keeps the harmonic
-    modes' Gibbs distribution at any step; implicit Euler cools the stiff
-    ones) and implicit Euler without."""
+    given, else the trapezoidal rule with noise and implicit Euler
+    without. The trapezoidal rule keeps the Gibbs distribution of harmonic
+    modes at any step where it averages the forces; the duplex's stacking
+    and bonds are held at each step's end, which damps as implicit Euler
+    does: at 5 ps a pulled 100 bp duplex keeps 0.88 of its exact axis tilt
+    (implicit Euler 0.87; ``docs/dna_calibration.md``)."""
     if scheme is not None:
         return scheme
     return "trapezoidal" if temperature > 0 else "implicit_euler"
