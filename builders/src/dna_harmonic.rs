@@ -355,14 +355,14 @@ impl Loaded {
         let trapezoidal = stepper != Stepper::ImplicitEuler;
         let n = basis.ncols();
         let (mut mm, mut dd) = (DMatrix::<f64>::zeros(self.m, n), DMatrix::<f64>::zeros(self.m, n));
+        let drags: Vec<_> = self.rods.iter().map(|rod| Ok(strandkit_core::rod::drag::Drag { axial: 0.0, ..rod.drag(eta)? })).collect::<Result<_>>()?;
         for j in 0..n {
             for (r, rod) in self.rods.iter().enumerate() {
                 let len = rod.coords().len();
                 let x: Vec<f64> = (0..len).map(|i| basis[(self.off[r] + i, j)]).collect();
                 let (mut y, mut z) = (vec![0.0; len], vec![0.0; len]);
                 rod.mass_times(&x, &mut y);
-                let drag = strandkit_core::rod::drag::Drag { axial: 0.0, ..rod.drag(eta)? };
-                rod.drag_times(&drag, &x, &mut z);
+                rod.drag_times(&drags[r], &x, &mut z);
                 for i in 0..len {
                     mm[(self.off[r] + i, j)] = y[i];
                     dd[(self.off[r] + i, j)] = z[i];
@@ -435,6 +435,7 @@ impl Loaded {
 /// [`rod_tension_tilt_stepped`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stepper {
+    /// Implicit Euler: every force at the step's end.
     ImplicitEuler,
     /// Everything averaged over the step (Gibbs-exact when harmonic).
     Trapezoidal,
