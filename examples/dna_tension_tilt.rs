@@ -22,7 +22,8 @@
 //! sampled at viscosity 0.1: the trapezoidal Newton iterations diverge and
 //! ten halvings of the step do not rescue them; on 24 points for 24 bp
 //! it runs, at the cost of halved steps (2000 steps in 90 s). ISO=1
-//! isotropic drag; KE=1 prints the energies after each step. PRED=1
+//! isotropic drag; KE=1 prints the energies after each step; SEED the
+//! noise's seed (1). PRED=1
 //! prints what the stepped samplers read in the harmonic approximation
 //! (`tension_tilt_stepped`, `rod_tension_tilt_stepped`: implicit Euler,
 //! the trapezoidal rule, and with the stacking held) at DT and VISC, for
@@ -149,7 +150,7 @@ fn params() -> IntegrationParameters {
         temperature: env("T").unwrap_or(298.15),
         viscosity: env("VISC").unwrap_or(0.1),
         units: strandkit::Units::Molecular,
-        seed: 1,
+        seed: env("SEED").map_or(1, |s| s as u64),
         adaptive_dt: std::env::var("FIXED").is_err(),
         isotropic_drag: std::env::var("ISO").is_ok(),
         ..Default::default()
