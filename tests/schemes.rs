@@ -430,9 +430,10 @@ fn a_pinned_point_stays_at_rest_with_the_trapezoidal_rule() {
 
 /// A DNA-scale rod (A = 50 nm, S = 1100 pN, 7.8 nm on 24 points, clamped
 /// at s = 0 and pulled by 5 pN, molecular units, water-like drag 0.1)
-/// started with velocities of 300 nm/ns on alternate coordinates, stepped
-/// by the trapezoidal rule at 5 ps, 100 steps, no noise. Its Newton
-/// iterations diverge at the third step: the step is refused as NotConverged with
+/// started with velocities up to 300 nm/ns in a fixed pseudo-random
+/// pattern (the thermal speeds of its control points), stepped by the
+/// trapezoidal rule at 5 ps, 100 steps, no noise. Its Newton iterations
+/// diverge at the third step: the step is refused as NotConverged with
 /// the world unchanged (before: 20 iterations, then with `adaptive_dt`
 /// the iterates made the clamp's rows singular at step 7, an error not
 /// retried). With `adaptive_dt` the run goes through, and the energy
