@@ -151,6 +151,9 @@ struct Term {
     compliance: f64,
 }
 
+/// ∇V and the rigid rows as (rhs, sparse (coordinate, value) entries).
+type Gradient = (DVector<f64>, Vec<(f64, Vec<(usize, f64)>)>);
+
 /// A system at a loaded equilibrium: rods, constraints, and a dead load
 /// (its generalised force, constant).
 struct Loaded {
@@ -172,7 +175,7 @@ impl Loaded {
     /// Σ g²/2α − F·x; the compliant rows' g = −rhs), and the rigid rows
     /// as sparse (coordinate, value) lists with their λ-weighted sum
     /// Σ λ_r ∇g_r added when `lambda` is given.
-    fn gradient(&self, lambda: Option<&[f64]>) -> Result<(DVector<f64>, Vec<(f64, Vec<(usize, f64)>)>)> {
+    fn gradient(&self, lambda: Option<&[f64]>) -> Result<Gradient> {
         let mut g = self.gradient_of(lambda, true, &|_| true)?;
         g.0 -= &self.load;
         Ok(g)
@@ -181,7 +184,7 @@ impl Loaded {
     /// [`Self::gradient`] of a part, without the load: the strands'
     /// energies if `strands`, and the terms `keep` selects (λ indexes the
     /// kept rigid rows).
-    fn gradient_of(&self, lambda: Option<&[f64]>, strands: bool, keep: &dyn Fn(&Term) -> bool) -> Result<(DVector<f64>, Vec<(f64, Vec<(usize, f64)>)>)> {
+    fn gradient_of(&self, lambda: Option<&[f64]>, strands: bool, keep: &dyn Fn(&Term) -> bool) -> Result<Gradient> {
         let mut g = DVector::zeros(self.m);
         if strands {
             for (r, rod) in self.rods.iter().enumerate() {
