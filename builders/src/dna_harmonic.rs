@@ -488,11 +488,7 @@ pub fn tension_tilt(p: &Duplex, force: f64) -> Result<TensionTilt> {
 /// with thermal noise, steps of `h` ns, isotropic drag of viscosity
 /// `eta` (pN·ns/nm²), the strands' own masses. Pairs 1 … n − 2.
 pub fn tension_tilt_stepped(p: &Duplex, force: f64, h: f64, eta: f64, stepper: Stepper) -> Result<Vec<f64>> {
-    for (what, v) in [("time step", h), ("viscosity", eta)] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(Error::invalid(what, v, "positive"));
-        }
-    }
+    positive(&[("time step", h), ("viscosity", eta)])?;
     let (mut sys, l, _) = loaded_duplex(p, force)?;
     let cov = sys.stepped_covariance(BOLTZMANN * p.temperature, h, eta, stepper)?;
     sys.spread(&cov, |rods| pair_axes([&rods[0], &rods[1]], &l))
@@ -558,10 +554,8 @@ pub fn rod_tension_tilt(length: f64, control_points: usize, a: f64, stretch: f64
         return Err(Error::invalid("force", force, "a positive pull (pN)"));
     }
     let mut sys = clamped_and_pulled(reference_rod(length, control_points, a, stretch, kt, 1.0)?, force)?;
-    let (u0, u1) = sys.rods[0].domain();
     let (cov, ..) = sys.covariance(kt)?;
-    let scale = (u1 - u0) / length;
-    sys.spread(&cov, |rods| at.iter().map(|&s| Ok(rods[0].tangent(u0 + s * scale)?.normalize())).collect())
+    tangent_spread(&mut sys, &cov, length, at)
 }
 
 /// [`rod_tension_tilt`] as a stepped sampler would read it: the harmonic
@@ -572,16 +566,18 @@ pub fn rod_tension_tilt(length: f64, control_points: usize, a: f64, stretch: f64
 /// pulled so converges to, time step's bias included.
 #[allow(clippy::too_many_arguments)]
 pub fn rod_tension_tilt_stepped(length: f64, control_points: usize, a: f64, stretch: f64, kt: f64, force: f64, at: &[f64], linear_density: f64, eta: f64, h: f64, stepper: Stepper) -> Result<Vec<f64>> {
-    for (what, v) in [("force", force), ("time step", h), ("viscosity", eta)] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(Error::invalid(what, v, "positive"));
-        }
-    }
+    positive(&[("force", force), ("time step", h), ("viscosity", eta)])?;
     let mut sys = clamped_and_pulled(reference_rod(length, control_points, a, stretch, kt, linear_density)?, force)?;
     let cov = sys.stepped_covariance(kt, h, eta, stepper)?;
+    tangent_spread(&mut sys, &cov, length, at)
+}
+
+/// ⟨|δt|²⟩ under `cov` of the unit tangent of the one rod of `sys`
+/// (`length` nm long) at the arc lengths `at` (nm).
+fn tangent_spread(sys: &mut Loaded, cov: &DMatrix<f64>, length: f64, at: &[f64]) -> Result<Vec<f64>> {
     let (u0, u1) = sys.rods[0].domain();
     let scale = (u1 - u0) / length;
-    sys.spread(&cov, |rods| at.iter().map(|&s| Ok(rods[0].tangent(u0 + s * scale)?.normalize())).collect())
+    sys.spread(cov, |rods| at.iter().map(|&s| Ok(rods[0].tangent(u0 + s * scale)?.normalize())).collect())
 }
 
 /// `rod` clamped at its start and pulled by `force` along z at its end, at
@@ -611,11 +607,7 @@ pub fn reference_rod(length: f64, control_points: usize, a: f64, stretch: f64, k
     use strandkit_core::rod::RodBuilder;
     use strandkit_core::section::Section;
     use strandkit_core::Material;
-    for (what, v) in [("length", length), ("persistence", a), ("stretch modulus", stretch), ("kT", kt), ("linear density", linear_density)] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(Error::invalid(what, v, "positive"));
-        }
-    }
+    positive(&[("length", length), ("persistence", a), ("stretch modulus", stretch), ("kT", kt), ("linear density", linear_density)])?;
     let r = 2.0 * (a * kt / stretch).sqrt();
     let area = std::f64::consts::PI * r * r;
     RodBuilder::straight(Vector3::zeros(), Vector3::new(0.0, 0.0, length))
@@ -624,4 +616,12 @@ pub fn reference_rod(length: f64, control_points: usize, a: f64, stretch: f64, k
         .section(Section::circle(r)?)
         .material(Material::new("reference", stretch / area, 0.3, linear_density / area)?)
         .build()
+}
+
+/// InvalidInput for the first of `values` that is not finite and positive.
+fn positive(values: &[(&str, f64)]) -> Result<()> {
+    match values.iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
+        Some(&(what, v)) => Err(Error::invalid(what, v, "positive")),
+        None => Ok(()),
+    }
 }

@@ -209,30 +209,24 @@ fn iterate(world: &mut World, h: f64, mut solved: Solved) -> Result<(Solved, usi
         let diverging = solves > 1 && step_x > DIVERGED * first.max(FLOOR * longest);
         if solves == MAX_ITERATIONS || diverging {
             let why = if diverging { "diverge, moving" } else { "still move" };
-            return Err(Error::NotConverged {
-                iterations: solves,
-                residual: step_x,
-                detail: format!(
-                    "the trapezoidal step's Newton iterations {why} the rods by {step_x:.3e} (of {total_x:.3e}) after {solves} solves; the world is unchanged (reduce dt, or World(adaptive_dt=True))"
-                ),
-            });
+            return Err(refused(solves, step_x, format!("iterations {why} the rods by {step_x:.3e} (of {total_x:.3e}) after {solves} solves")));
         }
         prepare(world, h);
         solved = match solve::assemble_and_solve(world, Regime::Trapezoidal { h, first: false }) {
             Ok((_, s)) => s,
             // The first solve had these rows regular: singular at an
             // iterate is the iterate's (Newton gone astray), a retry's case.
-            Err(Error::Singular { detail, .. }) => {
-                return Err(Error::NotConverged {
-                    iterations: solves,
-                    residual: step_x,
-                    detail: format!("the trapezoidal step's Newton iterate {solves} made the system singular ({detail}); the world is unchanged (reduce dt, or World(adaptive_dt=True))"),
-                })
-            }
+            Err(Error::Singular { detail, .. }) => return Err(refused(solves, step_x, format!("iterate {solves} made the system singular ({detail})"))),
             Err(e) => return Err(e),
         };
     }
     unreachable!("the loop returns at its last iteration")
+}
+
+/// A step refused after `solves` Newton solves: NotConverged, which
+/// `adaptive_dt` retries.
+fn refused(solves: usize, step_x: f64, what: String) -> Error {
+    Error::NotConverged { iterations: solves, residual: step_x, detail: format!("the trapezoidal step's Newton {what}; the world is unchanged (reduce dt, or World(adaptive_dt=True))") }
 }
 
 /// Adds the solution in the system to ΔX; returns max |δ| and max |ΔX|
