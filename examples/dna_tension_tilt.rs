@@ -152,7 +152,8 @@ fn params() -> IntegrationParameters {
         units: strandkit::Units::Molecular,
         seed: env("SEED").map_or(1, |s| s as u64),
         adaptive_dt: std::env::var("FIXED").is_err(),
-        isotropic_drag: std::env::var("ISO").is_ok(),
+        isotropic_drag: std::env::var("ISO").is_ok() || std::env::var("OD").is_ok(),
+        overdamped: std::env::var("OD").is_ok(),
         ..Default::default()
     }
 }
