@@ -197,3 +197,22 @@ def test_noise_in_pull_is_seeded_and_off_at_zero_kelvin():
                      (dict(seed=-1), "seed"), (dict(seed=1.5), "seed"), (dict(scheme="rk4"), "scheme")):
         with pytest.raises(sk.InvalidInputError, match=what):
             ex.stretch(d, progress_bar=False, **kw)
+
+
+def test_brownian_pull_reaches_the_same_rest_and_is_seeded():
+    # Overdamped dynamics: without noise a force clamp comes to the same rest
+    # as with inertia (the static equilibrium of the pull); with noise a
+    # seed replays its run. 12 bp stretched at 10 pN for 4 ns: 0.06972 and
+    # 0.06971 nm, still creeping up by 1e-6 nm per record.
+    d = sk.dna.duplex("GATTACAGATTA", break_forces=[math.inf] * 12, averaged_stacking=True)
+    clamp = lambda duration=4.0, **kw: ex.force_clamp(d, 10.0, duration, geometry="stretch", dt=0.005,  # noqa: E731
+                                                      viscosity=0.1, record_every=40, progress_bar=False, **kw)
+    inertial, brownian = clamp(), clamp(brownian=True)
+    # Different paths (no inertia: no overshoot), the same rest.
+    assert np.abs(brownian.extension - inertial.extension).max() > 1e-3
+    assert brownian.extension[-1] == pytest.approx(inertial.extension[-1], abs=1e-4)
+    assert brownian.extension[-1] > 0.05
+    a, b = (clamp(0.2, brownian=True, temperature=298.15, seed=2).extension for _ in range(2))
+    assert np.array_equal(a, b) and np.std(a) > 0
+    with pytest.raises(sk.InvalidInputError, match="brownian"):
+        clamp(brownian="yes")

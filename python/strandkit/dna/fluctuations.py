@@ -158,7 +158,7 @@ def _estimate(twist, rise, z, skip, rise0, kt):
 def thermal_elasticity(sequence_or_duplex, *, temperature: float = 298.15, duration: float = 150.0,
                        dt: float = 0.005, viscosity: float = 0.1, scheme: str = "trapezoidal",
                        equilibration: float = 5.0, every: int = 5, skip: int = 4, blocks: int = 8, seed: int = 1,
-                       progress_bar: bool = True, duplex_options=None) -> ThermalElasticity:
+                       progress_bar: bool = True, duplex_options=None, brownian: bool = False) -> ThermalElasticity:
     """Measures A, S, C and g of a duplex from its thermal fluctuations
     (see the module): a free duplex at ``temperature`` (K) in a fluid of
     ``viscosity`` (pN·ns/nm²; water is 1) stepped for ``equilibration`` +
@@ -169,7 +169,10 @@ def thermal_elasticity(sequence_or_duplex, *, temperature: float = 298.15, durat
     bending modes decorrelate ~10× slower and 200–400 ns gave ±12–16 % on
     A). A sequence is built with unbreakable bonds (the elasticity alone;
     ``duplex_options`` go to ``duplex``); a built Duplex is used as given,
-    and a bond breaking during the run is an error."""
+    and a bond breaking during the run is an error. ``brownian``:
+    overdamped dynamics with isotropic drag (see ``experiments.pull``);
+    with ``duplex_options=dict(averaged_stacking=True)`` it samples the
+    duplex's exact statistics at 5 ps steps."""
     temperature, duration = number("temperature (K)", temperature), number("duration (ns)", duration)
     dt, viscosity = number("dt (ns)", dt), number("viscosity (pN·ns/nm²)", viscosity)
     equilibration = number("equilibration (ns)", equilibration, strict=False)
@@ -185,7 +188,10 @@ def thermal_elasticity(sequence_or_duplex, *, temperature: float = 298.15, durat
     d = as_duplex(sequence_or_duplex, duplex_options, unbreakable)
     if len(d) < 2 * skip + 8:
         raise _invalid(f"a {len(d)} bp duplex is too short to measure with skip={skip}: at least {2 * skip + 8} bp")
-    world = World(units="molecular", dt=dt, viscosity=viscosity, temperature=temperature, seed=seed, scheme=scheme)
+    if not isinstance(brownian, bool):
+        raise _invalid(f"brownian must be True or False, got {brownian!r}")
+    world = World(units="molecular", dt=dt, viscosity=viscosity, temperature=temperature, seed=seed, scheme=scheme,
+                  overdamped=brownian, isotropic_drag=brownian)
     ins = world.insert(d.assembly)
     a, b = (ins.rods[i] for i in d.strands)
     twist, rise, axes = [], [], []
