@@ -216,3 +216,5 @@ def test_brownian_pull_reaches_the_same_rest_and_is_seeded():
     assert np.array_equal(a, b) and np.std(a) > 0
     with pytest.raises(sk.InvalidInputError, match="brownian"):
         clamp(brownian="yes")
+    with pytest.raises(sk.InvalidInputError, match="brownian"):
+        sk.dna.fluctuations.thermal_elasticity("GATTACAGATTACAGATTAC", brownian=1, progress_bar=False)

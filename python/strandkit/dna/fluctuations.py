@@ -190,8 +190,10 @@ def thermal_elasticity(sequence_or_duplex, *, temperature: float = 298.15, durat
         raise _invalid(f"a {len(d)} bp duplex is too short to measure with skip={skip}: at least {2 * skip + 8} bp")
     if not isinstance(brownian, bool):
         raise _invalid(f"brownian must be True or False, got {brownian!r}")
+    # adaptive_dt: a step whose Newton iterations diverge is retried in
+    # halves (the Brownian path kept) instead of ending the run.
     world = World(units="molecular", dt=dt, viscosity=viscosity, temperature=temperature, seed=seed, scheme=scheme,
-                  overdamped=brownian, isotropic_drag=brownian)
+                  overdamped=brownian, isotropic_drag=brownian, adaptive_dt=True)
     ins = world.insert(d.assembly)
     a, b = (ins.rods[i] for i in d.strands)
     twist, rise, axes = [], [], []
