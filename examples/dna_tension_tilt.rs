@@ -22,7 +22,8 @@
 //! sampled at viscosity 0.1: the trapezoidal Newton iterations diverge and
 //! ten halvings of the step do not rescue them; on 24 points for 24 bp
 //! it runs, at the cost of halved steps (2000 steps in 90 s). ISO=1
-//! isotropic drag; KE=1 prints the energies after each step; SEED the
+//! isotropic drag; OD=1 Brownian (overdamped, isotropic drag) dynamics;
+//! KE=1 prints the energies after each step; SEED the
 //! noise's seed (1). PRED=1
 //! prints what the stepped samplers read in the harmonic approximation
 //! (`tension_tilt_stepped`, `rod_tension_tilt_stepped`: implicit Euler,

@@ -52,13 +52,17 @@ const DELTA_REL: f64 = 1e-8;
 /// well-conditioned KKT matrix) and for the LU.
 const REFINE_LDLT: usize = 4;
 const REFINE_LU: usize = 2;
-/// Refinement goes on (within those steps) while some row's componentwise
-/// backward error is above this, even when the normwise one is at round-off:
-/// a regularised pivot's footprint δ y on a constraint row whose terms are
-/// small beside the system's (a Newton iterate near convergence) survives a
-/// normwise stop, and the KKT solve's row check then reads the rows as
-/// contradictory (a noisy duplex at 1 ps with averaged stacking).
-const COMPONENTWISE_TOL: f64 = 1e-12;
+/// A row-wise refinement ([`SparseLu::solve_refined_rowwise_in_place`])
+/// goes on (within those steps) while some multiplier row's componentwise
+/// backward error is above this, even when the normwise one is at
+/// round-off: a regularised pivot's footprint δ y on a constraint row whose
+/// terms are small beside the system's (a Newton iterate near convergence)
+/// survives a normwise stop, and the KKT solve's row check then reads the
+/// rows as contradictory (a noisy duplex at 1 ps with averaged stacking).
+/// Not the default: most solves leave such footprints above 1e-9 and would
+/// pay one more refinement step (2.2 instead of 1.0 a solve on table IV.2's
+/// bridge); the KKT solve asks for it when its row check fails.
+const COMPONENTWISE_TOL: f64 = 1e-9;
 /// The regularised LDLᵀ is accepted when the probe's relative residual reaches this.
 const PROBE_TOL: f64 = 1e-14;
 /// Condition estimate beyond which the matrix is numerically singular (1/ε).
@@ -247,6 +251,16 @@ impl SparseLu {
     /// As [`SparseLu::solve_in_place`]; returns the final relative residual
     /// `||A x - b||_inf / (||A||_inf ||x||_inf + ||b||_inf)`.
     pub fn solve_refined_in_place(&mut self, b: &mut [f64]) -> Result<f64> {
+        self.solve_refined_with(b, false)
+    }
+
+    /// [`SparseLu::solve_refined_in_place`], refined on until every
+    /// multiplier row also holds on its own scale ([`COMPONENTWISE_TOL`]).
+    pub fn solve_refined_rowwise_in_place(&mut self, b: &mut [f64]) -> Result<f64> {
+        self.solve_refined_with(b, true)
+    }
+
+    fn solve_refined_with(&mut self, b: &mut [f64], rowwise: bool) -> Result<f64> {
         let Some(kind) = self.active else {
             return Err(Error::input(
                 "SparseLu::solve_in_place called without a successful factor()",
@@ -264,7 +278,7 @@ impl SparseLu {
         let mut rhs = std::mem::take(&mut self.work_rhs);
         rhs.clear();
         rhs.extend_from_slice(b);
-        let rel = self.refine(&rhs, b, steps);
+        let rel = self.refine(&rhs, b, steps, rowwise);
         self.work_rhs = rhs;
         Ok(rel)
     }
@@ -534,14 +548,14 @@ impl SparseLu {
     /// `x = A⁻¹ b` with up to `steps` refinement steps (stops at rounding
     /// level or when the residual stops halving; keeps the best iterate).
     /// Returns the relative residual of `x`.
-    fn refine(&mut self, b: &[f64], x: &mut [f64], steps: usize) -> f64 {
+    fn refine(&mut self, b: &[f64], x: &mut [f64], steps: usize, rowwise: bool) -> f64 {
         let (mut r, mut best_x) = (std::mem::take(&mut self.work_r), std::mem::take(&mut self.work_best));
-        let rel = self.refine_with(b, x, steps, &mut r, &mut best_x);
+        let rel = self.refine_with(b, x, steps, rowwise, &mut r, &mut best_x);
         (self.work_r, self.work_best) = (r, best_x);
         rel
     }
 
-    fn refine_with(&mut self, b: &[f64], x: &mut [f64], steps: usize, r: &mut Vec<f64>, best_x: &mut Vec<f64>) -> f64 {
+    fn refine_with(&mut self, b: &[f64], x: &mut [f64], steps: usize, rowwise: bool, r: &mut Vec<f64>, best_x: &mut Vec<f64>) -> f64 {
         let n = self.n;
         let bnorm = inf_norm(b);
         x.copy_from_slice(b);
@@ -550,18 +564,20 @@ impl SparseLu {
         }
         r.clear();
         r.resize(n, 0.0);
+        // Only the regularised LDLᵀ leaves a footprint, on its multiplier rows.
+        let rows = rowwise && self.active == Some(SparseFactor::Ldlt);
         let mut s = std::mem::take(&mut self.work_s);
         s.clear();
-        s.resize(n, 0.0);
+        s.resize(if rows { n } else { 0 }, 0.0);
         best_x.clear();
         let (mut best, mut best_omega) = (f64::INFINITY, f64::INFINITY);
         let mut step = 0;
         let rel = loop {
-            self.residual_and_scale(b, x, r, &mut s);
+            self.residual_and_scale(b, x, r, rows.then_some(&mut s[..]));
             let denom = self.anorm * inf_norm(x) + bnorm;
             let rn = inf_norm(r);
             let rel = if denom > 0.0 { rn / denom } else { rn };
-            let omega = componentwise(r, &s);
+            let omega = if rows { componentwise(r, &s, &self.signs) } else { 0.0 };
             if rel.is_nan() || (rel >= best && omega >= best_omega) {
                 // Worse (or NaN): go back to the best iterate.
                 if best_x.is_empty() {
@@ -570,7 +586,7 @@ impl SparseLu {
                 x.copy_from_slice(best_x);
                 break best;
             }
-            let stagnating = rel > 0.5 * best && omega > 0.5 * best_omega;
+            let stagnating = rel > 0.5 * best && (!rows || omega > 0.5 * best_omega);
             (best, best_omega) = (rel.min(best), omega.min(best_omega));
             if step >= steps || (rel <= f64::EPSILON && omega <= COMPONENTWISE_TOL) || stagnating {
                 break rel;
@@ -587,20 +603,32 @@ impl SparseLu {
         rel
     }
 
-    /// `r = b - A x` and `s = |A| |x| + |b|`.
-    fn residual_and_scale(&self, b: &[f64], x: &[f64], r: &mut [f64], s: &mut [f64]) {
+    /// `r = b - A x`, and `s = |A| |x| + |b|` when given.
+    fn residual_and_scale(&self, b: &[f64], x: &[f64], r: &mut [f64], s: Option<&mut [f64]>) {
         r.copy_from_slice(b);
-        for (s, b) in s.iter_mut().zip(b) {
-            *s = b.abs();
-        }
-        for (j, &xj) in x.iter().enumerate() {
-            if xj == 0.0 {
-                continue;
+        match s {
+            None => {
+                for (j, &xj) in x.iter().enumerate() {
+                    if xj != 0.0 {
+                        for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                            r[self.row_idx[p]] -= self.val[p] * xj;
+                        }
+                    }
+                }
             }
-            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
-                let t = self.val[p] * xj;
-                r[self.row_idx[p]] -= t;
-                s[self.row_idx[p]] += t.abs();
+            Some(s) => {
+                for (s, b) in s.iter_mut().zip(b) {
+                    *s = b.abs();
+                }
+                for (j, &xj) in x.iter().enumerate() {
+                    if xj != 0.0 {
+                        for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                            let t = self.val[p] * xj;
+                            r[self.row_idx[p]] -= t;
+                            s[self.row_idx[p]] += t.abs();
+                        }
+                    }
+                }
             }
         }
     }
@@ -630,7 +658,7 @@ impl SparseLu {
             })
             .collect();
         let mut x = vec![0.0; n];
-        let rel = self.refine(&b, &mut x, steps);
+        let rel = self.refine(&b, &mut x, steps, false);
         self.probe_residual = rel;
         let xn = inf_norm(&x);
         let kappa = self.anorm * xn / inf_norm(&b);
@@ -648,9 +676,10 @@ fn non_finite(i: usize, j: usize, v: f64) -> Error {
 }
 
 /// The componentwise backward error max_i |r_i| / s_i (Oettli–Prager;
-/// Arioli, Demmel & Duff 1989), rows with s_i = 0 = r_i skipped.
-fn componentwise(r: &[f64], s: &[f64]) -> f64 {
-    r.iter().zip(s).fold(0.0, |m: f64, (r, s)| if *r == 0.0 { m } else { m.max(r.abs() / s) })
+/// Arioli, Demmel & Duff 1989) over the rows whose expected pivot sign is
+/// negative (the multiplier rows), rows with s_i = 0 = r_i skipped.
+fn componentwise(r: &[f64], s: &[f64], signs: &[i8]) -> f64 {
+    r.iter().zip(s).zip(signs).fold(0.0, |m: f64, ((r, s), &g)| if *r == 0.0 || g > 0 { m } else { m.max(r.abs() / s) })
 }
 
 /// `max |v_i|`, NaN when some entry is NaN (`f64::max` would skip it).
@@ -744,11 +773,11 @@ mod tests {
     /// Every row of a refined solve holds on its own scale: a solution
     /// with O(1) multipliers and coordinates 1e-9 of them (a Newton iterate
     /// near convergence) leaves the constraint rows' terms 1e-9 of the
-    /// system's. A normwise stop at round-off left the regularised pivots'
+    /// system's. A normwise stop at round-off leaves the regularised pivots'
     /// footprint δ y on those rows (5e-7 of their terms here, 3e-3 to 1e-2
-    /// on a noisy duplex; the
-    /// KKT solve's row check called them contradictory); now every row's
-    /// componentwise backward error is below 1e-12.
+    /// on a noisy duplex, where the KKT solve's row check called them
+    /// contradictory); the row-wise refinement brings every row's
+    /// componentwise backward error below 1e-9 (the row check: 1e-6).
     #[test]
     fn refinement_holds_every_row_on_its_own_scale() {
         let mut rng = Lcg(7);
@@ -762,7 +791,7 @@ mod tests {
             sp.factor(&a).unwrap();
             assert_eq!(sp.active(), Some(SparseFactor::Ldlt));
             let mut x = b.clone();
-            sp.solve_refined_in_place(&mut x).unwrap();
+            sp.solve_refined_rowwise_in_place(&mut x).unwrap();
             let mut worst = 0.0f64;
             for i in (0..a.n()).filter(|&i| !is_coord[i]) {
                 let (mut r, mut s) = (b[i], b[i].abs());
@@ -773,7 +802,7 @@ mod tests {
                 }
                 worst = worst.max(r.abs() / s);
             }
-            assert!(worst < 1e-12, "a constraint row off by {worst:.1e} of its terms (k {k}, m {m})");
+            assert!(worst < 1e-9, "a constraint row off by {worst:.1e} of its terms (k {k}, m {m})");
         }
     }
 
