@@ -208,7 +208,7 @@ def test_brownian_pull_reaches_the_same_rest_and_is_seeded():
     clamp = lambda duration=4.0, **kw: ex.force_clamp(d, 10.0, duration, geometry="stretch", dt=0.005,  # noqa: E731
                                                       viscosity=0.1, record_every=40, progress_bar=False, **kw)
     inertial, brownian = clamp(), clamp(brownian=True)
-    # Different paths (no inertia: no overshoot), the same rest.
+    # Different paths (with and without inertia), the same rest.
     assert np.abs(brownian.extension - inertial.extension).max() > 1e-3
     assert brownian.extension[-1] == pytest.approx(inertial.extension[-1], abs=1e-4)
     assert brownian.extension[-1] > 0.05
