@@ -110,6 +110,10 @@ fn examples(name: &str) -> Vec<Example> {
         ],
         "SlidingPoint" => vec![ex(Open, SlidingPoint { u: 2.7, point: [0.8, 0.1, 0.2], friction: 0.5 })],
         "OrientedSlidingPoint" => vec![ex(Open, OrientedSlidingPoint { u: 3.6, point: [1.0, 0.0, 0.1], direction: d, friction: 0.0 })],
+        "EqualOffsets" => vec![
+            ex(Two, EqualOffsets { ua: 1.2, ub: 2.3, va: 4.1, vb: 5.4 }),
+            ex(SameRod, EqualOffsets { ua: 0.4, ub: 2.6, va: 1.5, vb: 4.1 }),
+        ],
         "Contact" => vec![ex(Two, Contact { ua: 2.0, ub: 4.0, distance: 0.02 })],
         "CoplanarClamp" => vec![ex(Two, CoplanarClamp { ua: 4.4, ub: 3.2, alpha: [0.3, -0.2] })],
         "Barycentric" => vec![
@@ -406,6 +410,8 @@ fn bad_parameters(k: &ConstraintKind) -> Vec<ConstraintKind> {
             push(RelativePlane { offset: [0.0, nan, 0.0], ..r.clone() }.into());
         }
         ConstraintKind::RelativeOrientation(_) => {} // no parameter beyond abscissae and a flag
+        // The same pair twice.
+        ConstraintKind::EqualOffsets(e) => push(EqualOffsets { va: e.ua, vb: e.ub, ..e.clone() }.into()),
         ConstraintKind::RelativeDistance(r) => {
             push(RelativeDistance { distance: nan, ..r.clone() }.into());
             push(RelativeDistance { distance: -1.0, ..r.clone() }.into());

@@ -36,7 +36,7 @@ def test_dimensions_read_the_built_spacings():
     assert math.isclose(d["course_spacing"], 0.95e-3, rel_tol=2e-3)
     # A tube's heads lie behind the legs, on a circle of radius R − d
     # (R: the mid-surface of circumference wales × w): chords apart.
-    t = sk.knit.fabric("jersey", wales=10, courses=3, boundary="periodic", spacing=(1.3e-3, 0.95e-3))
+    t = sk.knit.fabric("jersey", wales=10, courses=3, boundary="tube", spacing=(1.3e-3, 0.95e-3))
     assert math.isclose(t.tube_radius, 10 * 1.3e-3 / (2 * math.pi), rel_tol=1e-12)
     w = t.dimensions(t.world(), margin=0)["wale_spacing"]
     chord = 2 * (t.tube_radius - t.model["depth"]) * math.sin(math.pi / 10)
@@ -45,7 +45,7 @@ def test_dimensions_read_the_built_spacings():
 
 def test_yarns_start_outside_each_other():
     for pattern, least, kw in (("jersey", 1.0, {}), ("rib1x1", 1.0, {}), ("seed", 0.85, {}),
-                               ("jersey", 1.0, dict(boundary="periodic", wales=8))):
+                               ("jersey", 1.0, dict(boundary="tube", wales=8))):
         f = sk.knit.fabric(pattern, **dict(dict(wales=4, courses=4), **kw))
         c = clearance(f.world(), f)
         # Seed's sinkers turn from front to back between neighbours: its
@@ -67,7 +67,7 @@ def test_yarns_start_outside_each_other():
     (dict(yarn_radius=-1e-4), "radius"),
     (dict(yarn="silk"), "cotton"),
     (dict(bending_stiffness=0.0), "bending_stiffness"),
-    (dict(boundary="periodic", continuous=True), "continuous"),
+    (dict(boundary="tube", continuous=True), "continuous"),
     (dict(boundary="closed"), "boundary"),
     (dict(spacing=(1e-3,)), "spacing"),
     (dict(wales=1000, courses=1000), "at most"),
@@ -140,7 +140,7 @@ def test_clamped_edges_and_tubes_relax():
     assert r.history["energy"][-1] < r.history["energy"][0]
     with pytest.raises(sk.InvalidInputError, match="clamped_edges"):
         ex.stretch(clamped)
-    tube = sk.knit.fabric("jersey", wales=8, courses=3, boundary="periodic")
+    tube = sk.knit.fabric("jersey", wales=8, courses=3, boundary="tube")
     t = ex.relax(tube, max_steps=20, record_every=10)
     assert t.curl is None and t.clearance > 0.75
     # Two courses leave no margin: the dimensions use every head.

@@ -7,11 +7,16 @@ import numpy as np
 __all__ = ["yarn_points", "clearance", "curl", "Interlocks"]
 
 
-def yarn_points(world, fabric, per_loop: int = 40):
+def yarn_points(world, fabric, per_loop: int = 40, *, image: bool = False):
     """Points along every yarn now, about ``per_loop`` per stitch: a list
-    of (n, 3) arrays (m), one per yarn."""
+    of (n, 3) arrays (m), one per yarn (and with ``image`` the periodic
+    cell's image ring last)."""
     out = []
-    for rod in world.rods()[: len(np.unique(fabric.loops["rod"]))]:
+    rods = world.rods()
+    chosen = rods[: len(np.unique(fabric.loops["rod"]))]
+    if image and fabric.image is not None:
+        chosen.append(rods[fabric.image])
+    for rod in chosen:
         u0, u1 = rod.domain
         n = max(8, int(round(per_loop * rod.rest_length / fabric.loop_length)))
         out.append(rod.position(np.linspace(u0, u1, n, endpoint=not fabric.tube_radius > 0)))
@@ -22,12 +27,12 @@ def clearance(world, fabric, *, exclude: float = 4.0) -> float:
     """Smallest distance between yarn centrelines over the yarn diameter
     2r, points closer than ``exclude`` radii along one yarn left out:
     ≥ 1 when no yarn enters another, < 0.5 only if one has passed through
-    (the centreline of one inside the other). A cell hash keeps it
-    O(points)."""
+    (the centreline of one inside the other); a periodic cell's image ring
+    counts (its last course holds it). A cell hash keeps it O(points)."""
     r = fabric.yarn_radius
     ring = fabric.tube_radius > 0
     pts, yarn, s, total = [], [], [], []
-    for k, p in enumerate(yarn_points(world, fabric)):
+    for k, p in enumerate(yarn_points(world, fabric, image=True)):
         arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
         # A ring's length includes its closing segment (its last point
         # neighbours its first along the yarn).

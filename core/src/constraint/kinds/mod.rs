@@ -113,6 +113,7 @@ constraint_kinds! {
     barycentric::Barycentric,
     base_pair_step::BasePairStep,
     pair_stagger::PairStagger,
+    equal_offsets::EqualOffsets,
 }
 
 impl ConstraintKind {
