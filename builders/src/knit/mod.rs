@@ -455,8 +455,11 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
 }
 
 /// The periodic cell's image ring: ring `first` moved `period` (m) along the
-/// wale (y), tied to it at every control point's abscissa, consecutive pairs
-/// chained. Collocation at the knots of a periodic cubic B-spline is
+/// wale (y), tied to it at every control point's abscissa, each pair to the
+/// first (chained pair to pair, a multiplier is the sum of the forces
+/// along the chain before it: measured, a tie in the middle of a 192-point
+/// ring then held only to 3e-6 of its terms, and the step was refused as
+/// contradictory). Collocation at the knots of a periodic cubic B-spline is
 /// invertible (its circulant matrix, rows 1/6, 4/6, 1/6, has eigenvalues
 /// ≥ 1/3), so the ties make the image's control points the first ring's
 /// plus one common vector, which nothing else fixes. The ring and its image
@@ -483,7 +486,7 @@ fn add_image(asm: &mut Assembly, first: usize, period: f64) -> Result<(usize, Ve
     let rod = asm.add_rod(image, Some("image"));
     let mut ties = Vec::with_capacity(n - 1);
     for k in 1..n {
-        asm.link(first, rod, EqualOffsets { ua: at(k - 1), ub: at(k - 1), va: at(k), vb: at(k) }).label(format!("period[{}]", k - 1));
+        asm.link(first, rod, EqualOffsets { ua: at(k), ub: at(k), va: at(0), vb: at(0) }).label(format!("period[{}]", k - 1));
         ties.push(asm.constraints.len() - 1);
     }
     Ok((rod, ties))

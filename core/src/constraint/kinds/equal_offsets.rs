@@ -1,7 +1,8 @@
 //! Equal offsets: two point pairs of rods a and b keep the same offset,
 //! (r_a(ua) − r_b(ub)) − (r_a(va) − r_b(vb)) = 0 on x, y, z, whatever that
 //! offset is. Tied at as many pairs as rod b has control points (matching
-//! abscissae, chained), rod b is rod a translated by a free vector: the
+//! abscissae, each to one reference pair), rod b is rod a translated by a
+//! free vector: the
 //! periodic image of a knit cell (SPEC §9.3), whose period the equilibrium
 //! then chooses. Linear in q; side 0 is rod a, side 1 rod b.
 use crate::constraint::catalogue::{FieldInfo, FieldType::*, KindInfo};
@@ -34,7 +35,7 @@ impl ConstraintLaw for EqualOffsets {
         helper: "equal_offsets",
         rods: 2,
         doc: "Two point pairs (rods a and b of World.add_link) keep the same offset, whatever it is: \
-              r_a(ua) − r_b(ub) = r_a(va) − r_b(vb). Chained over rod b's control points it makes rod b a \
+              r_a(ua) − r_b(ub) = r_a(va) − r_b(vb). At rod b's control points, each against one pair, it makes rod b a \
               translated copy of rod a (a periodic image). Multiplier: force on rod a at ua (the opposite at va; \
               rod b gets the opposite of both).",
         fields: &[
