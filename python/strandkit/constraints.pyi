@@ -6,7 +6,7 @@ from ._catalogue import Kind as Kind
 from ._native import ConstraintHandle, Rod, World
 
 CATALOGUE: List[dict]
-__all__ = ['Kind', 'kind', 'clamp', 'position', 'tangent', 'material_roll', 'distance', 'plane', 'axis', 'curvature', 'relative_position', 'relative_orientation', 'relative_distance', 'relative_axis', 'relative_plane', 'sliding_point', 'oriented_sliding_point', 'contact', 'coplanar_clamp', 'barycentric', 'base_pair_step', 'pair_stagger']
+__all__ = ['Kind', 'kind', 'clamp', 'position', 'tangent', 'material_roll', 'distance', 'plane', 'axis', 'curvature', 'relative_position', 'relative_orientation', 'relative_distance', 'relative_axis', 'relative_plane', 'sliding_point', 'oriented_sliding_point', 'contact', 'coplanar_clamp', 'barycentric', 'base_pair_step', 'pair_stagger', 'equal_offsets']
 
 def kind(name: str, **fields) -> Kind:
     """Any core constraint kind by its Rust name, fields as given (numpy values become lists), e.g."""
@@ -26,6 +26,8 @@ def curvature(u: float, target: Sequence[float]) -> Kind:
     """r''(u) = `target` (length per u², three rows)."""
 def distance(u: float, point: Sequence[float], distance: float) -> Kind:
     """|r(u) − point| = `distance` (length, > 0)."""
+def equal_offsets(ua: float, ub: float, va: float, vb: float) -> Kind:
+    """Two point pairs (rods a and b of World.add_link) keep the same offset, whatever it is: r_a(ua) − r_b(ub) = r_a(va) − r_b(vb)."""
 def material_roll(u: float, reference: Sequence[float], angle: float = 0.0) -> Kind:
     """Absolute roll of the cross-section: director d1 at `angle` (rad) from `reference` about the tangent (the Frenet model needs a curved rod at u)."""
 def oriented_sliding_point(u: float, point: Sequence[float], direction: Sequence[float], friction: float = 0.0) -> Kind:

@@ -11,7 +11,7 @@ import strandkit as sk
 # Values by field type (abscissae by field name, distinct so a swap shows).
 ABSCISSA = {"u": 1.0, "ua": 1.5, "ub": 2.5, "driven": 3.0, "ua_next": 1.9, "ub_next": 2.1,
             "ua_prev": 1.2, "ub_prev": 2.8, "ua_after": 2.2, "ub_after": 1.8,
-            "ua_first": 1.1, "ub_first": 2.9, "ua_last": 2.05, "ub_last": 1.95}
+            "ua_first": 1.1, "ub_first": 2.9, "ua_last": 2.05, "ub_last": 1.95, "va": 0.6, "vb": 3.1}
 # Fields whose generic value the kind refuses (stiffnesses must be > 0).
 OVERRIDES = {"BasePairStep": {"translation_stiffness": (1.0, 2.0, 3.0), "rotation_stiffness": (1.5, 2.5, 3.5)}}
 BY_TYPE = {
