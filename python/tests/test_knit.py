@@ -176,6 +176,8 @@ def test_a_periodic_cell_has_no_edge_and_a_free_period():
     assert abs(period - 2 * f.model["course_spacing"]) > 0.02 * period
     assert math.isclose(r.dimensions["course_spacing"], period / 2, rel_tol=0.02)
     assert r.history["energy"][-1] < r.history["energy"][0]
+    # Both courses' loops followed, the last's through the image of the first.
+    assert r.interlocks.held.shape == (2, 8)
     assert not r.interlocks.parted and r.clearance > 0.8
     assert r.curl is None
     with pytest.raises(sk.InvalidInputError, match="periodic cell"):

@@ -143,12 +143,15 @@ class Interlocks:
         rods = world.rods()
         lp = fabric.loops
         nw, nc = fabric.wales, fabric.courses
-        self.shape = (nc - 1, nw)
+        # A periodic cell's last course holds the image of its first.
+        cell = fabric.image is not None
+        self.shape = (nc if cell else nc - 1, nw)
         rows = []  # (interlock, rod L, u L, rod U, u U)
-        for j in range(nc - 1):
+        for j in range(self.shape[0]):
             for i in range(nw):
-                lo, up = lp[j * nw + i], lp[(j + 1) * nw + i]
-                rl, ru = rods[int(lo["rod"])], rods[int(up["rod"])]
+                lo, up = lp[j * nw + i], lp[((j + 1) % nc) * nw + i]
+                up_rod = fabric.image if j + 1 == nc else int(up["rod"])
+                rl, ru = rods[int(lo["rod"])], rods[up_rod]
                 ua = np.linspace(lo["u_start"], lo["u_end"], samples)
                 ub = np.linspace(up["u_start"], up["u_end"], samples)
                 a, b = rl.position(ua), ru.position(ub)
@@ -162,7 +165,7 @@ class Interlocks:
                 sa = ua[ia] + t * (ua[ia + 1] - ua[ia])
                 sb = ub[ib] + u * (ub[ib + 1] - ub[ib])
                 for k in range(len(sa)):
-                    rows.append((j * nw + i, int(lo["rod"]), sa[k], int(up["rod"]), sb[k]))
+                    rows.append((j * nw + i, int(lo["rod"]), sa[k], up_rod, sb[k]))
         arr = np.array(rows, dtype=float).reshape(-1, 5)
         self.owner = arr[:, 0].astype(int)
         self.rod_a, self.rod_b = arr[:, 1].astype(int), arr[:, 3].astype(int)
@@ -171,7 +174,7 @@ class Interlocks:
         # abscissa) and the domain an open yarn's abscissae stay in (a
         # tube's rings wrap round).
         per_loop = {int(r): fabric.loop_length / 24.0 * (rods[int(r)].domain[1] - rods[int(r)].domain[0])
-                    / rods[int(r)].rest_length for r in np.unique(lp["rod"])}
+                    / rods[int(r)].rest_length for r in np.unique(np.concatenate([lp["rod"], self.rod_b]))}
         ring = fabric.tube_radius > 0
         dom = {r: (-np.inf, np.inf) if ring else rods[r].domain for r in per_loop}
         self._wa, self._wb = (np.array([per_loop[int(r)] for r in x]) for x in (self.rod_a, self.rod_b))
@@ -228,8 +231,10 @@ class Interlocks:
 
     def update(self, world) -> np.ndarray:
         """Follow every crossing in ``world`` now; returns ``held``, a
-        (courses − 1, wales) boolean array: loop (i, j)'s interlock with
-        loop (i, j + 1) at [j, i]. ``ever_parted`` accumulates."""
+        (courses − 1, wales) boolean array (a periodic cell: (courses,
+        wales), the last course's with the image of the first): loop
+        (i, j)'s interlock with loop (i, j + 1) at [j, i]. ``ever_parted``
+        accumulates."""
         rods = world.rods()
         wa, wb = self._wa, self._wb
         ua, ub = self.u_a.copy(), self.u_b.copy()
