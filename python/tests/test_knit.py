@@ -36,7 +36,7 @@ def test_dimensions_read_the_built_spacings():
     assert math.isclose(d["course_spacing"], 0.95e-3, rel_tol=2e-3)
     # A tube's heads lie behind the legs, on a circle of radius R − d
     # (R: the mid-surface of circumference wales × w): chords apart.
-    t = sk.knit.fabric("jersey", wales=10, courses=3, boundary="tube", spacing=(1.3e-3, 0.95e-3))
+    t = sk.knit.fabric("jersey", wales=10, courses=3, boundary="periodic", spacing=(1.3e-3, 0.95e-3))
     assert math.isclose(t.tube_radius, 10 * 1.3e-3 / (2 * math.pi), rel_tol=1e-12)
     w = t.dimensions(t.world(), margin=0)["wale_spacing"]
     chord = 2 * (t.tube_radius - t.model["depth"]) * math.sin(math.pi / 10)
@@ -45,7 +45,7 @@ def test_dimensions_read_the_built_spacings():
 
 def test_yarns_start_outside_each_other():
     for pattern, least, kw in (("jersey", 1.0, {}), ("rib1x1", 1.0, {}), ("seed", 0.85, {}),
-                               ("jersey", 1.0, dict(boundary="tube", wales=8))):
+                               ("jersey", 1.0, dict(boundary="periodic", wales=8))):
         f = sk.knit.fabric(pattern, **dict(dict(wales=4, courses=4), **kw))
         c = clearance(f.world(), f)
         # Seed's sinkers turn from front to back between neighbours: its
@@ -67,7 +67,6 @@ def test_yarns_start_outside_each_other():
     (dict(yarn_radius=-1e-4), "radius"),
     (dict(yarn="silk"), "cotton"),
     (dict(bending_stiffness=0.0), "bending_stiffness"),
-    (dict(boundary="tube", continuous=True), "continuous"),
     (dict(boundary="periodic", continuous=True), "continuous"),
     (dict(boundary="closed"), "boundary"),
     (dict(spacing=(1e-3,)), "spacing"),
@@ -141,7 +140,7 @@ def test_clamped_edges_and_tubes_relax():
     assert r.history["energy"][-1] < r.history["energy"][0]
     with pytest.raises(sk.InvalidInputError, match="clamped_edges"):
         ex.stretch(clamped)
-    tube = sk.knit.fabric("jersey", wales=8, courses=3, boundary="tube")
+    tube = sk.knit.fabric("jersey", wales=8, courses=3, boundary="periodic")
     t = ex.relax(tube, max_steps=20, record_every=10)
     assert t.curl is None and t.clearance > 0.75
     # Two courses leave no margin: the dimensions use every head.
@@ -149,39 +148,6 @@ def test_clamped_edges_and_tubes_relax():
     assert all(math.isfinite(v) for v in two.dimensions(two.world()).values())
     with pytest.raises(sk.InvalidInputError, match="curl"):
         curl(tube.world(), tube)
-
-
-def test_a_periodic_cell_has_no_edge_and_a_free_period():
-    # 8 wales round, 2 courses and the image of the first above the last.
-    f = sk.knit.fabric("jersey", wales=8, courses=2, boundary="periodic")
-    assert not f.continuous and f.image == 2 and len(f.image_ties) == 8 * 12 - 1
-    assert f.bind_off == f.cast_on == f.selvedge == f.yarn_ends == ()
-    w = f.world(friction=0.0)
-    # Ring and image carry half the yarn each: as built the world's energy
-    # is the tube's (two rings of the same courses).
-    tube = sk.knit.fabric("jersey", wales=8, courses=2, boundary="tube", bind_off=False, cast_on=False)
-    e_tube = tube.world().energy()["elastic"]
-    assert math.isclose(w.energy()["elastic"], e_tube, rel_tol=1e-9)
-    start = f.dimensions(w)
-    assert math.isclose(start["course_spacing"], f.model["course_spacing"], rel_tol=1e-9)
-    r = ex.relax(f, max_steps=100, record_every=50)
-    rods = r.world.rods()
-    q0, qi = rods[0].control_points, rods[2].control_points
-    shift = qi - q0
-    # The image is the first ring translated by one vector (the ties hold
-    # to round-off of the coordinates) ...
-    assert np.abs(shift - shift.mean(axis=0)).max() < 1e-9 * np.abs(q0).max()
-    # ... which the equilibrium chose: the period moved from its start.
-    period = np.linalg.norm(shift.mean(axis=0))
-    assert abs(period - 2 * f.model["course_spacing"]) > 0.02 * period
-    assert math.isclose(r.dimensions["course_spacing"], period / 2, rel_tol=0.02)
-    assert r.history["energy"][-1] < r.history["energy"][0]
-    # Both courses' loops followed, the last's through the image of the first.
-    assert r.interlocks.held.shape == (2, 8)
-    assert not r.interlocks.parted and r.clearance > 0.8
-    assert r.curl is None
-    with pytest.raises(sk.InvalidInputError, match="periodic cell"):
-        ex.stretch(r)
 
 
 @pytest.mark.parametrize("kwargs, match", [

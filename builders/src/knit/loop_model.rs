@@ -16,12 +16,9 @@
 //! junction between two stitches the sinker depth passes from one's value
 //! to the other's within ±π/16. The crossings sit near the legs' middles
 //! (t = π/2, 3π/2 mod 2π).
-//! A tube (tube and periodic boundaries) wraps x round a cylinder of
-//! circumference wales·w, z outwards; the periodic cell also takes the
-//! course above the last and below the first to be the first and the last
-//! (its image course repeats the first one period up).
+//! The tube (periodic boundary) wraps x round a cylinder of circumference
+//! wales·w, z outwards.
 use super::pattern::StitchGrid;
-use super::Boundary;
 use nalgebra::Vector3;
 use std::f64::consts::{PI, TAU};
 
@@ -42,18 +39,15 @@ pub struct LoopModel {
 impl LoopModel {
     /// Point of course `j` at `t` in the flat frame (x along the course, y
     /// along the wale, z out of the front).
-    pub fn flat(&self, grid: &StitchGrid, boundary: Boundary, j: usize, t: f64) -> Vector3<f64> {
-        let (d, nw, nc) = (self.depth, grid.wales(), grid.courses());
-        let (periodic, wraps) = (boundary.rings(), boundary.wraps_courses());
+    pub fn flat(&self, grid: &StitchGrid, periodic: bool, j: usize, t: f64) -> Vector3<f64> {
+        let (d, nw) = (self.depth, grid.wales());
         let i = ((t / TAU).floor().max(0.0) as usize).min(nw - 1);
         let tau = t - TAU * i as f64;
         let s = |i: usize, j: usize| grid.get(i, j).sign();
         // Sinker depth of stitch k: under the legs below when its loop
         // passes over the head below, and over them when it passes under
         // (the cast-on course as if it had a course like it below).
-        let below = if j > 0 { j - 1 } else if wraps { nc - 1 } else { 0 };
-        let above = if j + 1 < nc { j + 1 } else if wraps { 0 } else { j };
-        let sinker = |k: usize| d * s(k, below) - 2.0 * d * s(k, j);
+        let sinker = |k: usize| d * s(k, j.saturating_sub(1)) - 2.0 * d * s(k, j);
         // Neighbour of stitch i across its left/right sinker (itself at a free edge).
         let left = if i > 0 { i - 1 } else if periodic { nw - 1 } else { 0 };
         let right = if i + 1 < nw { i + 1 } else if periodic { 0 } else { i };
@@ -63,7 +57,7 @@ impl LoopModel {
         let blend = |a: f64, b: f64, sigma: f64| 0.5 * (a + b) + 0.5 * (b - a) * (8.0 * sigma.clamp(-PI / 16.0, PI / 16.0)).sin();
         let legs = d * s(i, j);
         let end = if (0.5 * PI..=1.5 * PI).contains(&tau) {
-            -d * s(i, above)
+            -d * s(i, if j + 1 < grid.courses() { j + 1 } else { j })
         } else if tau < 0.5 * PI {
             blend(sinker(left), sinker(i), tau)
         } else {
@@ -78,8 +72,8 @@ impl LoopModel {
     }
 
     /// The flat point placed in space: as is, or wrapped round the tube.
-    pub fn embed(&self, grid: &StitchGrid, boundary: Boundary, p: Vector3<f64>) -> Vector3<f64> {
-        if !boundary.rings() {
+    pub fn embed(&self, grid: &StitchGrid, periodic: bool, p: Vector3<f64>) -> Vector3<f64> {
+        if !periodic {
             return p;
         }
         let r0 = self.tube_radius(grid);
@@ -92,24 +86,18 @@ impl LoopModel {
         grid.wales() as f64 * self.wale_spacing / TAU
     }
 
-    /// Point of course `j` at `t` in space; the periodic cell's courses
-    /// from `courses` on repeat the first ones, one period (courses × c) up.
-    pub fn point(&self, grid: &StitchGrid, boundary: Boundary, j: usize, t: f64) -> Vector3<f64> {
-        let nc = grid.courses();
-        if boundary.wraps_courses() && j >= nc {
-            return self.point(grid, boundary, j % nc, t) + Vector3::y() * ((j - j % nc) as f64 * self.course_spacing);
-        }
-        self.embed(grid, boundary, self.flat(grid, boundary, j, t))
+    pub fn point(&self, grid: &StitchGrid, periodic: bool, j: usize, t: f64) -> Vector3<f64> {
+        self.embed(grid, periodic, self.flat(grid, periodic, j, t))
     }
 
     /// Mean arc length of a stitch over the fabric (m).
-    pub fn mean_loop_length(&self, grid: &StitchGrid, boundary: Boundary) -> f64 {
+    pub fn mean_loop_length(&self, grid: &StitchGrid, periodic: bool) -> f64 {
         const N: usize = 96;
         let mut total = 0.0;
         for j in 0..grid.courses() {
-            let mut prev = self.point(grid, boundary, j, 0.0);
+            let mut prev = self.point(grid, periodic, j, 0.0);
             for k in 1..=N * grid.wales() {
-                let p = self.point(grid, boundary, j, TAU * k as f64 / N as f64);
+                let p = self.point(grid, periodic, j, TAU * k as f64 / N as f64);
                 total += (p - prev).norm();
                 prev = p;
             }
@@ -119,26 +107,22 @@ impl LoopModel {
 
     /// Smallest distance between yarn centrelines over twice the yarn
     /// radius: pairs of stitches within two courses and one wale of each
-    /// other, points of one yarn closer than 2 diameters along it excluded
-    /// (the periodic cell's last courses against the image of its first).
-    pub fn clearance(&self, grid: &StitchGrid, boundary: Boundary, radius: f64) -> f64 {
+    /// other, points of one yarn closer than 2 diameters along it excluded.
+    pub fn clearance(&self, grid: &StitchGrid, periodic: bool, radius: f64) -> f64 {
         // Dense enough for the steep sinker ramps between knit and purl
         // neighbours (±π/16 of a stitch): 32 samples missed them.
         const N: usize = 128;
         let (nw, nc) = (grid.wales(), grid.courses());
-        let periodic = boundary.rings();
-        // Courses in the sequence: the cell's image courses follow its last.
-        let total = if boundary.wraps_courses() { nc + 2 } else { nc };
         let course = |j: usize| -> Vec<Vector3<f64>> {
-            (0..N * nw).map(|k| self.point(grid, boundary, j, TAU * (k as f64 + 0.5) / N as f64)).collect()
+            (0..N * nw).map(|k| self.point(grid, periodic, j, TAU * (k as f64 + 0.5) / N as f64)).collect()
         };
         // Arc length between neighbouring samples, for the along-yarn exclusion.
-        let step = self.mean_loop_length(grid, boundary) / N as f64;
+        let step = self.mean_loop_length(grid, periodic) / N as f64;
         let skip = ((4.0 * radius / step).ceil() as usize).max(1);
         let n = N * nw;
         let mut best = f64::INFINITY;
         // Three courses at a time: memory stays O(wales), not O(stitches).
-        let mut window: std::collections::VecDeque<Vec<Vector3<f64>>> = (0..3.min(total)).map(course).collect();
+        let mut window: std::collections::VecDeque<Vec<Vector3<f64>>> = (0..3.min(nc)).map(course).collect();
         for j in 0..nc {
             for (dj, other) in window.iter().enumerate() {
                 let jj = j + dj;
@@ -168,7 +152,7 @@ impl LoopModel {
                 }
             }
             window.pop_front();
-            if j + 3 < total {
+            if j + 3 < nc {
                 window.push_back(course(j + 3));
             }
         }

@@ -20,14 +20,8 @@
 //! - fastened ends: each free yarn end tied to the head of the loop it
 //!   begins or ends (`yarn_end[k]`, an end pulled through its loop).
 //!
-//! The tube boundary is a tube knitted in the round, one ring per course:
-//! no side edges and no yarn ends. The periodic boundary is a cell
-//! periodic both ways, with no edge at all: a tube whose last course
-//! passes through an image of its first, one more ring (`image`) tied to
-//! be the first ring translated by a free vector ([`EqualOffsets`] at every
-//! control point); the first ring and its image share its modulus and
-//! density half and half. The period along the wale is then the
-//! equilibrium's, as the circumference is along the course.
+//! The periodic boundary is a tube knitted in the round, one ring per
+//! course: no side edges and no yarn ends.
 pub mod loop_model;
 pub mod pattern;
 pub mod yarn;
@@ -38,11 +32,11 @@ pub use yarn::Yarn;
 
 use nalgebra::Vector3;
 use std::f64::consts::{PI, TAU};
-use strandkit_core::constraint::kinds::{EqualOffsets, Position, RelativeDistance};
+use strandkit_core::constraint::kinds::{Position, RelativeDistance};
 use strandkit_core::error::{positive, size};
 use strandkit_core::rod::RodShape;
 use strandkit_core::spline::KnotKind;
-use strandkit_core::{Assembly, Error, Material, Result, Rod, RodBuilder, RodOptions};
+use strandkit_core::{Assembly, Error, Result, Rod, RodBuilder, RodOptions};
 
 /// Longest loop (m): a metre of yarn per stitch is no fabric.
 pub const MAX_LOOP_LENGTH: f64 = 1.0;
@@ -61,12 +55,8 @@ pub const MIN_CLEARANCE: f64 = 0.9;
 pub enum Boundary {
     /// A flat swatch with free edges.
     Free,
-    /// A cell periodic along the course (a tube) and along the wale (its
-    /// last course holds an image of its first): no edges.
+    /// A tube knitted in the round (periodic along the course).
     Periodic,
-    /// A tube knitted in the round (periodic along the course), with a
-    /// cast-on and a bound-off edge.
-    Tube,
     /// A flat swatch with its cast-on sinkers and bound-off heads held
     /// where they are built (`bottom_edge[i]`, `top_edge[i]`).
     ClampedEdges,
@@ -77,18 +67,9 @@ impl Boundary {
         Ok(match name {
             "free" => Boundary::Free,
             "periodic" => Boundary::Periodic,
-            "tube" => Boundary::Tube,
             "clamped_edges" => Boundary::ClampedEdges,
-            _ => return Err(Error::invalid("boundary", name, "\"free\", \"periodic\", \"tube\" or \"clamped_edges\"")),
+            _ => return Err(Error::invalid("boundary", name, "\"free\", \"periodic\" or \"clamped_edges\"")),
         })
-    }
-    /// Each course a ring (tube and periodic cell).
-    pub fn rings(self) -> bool {
-        matches!(self, Boundary::Periodic | Boundary::Tube)
-    }
-    /// The course above the last is the first (periodic cell).
-    pub fn wraps_courses(self) -> bool {
-        self == Boundary::Periodic
     }
 }
 
@@ -173,12 +154,8 @@ pub struct FabricLayout {
     pub yarn_ends: Vec<usize>,
     /// Constraint indices of the edge clamps (ClampedEdges).
     pub clamps: Vec<usize>,
-    /// Tube radius (m) for the tube and periodic boundaries, else 0.
+    /// Tube radius (m) for the periodic boundary, else 0.
     pub tube_radius: f64,
-    /// Periodic cell: the image ring's rod index (the first ring one
-    /// period up) and the constraint indices of its ties.
-    pub image: Option<usize>,
-    pub image_ties: Vec<usize>,
 }
 
 impl Fabric {
@@ -197,11 +174,11 @@ impl Fabric {
             positive("wale spacing", w)?;
             positive("course spacing", c)?;
         }
-        let rings = self.rings();
-        if rings && self.continuous {
-            return Err(Error::invalid("continuous", true, "false with the tube and periodic boundaries (built one ring per course)"));
+        let periodic = self.boundary == Boundary::Periodic;
+        if periodic && self.continuous {
+            return Err(Error::invalid("continuous", true, "false with the periodic boundary (the tube is built one ring per course)"));
         }
-        if rings && self.grid.wales() < 3 {
+        if periodic && self.grid.wales() < 3 {
             return Err(Error::invalid("wales", self.grid.wales(), "at least 3 for a tube"));
         }
         // A loop's yarn must at least go round the yarn it holds: four
@@ -216,9 +193,8 @@ impl Fabric {
         Ok(())
     }
 
-    /// One ring per course (tube, periodic cell).
-    fn rings(&self) -> bool {
-        self.boundary.rings()
+    fn periodic(&self) -> bool {
+        self.boundary == Boundary::Periodic
     }
 
     /// The loop model with the requested loop length: the default
@@ -230,7 +206,7 @@ impl Fabric {
     /// The loop model whose path has mean stitch length `l` (m).
     fn loop_model_for(&self, l: f64) -> Result<LoopModel> {
         let depth = 1.5 * self.yarn.radius;
-        let length = |m: &LoopModel| m.mean_loop_length(&self.grid, self.boundary);
+        let length = |m: &LoopModel| m.mean_loop_length(&self.grid, self.periodic());
         let (model, lo, hi): (Box<dyn Fn(f64) -> LoopModel>, f64, f64) = match self.spacing {
             // w = 12 k, c = 9 k, h = 0.9 c, a = w/4 (clearance ≈ 1.26 at
             // k = r, ℓ ≈ 48 r); scaling k moves ℓ monotonically.
@@ -290,13 +266,13 @@ impl Path {
     fn course(&mut self, f: &Fabric, m: &LoopModel, j: usize, reversed: bool) {
         let nw = f.grid.wales();
         let n = DENSE * nw;
-        let periodic = f.rings();
+        let periodic = f.periodic();
         let last = if periodic { n - 1 } else { n };
         let base = self.points.len();
         debug_assert!(!(periodic && reversed), "rings run forwards");
         for k in 0..=last {
             let k = if reversed { n - k } else { k };
-            self.points.push(m.point(&f.grid, f.boundary, j, TAU * k as f64 / DENSE as f64));
+            self.points.push(m.point(&f.grid, periodic, j, TAU * k as f64 / DENSE as f64));
         }
         for i in 0..nw {
             let at = |k: usize| if reversed { base + n - k } else { base + k };
@@ -335,7 +311,7 @@ impl Path {
 /// Builds the fabric (see the module doc).
 pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
     f.validate()?;
-    let periodic = f.rings();
+    let periodic = f.periodic();
     // The spline through the path cuts its corners a little: solve the
     // model for a target corrected by the built loops' mean length until
     // they match (two corrections bring it within 1e-4).
@@ -383,10 +359,9 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
     }
     let (mut bind_off, mut cast_on, mut selvedge, mut yarn_ends) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let clamped = f.boundary == Boundary::ClampedEdges;
-    let cell = f.boundary.wraps_courses();
     // Clamped edges hold the first course's sinkers and the last course's
     // heads already (links between held points would repeat the clamps).
-    if f.bind_off && !clamped && !cell {
+    if f.bind_off && !clamped {
         let top = &loops[(nc - 1) * nw..];
         let pairs = if periodic { nw } else { nw - 1 };
         for i in 0..pairs {
@@ -394,7 +369,7 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
             bind_off.push(tie(&mut asm, (a.rod, a.u_head), (b.rod, b.u_head), format!("bindoff[{i}]"))?);
         }
     }
-    if f.cast_on && !clamped && !cell {
+    if f.cast_on && !clamped {
         // The sinkers before each loop of the first course (it runs left to
         // right), and after the last one on a flat swatch.
         let mut sinkers: Vec<(usize, f64)> = loops[..nw].iter().map(|l| (l.rod, l.u_start)).collect();
@@ -445,57 +420,14 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
             hold(&mut asm, l.rod, l.u_head, format!("top_edge[{i}]"))?;
         }
     }
-    let (mut image, mut image_ties) = (None, Vec::new());
-    if cell {
-        let (rod, ties) = add_image(&mut asm, yarns[0], nc as f64 * model.course_spacing)?;
-        (image, image_ties) = (Some(rod), ties);
-    }
     let tube_radius = if periodic { model.tube_radius(&f.grid) } else { 0.0 };
-    Ok((asm, FabricLayout { yarns, loops, model, loop_length, clearance, bind_off, cast_on, selvedge, yarn_ends, clamps, tube_radius, image, image_ties }))
-}
-
-/// The periodic cell's image ring: ring `first` moved `period` (m) along the
-/// wale (y), tied to it at every control point's abscissa, each pair to the
-/// first (chained pair to pair, a multiplier is the sum of the forces
-/// along the chain before it: measured, a tie in the middle of a 192-point
-/// ring then held only to 3e-6 of its terms, and the step was refused as
-/// contradictory). Collocation at the knots of a periodic cubic B-spline is
-/// invertible (its circulant matrix, rows 1/6, 4/6, 1/6, has eigenvalues
-/// ≥ 1/3), so the ties make the image's control points the first ring's
-/// plus one common vector, which nothing else fixes. The ring and its image
-/// each carry half the yarn's modulus and density: their energies are
-/// equal (a translation), so together they count the first course once.
-/// (An image without energy leaves its block of the Newton matrix at
-/// drag/dt, nothing beside the yarn's stiffness at the flow's long steps:
-/// measured, a zero pivot.) Returns the image's rod index and the ties'
-/// constraint indices.
-fn add_image(asm: &mut Assembly, first: usize, period: f64) -> Result<(usize, Vec<usize>)> {
-    let ring = asm_rod(asm, first);
-    let dofs = ring.dofs();
-    let m = ring.material();
-    let half = Material { young: 0.5 * m.young, density: 0.5 * m.density, ..m.clone() };
-    let rebuilt = |q: Vec<f64>| Rod::new(ring.knots().clone(), dofs, q, ring.sections().to_vec(), half.clone(), ring.options().clone());
-    let mut q = ring.coords().to_vec();
-    let halved = rebuilt(q.clone())?;
-    q.iter_mut().skip(1).step_by(dofs).for_each(|y| *y += period);
-    let image = rebuilt(q)?;
-    asm.rods[first].rod = halved;
-    let n = image.n_ctrl();
-    let (u0, u1) = image.domain();
-    let at = |k: usize| u0 + (u1 - u0) * k as f64 / n as f64;
-    let rod = asm.add_rod(image, Some("image"));
-    let mut ties = Vec::with_capacity(n - 1);
-    for k in 1..n {
-        asm.link(first, rod, EqualOffsets { ua: at(k), ub: at(k), va: at(0), vb: at(0) }).label(format!("period[{}]", k - 1));
-        ties.push(asm.constraints.len() - 1);
-    }
-    Ok((rod, ties))
+    Ok((asm, FabricLayout { yarns, loops, model, loop_length, clearance, bind_off, cast_on, selvedge, yarn_ends, clamps, tube_radius }))
 }
 
 
 /// The yarns along the loop model's path and where their loops lie.
 fn build_yarns(f: &Fabric, model: &LoopModel, counts: Option<&[usize]>) -> Result<(Vec<Rod>, Vec<LoopSpan>)> {
-    let periodic = f.rings();
+    let periodic = f.periodic();
     let (nw, nc) = (f.grid.wales(), f.grid.courses());
     let mut paths = Vec::new();
     if f.continuous {
@@ -503,7 +435,7 @@ fn build_yarns(f: &Fabric, model: &LoopModel, counts: Option<&[usize]>) -> Resul
         for j in 0..nc {
             let reversed = j % 2 == 1;
             if j > 0 {
-                let start = model.point(&f.grid, Boundary::Free, j, if reversed { TAU * nw as f64 } else { 0.0 });
+                let start = model.point(&f.grid, false, j, if reversed { TAU * nw as f64 } else { 0.0 });
                 p.turn(start, if reversed { 1.0 } else { -1.0 }, DENSE / 2);
             }
             p.course(f, model, j, reversed);
@@ -516,7 +448,7 @@ fn build_yarns(f: &Fabric, model: &LoopModel, counts: Option<&[usize]>) -> Resul
                 p.course(f, model, j, false);
             } else {
                 // A tail of half a wale before and after the course.
-                let first = model.point(&f.grid, Boundary::Free, j, 0.0);
+                let first = model.point(&f.grid, false, j, 0.0);
                 p.push(first - Vector3::new(0.5 * model.wale_spacing, 0.0, 0.0));
                 p.straight(first, DENSE / 4);
                 p.points.pop();
@@ -557,7 +489,7 @@ fn build_yarns(f: &Fabric, model: &LoopModel, counts: Option<&[usize]>) -> Resul
 
 /// The model's clearance, or an error if the yarns would overlap.
 fn check_clearance(f: &Fabric, model: &LoopModel) -> Result<f64> {
-    let clearance = model.clearance(&f.grid, f.boundary, f.yarn.radius);
+    let clearance = model.clearance(&f.grid, f.periodic(), f.yarn.radius);
     if clearance < MIN_CLEARANCE {
         return Err(Error::invalid(
             "loop_length",

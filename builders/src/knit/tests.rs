@@ -21,7 +21,7 @@ fn loops_have_the_requested_length() {
     for (f, tol) in [
         (small(Pattern::Jersey, 5, 4), 5e-3),
         (Fabric { continuous: false, ..small(Pattern::Seed, 5, 4) }, 5e-3),
-        (Fabric { boundary: Boundary::Tube, continuous: false, ..small(Pattern::Rib1x1, 6, 3) }, 5e-3),
+        (Fabric { boundary: Boundary::Periodic, continuous: false, ..small(Pattern::Rib1x1, 6, 3) }, 5e-3),
         (Fabric { spacing: Some([1.6e-3, 1.1e-3]), loop_length: 6e-3, ..small(Pattern::Garter, 4, 4) }, 5e-3),
     ] {
         let (asm, lay) = fabric(&f).unwrap();
@@ -41,8 +41,6 @@ fn loops_have_the_requested_length() {
 /// along a yarn excluded, over 2r — measured on the built rods.
 fn built_clearance(asm: &Assembly, r: f64) -> f64 {
     let mut samples: Vec<(usize, f64, Vector3<f64>)> = Vec::new();
-    // Arc length of each closed rod (a ring's ends are neighbours), else ∞.
-    let mut around = Vec::new();
     for (k, a) in asm.rods.iter().enumerate() {
         let (u0, u1) = a.rod.domain();
         let n = (a.rod.rest_length() / (0.25 * r)).ceil() as usize;
@@ -54,13 +52,11 @@ fn built_clearance(asm: &Assembly, r: f64) -> f64 {
             prev = p;
             samples.push((k, s, p));
         }
-        around.push(if a.rod.is_closed() { s + (a.rod.position(u0).unwrap() - prev).norm() } else { f64::INFINITY });
     }
     let mut best = f64::INFINITY;
     for (x, a) in samples.iter().enumerate() {
         for b in &samples[x + 1..] {
-            let along = (a.1 - b.1).abs();
-            if a.0 == b.0 && along.min(around[a.0] - along) < 4.0 * r {
+            if a.0 == b.0 && (a.1 - b.1).abs() < 4.0 * r {
                 continue;
             }
             best = best.min((a.2 - b.2).norm());
@@ -167,7 +163,7 @@ fn edges_and_tube() {
     let courses = fabric(&Fabric { continuous: false, ..free.clone() }).unwrap().1;
     assert_eq!((courses.selvedge.len(), courses.yarn_ends.len()), (0, 6));
     assert_eq!(asm.rods.len(), 1);
-    let t = Fabric { boundary: Boundary::Tube, continuous: false, ..small(Pattern::Jersey, 8, 3) };
+    let t = Fabric { boundary: Boundary::Periodic, continuous: false, ..small(Pattern::Jersey, 8, 3) };
     let (asm, lay) = fabric(&t).unwrap();
     assert_eq!(asm.rods.len(), 3);
     assert!(asm.rods.iter().all(|r| r.rod.is_closed()));
@@ -191,10 +187,10 @@ fn bad_fabrics_are_refused_before_building() {
         (Fabric { yarn: Yarn { radius: f64::INFINITY, ..d.yarn.clone() }, ..d.clone() }, "radius"),
         (Fabric { spacing: Some([f64::NAN, 1e-3]), ..d.clone() }, "wale spacing"),
         (Fabric { spacing: Some([1e-4, 1e-4]), ..d.clone() }, "loop_length"),
-        (Fabric { boundary: Boundary::Tube, ..d.clone() }, "continuous"),
+        (Fabric { boundary: Boundary::Periodic, ..d.clone() }, "continuous"),
         (Fabric { control_points_per_loop: 2, ..d.clone() }, "control_points_per_loop"),
         (Fabric { control_points_per_loop: usize::MAX, ..d.clone() }, "control points"),
-        (Fabric { boundary: Boundary::Tube, continuous: false, ..small(Pattern::Jersey, 2, 3) }, "wales"),
+        (Fabric { boundary: Boundary::Periodic, continuous: false, ..small(Pattern::Jersey, 2, 3) }, "wales"),
     ];
     for (f, what) in cases {
         let e = fabric(&f).unwrap_err().to_string();
@@ -206,83 +202,3 @@ fn bad_fabrics_are_refused_before_building() {
     assert!(e.contains("overlap"), "{e}");
 }
 
-
-/// The periodic cell: rings, no edge links, an image ring one period up
-/// without energy, tied so that it can only translate with the first ring;
-/// a pattern whose courses alternate wraps its crossings across the period.
-#[test]
-fn periodic_cell() {
-    // Seed's sinkers turn front to back between neighbours, deeper on the
-    // tube's inside: a longer loop for it.
-    for (pattern, courses, l) in [(Pattern::Jersey, 2, 5e-3), (Pattern::Seed, 2, 6e-3), (Pattern::Garter, 4, 5e-3), (Pattern::Rib2x2, 3, 5e-3)] {
-        let f = Fabric { boundary: Boundary::Periodic, continuous: false, loop_length: l, ..small(pattern, 8, courses) };
-        let (asm, lay) = fabric(&f).unwrap();
-        assert_eq!(asm.rods.len(), courses + 1);
-        assert!(asm.rods.iter().all(|r| r.rod.is_closed()));
-        assert_eq!((lay.bind_off.len(), lay.cast_on.len(), lay.selvedge.len(), lay.yarn_ends.len()), (0, 0, 0, 0));
-        let image = lay.image.unwrap();
-        let (first, ghost) = (&asm.rods[lay.yarns[0]].rod, &asm.rods[image].rod);
-        // Half the yarn each, the same energy: the first course once.
-        assert_eq!(first.material().young, 0.5 * f.yarn.material().unwrap().young);
-        assert!((ghost.elastic_energy() - first.elastic_energy()).abs() < 1e-12 * first.elastic_energy());
-        if pattern == Pattern::Jersey {
-            // Courses all alike: the cell's rings are the tube's.
-            let whole = fabric(&Fabric { boundary: Boundary::Tube, cast_on: false, bind_off: false, ..f.clone() }).unwrap().0;
-            let total = |a: &Assembly| a.rods.iter().map(|r| r.rod.elastic_energy()).sum::<f64>();
-            assert!((total(&asm) - total(&whole)).abs() < 1e-9 * total(&whole), "{} vs the tube's {}", total(&asm), total(&whole));
-        }
-        assert_eq!(lay.image_ties.len(), first.n_ctrl() - 1);
-        // One period up: courses × the model's course spacing.
-        let period = courses as f64 * lay.model.course_spacing;
-        for (a, b) in first.coords().chunks(3).zip(ghost.coords().chunks(3)) {
-            let d = Vector3::new(b[0] - a[0], b[1] - a[1], b[2] - a[2]);
-            assert!((d - Vector3::y() * period).norm() < 1e-15, "{d:?}");
-        }
-        // The yarns clear each other across the period too.
-        let c = built_clearance(&asm, f.yarn.radius);
-        assert!(c > 0.85, "{:?}: {c}", f.grid.rows()[0]);
-    }
-    // The ties leave the image exactly three degrees of freedom (a
-    // translation): the rank of their rows on the image's coordinates.
-    let f = Fabric { boundary: Boundary::Periodic, continuous: false, ..small(Pattern::Jersey, 4, 2) };
-    let (asm, lay) = fabric(&f).unwrap();
-    let image = lay.image.unwrap();
-    let rods: Vec<&Rod> = vec![&asm.rods[lay.yarns[0]].rod, &asm.rods[image].rod];
-    let n = rods[1].n_ctrl() * 3;
-    let mut m = Vec::new();
-    for &c in &lay.image_ties {
-        let mut rows = vec![strandkit_core::constraint::Row::default(); 3];
-        asm.constraints[c].kind.linearize(&rods, &mut rows).unwrap();
-        for r in &rows {
-            let mut dense = vec![0.0; n];
-            for &(side, i, v) in r.entries() {
-                if side == 1 {
-                    dense[i] += v;
-                }
-            }
-            m.push(dense);
-        }
-    }
-    assert_eq!(rank(m, 1e-10), n - 3);
-}
-
-/// Rank by Gaussian elimination with partial pivoting.
-fn rank(mut m: Vec<Vec<f64>>, tol: f64) -> usize {
-    let cols = m[0].len();
-    let mut r = 0;
-    for c in 0..cols {
-        let Some(p) = (r..m.len()).max_by(|&a, &b| m[a][c].abs().total_cmp(&m[b][c].abs())) else { break };
-        if m[p][c].abs() < tol {
-            continue;
-        }
-        m.swap(r, p);
-        for k in r + 1..m.len() {
-            let f = m[k][c] / m[r][c];
-            for x in c..cols {
-                m[k][x] -= f * m[r][x];
-            }
-        }
-        r += 1;
-    }
-    r
-}

@@ -66,10 +66,7 @@ class Fabric:
     ``loop_length``: the built yarn length per stitch (m, within 1e-4 of
     the one asked for); ``bind_off``, ``cast_on``, ``selvedge``,
     ``yarn_ends``, ``clamps``: the assembly's constraint indices of each
-    edge's links (see :func:`fabric`); ``image``: the periodic cell's image
-    ring (its rod index: the first ring one period up the wale, without
-    elastic energy) and ``image_ties`` its ``EqualOffsets`` constraints
-    (None and () for other boundaries)."""
+    edge's links (see :func:`fabric`)."""
 
     assembly: object
     rows: tuple
@@ -89,8 +86,6 @@ class Fabric:
     cast_on: tuple = ()
     selvedge: tuple = ()
     yarn_ends: tuple = ()
-    image: Optional[int] = None
-    image_ties: tuple = ()
 
     @property
     def wales(self) -> int:
@@ -151,14 +146,6 @@ class Fabric:
             raise InvalidInputError(f"margin: a number of stitches ≥ 0, got {margin!r}")
         h = self.heads(world)
         nc, nw = self.courses, self.wales
-        if self.image is not None:
-            # A periodic cell has no edge: every head, and the first
-            # course's image above the last.
-            up = world.rods()[self.image].position(self.loops["u_head"][:nw])
-            h = np.concatenate([h, up[None]], axis=0)
-            w = np.linalg.norm(np.roll(h[:nc], -1, axis=1) - h[:nc], axis=2).mean()
-            c = np.linalg.norm(np.diff(h, axis=0), axis=2).mean()
-            return self._spacings(float(w), float(c))
         # At most the margin that leaves two heads each way to measure.
         limit = (nc - 2) // 2 if self.tube_radius > 0 else (min(nc, nw) - 2) // 2  # a ring has no side edges
         m = min(int(margin), limit)
@@ -172,10 +159,7 @@ class Fabric:
             w = dw.mean()
         dc = np.linalg.norm(np.diff(h, axis=0), axis=2)[m:max(nc - m - 1, m + 1), cols]
         c = dc.mean()
-        return self._spacings(float(w), float(c))
-
-    def _spacings(self, w: float, c: float) -> dict:
-        """The dimensions dict from the wale and course spacings (m)."""
+        w, c = float(w), float(c)
         l_cm = self.loop_length * 100.0
         wpc, cpc = 0.01 / w, 0.01 / c
         return {"wale_spacing": w, "course_spacing": c, "wales_per_cm": wpc, "courses_per_cm": cpc,
@@ -200,14 +184,9 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
     B (N·m²) overriding the solid-rod value E·πr⁴/4 (the modulus becomes
     B/I, so EA = 4B/r² follows); continuous: one yarn turning round at the
     sides (default for flat swatches) or one yarn per course (with free
-    tails); boundary: "free", "periodic" (a cell periodic both ways, with
-    no edge: a tube, one ring per course, whose last course holds an image
-    of its first one period up — a ring without elastic energy tied by
-    ``EqualOffsets`` to be the first ring translated, the period free —
-    for the relaxed dimensions of a fabric without edges), "tube" (a tube
-    knitted in the round with a cast-on and a bound-off edge) or
-    "clamped_edges" (cast-on sinkers and bound-off heads held where built:
-    groups ``bottom_edge``, ``top_edge``);
+    tails); boundary: "free", "periodic" (a tube knitted in the round,
+    one ring per course) or "clamped_edges" (cast-on sinkers and bound-off
+    heads held where built: groups ``bottom_edge``, ``top_edge``);
     spacing: initial (wale spacing, course spacing) in m (default: the
     loop model's proportions w : c = 4 : 3 scaled to ℓ);
     control_points_per_loop: spline control points per stitch;
@@ -239,7 +218,7 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
         rows = [str(r) for r in pattern]
         name = None
     if continuous is None:
-        continuous = boundary not in ("periodic", "tube")
+        continuous = boundary != "periodic"
     if spacing is not None:
         try:
             spacing = [float(x) for x in spacing]
@@ -274,5 +253,4 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
                   bending_stiffness=float(d["bending_stiffness"]), continuous=bool(continuous), boundary=boundary,
                   clearance=float(d["clearance"]), bind_off=tuple(d["bind_off"]), clamps=tuple(d["clamps"]),
                   tube_radius=float(d["tube_radius"]), params=params, cast_on=tuple(d["cast_on"]),
-                  selvedge=tuple(d["selvedge"]), yarn_ends=tuple(d["yarn_ends"]), image=d["image"],
-                  image_ties=tuple(d["image_ties"]))
+                  selvedge=tuple(d["selvedge"]), yarn_ends=tuple(d["yarn_ends"]))

@@ -270,7 +270,7 @@ def _grips(fabric: Fabric, direction: str):
         axis = np.array([0.0, 1.0, 0.0])
     elif direction == "course":
         if fabric.tube_radius > 0:
-            raise errors.InvalidInputError("direction: a tube is stretched along the wale only")
+            raise errors.InvalidInputError("direction: a tube (periodic boundary) is stretched along the wale only")
         # A continuous yarn runs right to left along its odd courses.
         back = lambda j: fabric.continuous and j % 2 == 1  # noqa: E731
         held = [(int(x["rod"]), float(x["u_end"] if back(j) else x["u_start"])) for j, x in enumerate(grid[:, 0])]
@@ -319,9 +319,6 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     if fabric.boundary == "clamped_edges":
         raise errors.InvalidInputError("source: a fabric with boundary='clamped_edges' is held already; stretch adds its "
                                        "own bars to a 'free' one")
-    if fabric.image is not None:
-        raise errors.InvalidInputError("source: a periodic cell has no edge for bars to grip; stretch a 'free' or "
-                                       "'tube' fabric")
     from .. import position
     held, pulled, axis = _grips(fabric, direction)
     rods = world.rods()

@@ -7,16 +7,11 @@ import numpy as np
 __all__ = ["yarn_points", "clearance", "curl", "Interlocks"]
 
 
-def yarn_points(world, fabric, per_loop: int = 40, *, image: bool = False):
+def yarn_points(world, fabric, per_loop: int = 40):
     """Points along every yarn now, about ``per_loop`` per stitch: a list
-    of (n, 3) arrays (m), one per yarn (and with ``image`` the periodic
-    cell's image ring last)."""
+    of (n, 3) arrays (m), one per yarn."""
     out = []
-    rods = world.rods()
-    chosen = rods[: len(np.unique(fabric.loops["rod"]))]
-    if image and fabric.image is not None:
-        chosen.append(rods[fabric.image])
-    for rod in chosen:
+    for rod in world.rods()[: len(np.unique(fabric.loops["rod"]))]:
         u0, u1 = rod.domain
         n = max(8, int(round(per_loop * rod.rest_length / fabric.loop_length)))
         out.append(rod.position(np.linspace(u0, u1, n, endpoint=not fabric.tube_radius > 0)))
@@ -27,12 +22,12 @@ def clearance(world, fabric, *, exclude: float = 4.0) -> float:
     """Smallest distance between yarn centrelines over the yarn diameter
     2r, points closer than ``exclude`` radii along one yarn left out:
     ≥ 1 when no yarn enters another, < 0.5 only if one has passed through
-    (the centreline of one inside the other); a periodic cell's image ring
-    counts (its last course holds it). A cell hash keeps it O(points)."""
+    (the centreline of one inside the other). A cell hash keeps it
+    O(points)."""
     r = fabric.yarn_radius
     ring = fabric.tube_radius > 0
     pts, yarn, s, total = [], [], [], []
-    for k, p in enumerate(yarn_points(world, fabric, image=True)):
+    for k, p in enumerate(yarn_points(world, fabric)):
         arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
         # A ring's length includes its closing segment (its last point
         # neighbours its first along the yarn).
@@ -143,15 +138,12 @@ class Interlocks:
         rods = world.rods()
         lp = fabric.loops
         nw, nc = fabric.wales, fabric.courses
-        # A periodic cell's last course holds the image of its first.
-        cell = fabric.image is not None
-        self.shape = (nc if cell else nc - 1, nw)
+        self.shape = (nc - 1, nw)
         rows = []  # (interlock, rod L, u L, rod U, u U)
-        for j in range(self.shape[0]):
+        for j in range(nc - 1):
             for i in range(nw):
-                lo, up = lp[j * nw + i], lp[((j + 1) % nc) * nw + i]
-                up_rod = fabric.image if j + 1 == nc else int(up["rod"])
-                rl, ru = rods[int(lo["rod"])], rods[up_rod]
+                lo, up = lp[j * nw + i], lp[(j + 1) * nw + i]
+                rl, ru = rods[int(lo["rod"])], rods[int(up["rod"])]
                 ua = np.linspace(lo["u_start"], lo["u_end"], samples)
                 ub = np.linspace(up["u_start"], up["u_end"], samples)
                 a, b = rl.position(ua), ru.position(ub)
@@ -165,7 +157,7 @@ class Interlocks:
                 sa = ua[ia] + t * (ua[ia + 1] - ua[ia])
                 sb = ub[ib] + u * (ub[ib + 1] - ub[ib])
                 for k in range(len(sa)):
-                    rows.append((j * nw + i, int(lo["rod"]), sa[k], up_rod, sb[k]))
+                    rows.append((j * nw + i, int(lo["rod"]), sa[k], int(up["rod"]), sb[k]))
         arr = np.array(rows, dtype=float).reshape(-1, 5)
         self.owner = arr[:, 0].astype(int)
         self.rod_a, self.rod_b = arr[:, 1].astype(int), arr[:, 3].astype(int)
@@ -174,7 +166,7 @@ class Interlocks:
         # abscissa) and the domain an open yarn's abscissae stay in (a
         # tube's rings wrap round).
         per_loop = {int(r): fabric.loop_length / 24.0 * (rods[int(r)].domain[1] - rods[int(r)].domain[0])
-                    / rods[int(r)].rest_length for r in np.unique(np.concatenate([lp["rod"], self.rod_b]))}
+                    / rods[int(r)].rest_length for r in np.unique(lp["rod"])}
         ring = fabric.tube_radius > 0
         dom = {r: (-np.inf, np.inf) if ring else rods[r].domain for r in per_loop}
         self._wa, self._wb = (np.array([per_loop[int(r)] for r in x]) for x in (self.rod_a, self.rod_b))
@@ -231,10 +223,8 @@ class Interlocks:
 
     def update(self, world) -> np.ndarray:
         """Follow every crossing in ``world`` now; returns ``held``, a
-        (courses − 1, wales) boolean array (a periodic cell: (courses,
-        wales), the last course's with the image of the first): loop
-        (i, j)'s interlock with loop (i, j + 1) at [j, i]. ``ever_parted``
-        accumulates."""
+        (courses − 1, wales) boolean array: loop (i, j)'s interlock with
+        loop (i, j + 1) at [j, i]. ``ever_parted`` accumulates."""
         rods = world.rods()
         wa, wb = self._wa, self._wb
         ua, ub = self.u_a.copy(), self.u_b.copy()
