@@ -326,18 +326,20 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
 /// re-seated where the spline already sags through (rows sit about one per
 /// segment) would otherwise push it out within one step and add energy;
 /// deeper than this it is pushed back to it; a rod at rest sinks to it.
-/// (Rows with friction keep no slack: with it the falling rope bridge's
-/// step diverged — perhaps a held row with its stick rows pulling, dropped
-/// and re-anchored every round until the active-set cap.)
+/// A sticking row holds it too (pushing out, a rod dropped on a plane with
+/// μ = 0.3 gained up to 1.2e-4 of its energy in a step; the falling rope
+/// bridge, which had diverged with it before the active-set fixes, now
+/// runs); a slipping row keeps none (held, the capstan's slipping rope
+/// diverged at step 1917).
 pub(crate) const CONTACT_SLACK: f64 = 5e-3;
 
 /// The penetration pair `p` (on rods `a`, `b`) may hold: [`CONTACT_SLACK`]
 /// of both rods' radii for a rod–rod (or self) row, of the rod's own
-/// against an obstacle's tangent plane; none with friction or outside an
+/// against an obstacle's tangent plane; none while it slips or outside an
 /// implicit Euler step (`on`).
 /// `radii`: the two rods' largest bounding radii ([`largest_radius`]).
 pub(crate) fn contact_slack(on: bool, p: &crate::contact::ContactPair, radii: [f64; 2]) -> f64 {
-    if !on || p.friction.is_some() {
+    if !on || p.friction.as_ref().is_some_and(|f| f.slip.is_some()) {
         return 0.0;
     }
     let reach = match p.kind {
