@@ -65,10 +65,16 @@ impl ConstraintLaw for EqualOffsets {
         f(0, &mut self.va);
         f(1, &mut self.vb);
     }
-    fn validate(&self, _rods: &[&Rod]) -> Result<()> {
-        // The same two pairs: rows 0 = 0, dependent on everything.
-        if self.ua == self.va && self.ub == self.vb {
-            return Err(Error::invalid("equal offsets", format!("pairs ({}, {}) twice", self.ua, self.ub), "two different point pairs"));
+    fn validate(&self, rods: &[&Rod]) -> Result<()> {
+        // The same two pairs, or on one rod two pairs each of one point:
+        // rows 0 = 0, dependent on everything.
+        let one_rod = std::ptr::eq(rods[0], rods[1]);
+        if (self.ua == self.va && self.ub == self.vb) || (one_rod && self.ua == self.ub && self.va == self.vb) {
+            return Err(Error::invalid(
+                "equal offsets",
+                format!("pairs ({}, {}) and ({}, {})", self.ua, self.ub, self.va, self.vb),
+                "two different point pairs of two different points each",
+            ));
         }
         Ok(())
     }
@@ -143,6 +149,17 @@ mod tests {
             }
             assert_eq!(rank(m), 3 * n - 3, "n = {n}");
         }
+    }
+
+    /// Pairs that give no rows are refused: the same two pairs, or on one
+    /// rod two pairs of one point each (two rods may share abscissae).
+    #[test]
+    fn pairs_without_rows_are_refused() {
+        let (a, b) = (ring(8, 0.0), ring(8, 0.5));
+        let refused = |k: EqualOffsets, rods: [&Rod; 2]| matches!(k.validate(&rods), Err(Error::InvalidInput { .. }));
+        assert!(refused(EqualOffsets { ua: 1.0, ub: 2.0, va: 1.0, vb: 2.0 }, [&a, &b]));
+        assert!(refused(EqualOffsets { ua: 1.0, ub: 1.0, va: 3.0, vb: 3.0 }, [&a, &a]));
+        assert!(EqualOffsets { ua: 1.0, ub: 1.0, va: 3.0, vb: 3.0 }.validate(&[&a, &b]).is_ok());
     }
 
     fn rank(mut m: Vec<Vec<f64>>) -> usize {
