@@ -322,3 +322,67 @@ fn detection_on_the_pool_finds_the_rows_found_on_one_thread() {
         assert_eq!(pool.install(|| detect(&rich, &mut Scratch::default())), rows_rich);
     }
 }
+
+/// A rod through `points` (m), sampled finely enough for detection.
+fn rod_through(points: &[[f64; 3]]) -> Rod {
+    let dense: Vec<Vector3<f64>> = points
+        .windows(2)
+        .flat_map(|w| {
+            let (a, b) = (Vector3::from(w[0]), Vector3::from(w[1]));
+            (0..10).map(move |k| a + (b - a) * (k as f64 / 10.0))
+        })
+        .chain(std::iter::once(Vector3::from(points[points.len() - 1])))
+        .collect();
+    RodBuilder::new(strandkit::rod::RodShape::ThroughPoints(dense))
+        .with_roll(false)
+        .section(Section::circle(R).unwrap())
+        .material(Material::new("rubber", 1e7, 0.45, 1000.0).unwrap())
+        .build()
+        .unwrap()
+}
+
+/// The cell's two exclusions (`RodContacts::no_self_contact`, `joined`): a
+/// rod that runs on into another (b's start at a's end, as the knit
+/// cell's yarn into its image) has no rows about the join, and keeps its
+/// row where it comes back across the other; a rod crossing itself keeps
+/// its self row unless listed as never paired with itself.
+#[test]
+fn joined_rods_skip_their_join_and_listed_rods_their_own_crossings() {
+    use strandkit::contact::{ContactDetector, ContactSet};
+    let rows = |det: &RodContacts, w: &World| {
+        let list: Vec<_> = w.rods().collect();
+        let mut set = ContactSet::default();
+        det.detect(&list, &mut set).unwrap();
+        set.pairs
+            .iter()
+            .map(|p| match &p.kind {
+                ConstraintKind::Contact(c) => (p.rods, c.ua, c.ub),
+                k => panic!("rod pairs should be contacts, got {k:?}"),
+            })
+            .collect::<Vec<_>>()
+    };
+    let mut w = World::new(IntegrationParameters::default());
+    let a = w.add_rod(rod(Vector3::new(-0.5, 0.0, 0.0), Vector3::new(0.5, 0.0, 0.0)));
+    // b starts at a's end, turns away, and comes back across a's middle
+    // 1.5 R above it.
+    let b = w.add_rod(rod_through(&[[0.5, 0.0, 0.0], [0.6, 0.0, 0.0], [0.7, 0.1, 0.0], [0.7, 0.3, 0.0], [0.0, 0.3, 0.015], [0.0, -0.3, 0.015]]));
+    let plain = RodContacts::new(0.005, false, true).unwrap();
+    let joined = plain.clone().with_joined(a, b).unwrap();
+    let (all, kept) = (rows(&plain, &w), rows(&joined, &w));
+    println!("without the join: {all:?}\nwith it: {kept:?}");
+    let at_join = |r: &&([RodHandle; 2], f64, f64)| w.rod(r.0[0]).unwrap().position(r.1).unwrap().x > 0.4;
+    assert!(all.iter().filter(at_join).count() >= 1, "unjoined, the rods touch at the join: {all:?}");
+    assert_eq!(kept.len(), 1, "joined, only the crossing: {kept:?}");
+    assert!(w.rod(a).unwrap().position(kept[0].1).unwrap().x.abs() < 0.01, "the crossing's row is at x = 0: {kept:?}");
+    assert_eq!(all.len(), kept.len() + all.iter().filter(at_join).count(), "the join removes its own rows only");
+    // The join is checked: one rod, or a rod joined twice, is refused.
+    assert!(matches!(plain.clone().with_joined(a, a), Err(Error::InvalidInput { .. })));
+    assert!(matches!(joined.clone().with_joined(a, b), Err(Error::InvalidInput { .. })));
+
+    // A rod crossing itself 1.5 R above: one self row, none when listed.
+    let mut w = World::new(IntegrationParameters::default());
+    let c = w.add_rod(rod_through(&[[-0.3, 0.0, 0.0], [0.3, 0.0, 0.0], [0.3, 0.3, 0.0], [0.0, 0.3, 0.015], [0.0, -0.3, 0.015]]));
+    let own = RodContacts::new(0.005, true, true).unwrap();
+    assert_eq!(rows(&own, &w).len(), 1, "{:?}", rows(&own, &w));
+    assert!(rows(&own.clone().without_self_contact(&[c]), &w).is_empty());
+}

@@ -66,6 +66,9 @@ fn build_knit_fabric<'py>(
     d.set_item("yarn_ends", l.yarn_ends)?;
     d.set_item("clamps", l.clamps)?;
     d.set_item("tube_radius", l.tube_radius)?;
+    d.set_item("image", l.image)?;
+    d.set_item("image_ties", l.image_ties)?;
+    d.set_item("junction", l.junction)?;
     d.set_item("rows", p.grid.rows())?;
     d.set_item("bending_stiffness", p.yarn.bending())?;
     d.set_item("yarn", p.yarn.name.clone())?;

@@ -322,11 +322,32 @@ impl PyWorld {
     /// active set, with Coulomb `friction` (dimensionless μ ≥ 0: stick while
     /// the friction force is within μ N, else slip against the motion).
     /// `self_contact`: a rod against itself (plectonemes, knots);
-    /// `between_rods`: rod against rod. Snapshots keep the detection and
-    /// the contacts' state.
-    #[pyo3(signature = (*, margin, self_contact = true, between_rods = true, friction = 0.0))]
-    fn contact(slf: &Bound<'_, Self>, margin: f64, self_contact: bool, between_rods: bool, friction: f64) -> PyResult<()> {
-        Self::with_mut(slf, |w| w.add_contact_detector(strandkit_core::RodContacts::new(margin, self_contact, between_rods)?.with_friction(friction)?))
+    /// `between_rods`: rod against rod. `no_self_contact`: rods of this
+    /// world never paired with themselves (an image rod repeating another's
+    /// self-contacts); `joined`: pairs (a, b) of rods where b continues a
+    /// (a's end tied at b's start), whose points closer along the join than
+    /// the self-contact exclusion are never paired. Snapshots keep the
+    /// detection and the contacts' state.
+    #[pyo3(signature = (*, margin, self_contact = true, between_rods = true, friction = 0.0, no_self_contact = Vec::new(), joined = Vec::new()))]
+    #[allow(clippy::too_many_arguments)]
+    fn contact(
+        slf: &Bound<'_, Self>,
+        margin: f64,
+        self_contact: bool,
+        between_rods: bool,
+        friction: f64,
+        no_self_contact: Vec<Bound<'_, PyRod>>,
+        joined: Vec<(Bound<'_, PyRod>, Bound<'_, PyRod>)>,
+    ) -> PyResult<()> {
+        let alone = no_self_contact.iter().map(|r| Self::rod_handle(slf, r)).collect::<PyResult<Vec<_>>>()?;
+        let pairs = joined.iter().map(|(a, b)| Ok((Self::rod_handle(slf, a)?, Self::rod_handle(slf, b)?))).collect::<PyResult<Vec<_>>>()?;
+        Self::with_mut(slf, |w| {
+            let mut d = strandkit_core::RodContacts::new(margin, self_contact, between_rods)?.with_friction(friction)?.without_self_contact(&alone);
+            for (a, b) in pairs {
+                d = d.with_joined(a, b)?;
+            }
+            w.add_contact_detector(d)
+        })
     }
     /// Adds a fixed obstacle (`strandkit.obstacles.plane / sphere / capsule
     /// / mesh`) the rods' surfaces cannot enter, detected `margin` (length)

@@ -68,6 +68,7 @@ def test_yarns_start_outside_each_other():
     (dict(yarn="silk"), "cotton"),
     (dict(bending_stiffness=0.0), "bending_stiffness"),
     (dict(boundary="periodic", continuous=True), "continuous"),
+    (dict(boundary="cell", continuous=False), "continuous"),
     (dict(boundary="closed"), "boundary"),
     (dict(spacing=(1e-3,)), "spacing"),
     (dict(wales=1000, courses=1000), "at most"),
@@ -148,6 +149,37 @@ def test_clamped_edges_and_tubes_relax():
     assert all(math.isfinite(v) for v in two.dimensions(two.world()).values())
     with pytest.raises(sk.InvalidInputError, match="curl"):
         curl(tube.world(), tube)
+
+
+def test_a_cell_periodic_both_ways_holds_its_image_through_a_relaxation():
+    f = sk.knit.fabric("jersey", wales=8, courses=3, boundary="cell", spacing=(1.3e-3, 0.95e-3))
+    assert "cell" in repr(f) and f.image == 1 and len(f.junction) == 2 and f.bind_off == f.cast_on == ()
+    w = f.world()
+    rods = w.rods()
+    (u0, u1), period = rods[0].domain, np.array([0.0, 3 * f.model["course_spacing"], 0.0])
+    # The yarn runs on into its image (one yarn for the clearance: the
+    # junction is not a contact), which starts outside every yarn.
+    assert np.linalg.norm(rods[0].position(u1) - rods[1].position(u0)) < 1e-9
+    assert clearance(w, f) >= 1.0
+    # No edge: every course a wale apart along the spiral and a course
+    # apart up, the last from the image of the first (margin 0 forced).
+    d = f.dimensions(w, margin=3)
+    chord = 2 * (f.tube_radius - f.model["depth"]) * math.sin(math.pi / 8)
+    assert math.isclose(d["wale_spacing"], math.hypot(chord, 0.95e-3 / 8), rel_tol=3e-3), d
+    assert math.isclose(d["course_spacing"], 0.95e-3, rel_tol=3e-3), d
+    # Every loop through the one below, the last course's through the image's first.
+    il = Interlocks(w, f)
+    assert il.shape == (3, 8) and il.update(w).all()
+    r = ex.relax(f, max_steps=30, record_every=10)
+    e = r.history["energy"]
+    assert np.all(np.diff(e) <= 1e-12 * e[0]) and e[-1] < e[0], e
+    assert r.clearance > 0.75 and r.interlocks.held.all() and r.interlocks.parted == [], r
+    # The image is still the yarn translated, and the period moved.
+    u = np.linspace(u0, u1, 7)
+    y, im = r.world.rods()[0].position(u), r.world.rods()[1].position(u)
+    shift = im - y
+    assert np.abs(shift - shift[0]).max() < 1e-9 * np.linalg.norm(period), shift
+    assert np.linalg.norm(r.world.rods()[0].position(u1) - r.world.rods()[1].position(u0)) < 1e-9
 
 
 @pytest.mark.parametrize("kwargs, match", [

@@ -22,6 +22,22 @@
 //!
 //! The periodic boundary is a tube knitted in the round, one ring per
 //! course: no side edges and no yarn ends.
+//!
+//! The cell boundary is periodic both ways, with no edge at all: one yarn
+//! spiralling round a tube, a course per turn, as a circular machine knits
+//! (`yarn`), and its image one period up (`image`, the yarn translated by
+//! a free vector: [`EqualOffsets`] at every Greville abscissa, each pair
+//! against the first). The yarn's end is tied to the image's start in
+//! position and tangent (`junction`, `junction_tangent`): the yarn runs on
+//! into its image, so the top course's loops are pulled through the
+//! image of the first, the image's loops through the top course's, and
+//! every contact on the image acts on the yarn one period down. Yarn and
+//! image each carry half the yarn's modulus and density (their energies
+//! are equal, a translation: together they count the yarn once; an image
+//! without energy left a zero pivot). The period along the wale is the
+//! equilibrium's, as the circumference is along the course. Contact must
+//! skip the image's own pairs (the yarn's repeated) and pairs near the
+//! junction (`FabricLayout::image`; Python `Fabric.world()` does both).
 pub mod loop_model;
 pub mod pattern;
 pub mod yarn;
@@ -32,11 +48,11 @@ pub use yarn::Yarn;
 
 use nalgebra::Vector3;
 use std::f64::consts::{PI, TAU};
-use strandkit_core::constraint::kinds::{Position, RelativeDistance};
+use strandkit_core::constraint::kinds::{EqualOffsets, Position, RelativeDistance, RelativeOrientation, RelativePosition};
 use strandkit_core::error::{positive, size};
 use strandkit_core::rod::RodShape;
 use strandkit_core::spline::KnotKind;
-use strandkit_core::{Assembly, Error, Result, Rod, RodBuilder, RodOptions};
+use strandkit_core::{Assembly, Error, Material, Result, Rod, RodBuilder, RodOptions};
 
 /// Longest loop (m): a metre of yarn per stitch is no fabric.
 pub const MAX_LOOP_LENGTH: f64 = 1.0;
@@ -57,6 +73,9 @@ pub enum Boundary {
     Free,
     /// A tube knitted in the round (periodic along the course).
     Periodic,
+    /// A cell periodic along the course and the wale: one yarn spiralling
+    /// round a tube and its image one period up (see the module doc).
+    Cell,
     /// A flat swatch with its cast-on sinkers and bound-off heads held
     /// where they are built (`bottom_edge[i]`, `top_edge[i]`).
     ClampedEdges,
@@ -67,8 +86,9 @@ impl Boundary {
         Ok(match name {
             "free" => Boundary::Free,
             "periodic" => Boundary::Periodic,
+            "cell" => Boundary::Cell,
             "clamped_edges" => Boundary::ClampedEdges,
-            _ => return Err(Error::invalid("boundary", name, "\"free\", \"periodic\" or \"clamped_edges\"")),
+            _ => return Err(Error::invalid("boundary", name, "\"free\", \"periodic\", \"cell\" or \"clamped_edges\"")),
         })
     }
 }
@@ -154,8 +174,13 @@ pub struct FabricLayout {
     pub yarn_ends: Vec<usize>,
     /// Constraint indices of the edge clamps (ClampedEdges).
     pub clamps: Vec<usize>,
-    /// Tube radius (m) for the periodic boundary, else 0.
+    /// Tube radius (m) for the periodic and cell boundaries, else 0.
     pub tube_radius: f64,
+    /// Cell: the image's rod index, and the constraint indices of its
+    /// ties (`period[k]`) and of the junction (position, tangent).
+    pub image: Option<usize>,
+    pub image_ties: Vec<usize>,
+    pub junction: Vec<usize>,
 }
 
 impl Fabric {
@@ -178,7 +203,10 @@ impl Fabric {
         if periodic && self.continuous {
             return Err(Error::invalid("continuous", true, "false with the periodic boundary (the tube is built one ring per course)"));
         }
-        if periodic && self.grid.wales() < 3 {
+        if self.boundary == Boundary::Cell && !self.continuous {
+            return Err(Error::invalid("continuous", false, "true with the cell boundary (one yarn spirals round the tube)"));
+        }
+        if self.periodic() && self.grid.wales() < 3 {
             return Err(Error::invalid("wales", self.grid.wales(), "at least 3 for a tube"));
         }
         // A loop's yarn must at least go round the yarn it holds: four
@@ -193,8 +221,9 @@ impl Fabric {
         Ok(())
     }
 
+    /// Wrapped round a tube (periodic and cell boundaries).
     fn periodic(&self) -> bool {
-        self.boundary == Boundary::Periodic
+        matches!(self.boundary, Boundary::Periodic | Boundary::Cell)
     }
 
     /// The loop model with the requested loop length: the default
@@ -262,22 +291,26 @@ impl Path {
             self.points.push(p);
         }
     }
-    /// Appends course j, left to right or (reversed) right to left.
+    /// Appends course j, left to right or (reversed) right to left. The
+    /// cell's spiral rises a course spacing per turn and runs on into the
+    /// next course (its last loop ends at the next course's first point).
     fn course(&mut self, f: &Fabric, m: &LoopModel, j: usize, reversed: bool) {
         let nw = f.grid.wales();
         let n = DENSE * nw;
         let periodic = f.periodic();
+        let (ring, spiral) = (f.boundary == Boundary::Periodic, f.boundary == Boundary::Cell);
         let last = if periodic { n - 1 } else { n };
         let base = self.points.len();
         debug_assert!(!(periodic && reversed), "rings run forwards");
         for k in 0..=last {
             let k = if reversed { n - k } else { k };
-            self.points.push(m.point(&f.grid, periodic, j, TAU * k as f64 / DENSE as f64));
+            let rise = if spiral { m.course_spacing * k as f64 / n as f64 } else { 0.0 };
+            self.points.push(m.point(&f.grid, periodic, j, TAU * k as f64 / DENSE as f64) + Vector3::y() * rise);
         }
         for i in 0..nw {
             let at = |k: usize| if reversed { base + n - k } else { base + k };
             // A ring's last loop ends where the ring closes (WRAP).
-            let end = if periodic && i + 1 == nw { WRAP } else { at((i + 1) * DENSE) };
+            let end = if ring && i + 1 == nw { WRAP } else { at((i + 1) * DENSE) };
             let (s, e) = if reversed { (end, at(i * DENSE)) } else { (at(i * DENSE), end) };
             self.loops.push((i, j, s, at(i * DENSE + DENSE / 2), e));
         }
@@ -359,9 +392,10 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
     }
     let (mut bind_off, mut cast_on, mut selvedge, mut yarn_ends) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     let clamped = f.boundary == Boundary::ClampedEdges;
+    let cell = f.boundary == Boundary::Cell;
     // Clamped edges hold the first course's sinkers and the last course's
     // heads already (links between held points would repeat the clamps).
-    if f.bind_off && !clamped {
+    if f.bind_off && !clamped && !cell {
         let top = &loops[(nc - 1) * nw..];
         let pairs = if periodic { nw } else { nw - 1 };
         for i in 0..pairs {
@@ -369,7 +403,7 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
             bind_off.push(tie(&mut asm, (a.rod, a.u_head), (b.rod, b.u_head), format!("bindoff[{i}]"))?);
         }
     }
-    if f.cast_on && !clamped {
+    if f.cast_on && !clamped && !cell {
         // The sinkers before each loop of the first course (it runs left to
         // right), and after the last one on a flat swatch.
         let mut sinkers: Vec<(usize, f64)> = loops[..nw].iter().map(|l| (l.rod, l.u_start)).collect();
@@ -381,7 +415,7 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
             cast_on.push(tie(&mut asm, sinkers[i], sinkers[(i + 1) % sinkers.len()], format!("caston[{i}]"))?);
         }
     }
-    if f.selvedge && f.continuous {
+    if f.selvedge && f.continuous && !cell {
         // Course j ends and course j + 1 starts on the same side: right
         // after an even course, left after an odd one.
         for j in 0..nc - 1 {
@@ -421,16 +455,64 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
         }
     }
     let tube_radius = if periodic { model.tube_radius(&f.grid) } else { 0.0 };
-    Ok((asm, FabricLayout { yarns, loops, model, loop_length, clearance, bind_off, cast_on, selvedge, yarn_ends, clamps, tube_radius }))
+    let (mut image, mut image_ties, mut junction) = (None, Vec::new(), Vec::new());
+    if cell {
+        let (rod, ties, join) = add_image(&mut asm, yarns[0], nc as f64 * model.course_spacing)?;
+        (image, image_ties, junction) = (Some(rod), ties, join);
+    }
+    Ok((asm, FabricLayout { yarns, loops, model, loop_length, clearance, bind_off, cast_on, selvedge, yarn_ends, clamps, tube_radius, image, image_ties, junction }))
+}
+
+/// The cell's image: the yarn moved `period` (m) along the wale (y), tied
+/// to it at each Greville abscissa against the first (chained pair to
+/// pair, a tie in the middle of a long rod held only to 3e-6 of its terms:
+/// see [`EqualOffsets`]). Collocation at the Greville abscissae of a
+/// clamped B-spline is invertible (Schoenberg–Whitney), so the ties make
+/// the image's control points the yarn's plus one common vector. The
+/// yarn's end is tied to the image's start in position and tangent. Yarn
+/// and image each get half the yarn's modulus and density. Returns the
+/// image's rod index, the ties' and the junction's constraint indices.
+fn add_image(asm: &mut Assembly, yarn: usize, period: f64) -> Result<(usize, Vec<usize>, Vec<usize>)> {
+    let rod = asm_rod(asm, yarn);
+    let dofs = rod.dofs();
+    let m = rod.material();
+    let half = Material { young: 0.5 * m.young, density: 0.5 * m.density, ..m.clone() };
+    let rebuilt = |q: Vec<f64>| Rod::new(rod.knots().clone(), dofs, q, rod.sections().to_vec(), half.clone(), rod.options().clone());
+    let mut q = rod.coords().to_vec();
+    let halved = rebuilt(q.clone())?;
+    q.iter_mut().skip(1).step_by(dofs).for_each(|y| *y += period);
+    let image = rebuilt(q)?;
+    let at = rod.knots().greville();
+    let (u0, u1) = rod.domain();
+    asm.rods[yarn].rod = halved;
+    let img = asm.add_rod(image, Some("image"));
+    let mut ties = Vec::with_capacity(at.len() - 1);
+    for (k, &u) in at.iter().enumerate().skip(1) {
+        asm.link(yarn, img, EqualOffsets { ua: u, ub: u, va: at[0], vb: at[0] }).label(format!("period[{}]", k - 1));
+        ties.push(asm.constraints.len() - 1);
+    }
+    asm.link(yarn, img, RelativePosition { ua: u1, ub: u0, axes: [true, true, true, false], offset: [0.0; 4] }).label("junction".to_string());
+    asm.link(yarn, img, RelativeOrientation { ua: u1, ub: u0, roll: false }).label("junction_tangent".to_string());
+    let n = asm.constraints.len();
+    Ok((img, ties, vec![n - 2, n - 1]))
 }
 
 
 /// The yarns along the loop model's path and where their loops lie.
 fn build_yarns(f: &Fabric, model: &LoopModel, counts: Option<&[usize]>) -> Result<(Vec<Rod>, Vec<LoopSpan>)> {
-    let periodic = f.periodic();
+    // Closed rods: the tube's rings (the cell's spiral is open).
+    let periodic = f.boundary == Boundary::Periodic;
     let (nw, nc) = (f.grid.wales(), f.grid.courses());
     let mut paths = Vec::new();
-    if f.continuous {
+    if f.boundary == Boundary::Cell {
+        let mut p = Path::new();
+        for j in 0..nc {
+            p.course(f, model, j, false);
+        }
+        // The last loop's end: the first point one period up.
+        p.points.push(model.point(&f.grid, true, 0, 0.0) + Vector3::y() * (nc as f64 * model.course_spacing));
+        paths.push(p);
+    } else if f.continuous {
         let mut p = Path::new();
         for j in 0..nc {
             let reversed = j % 2 == 1;
@@ -476,6 +558,7 @@ fn build_yarns(f: &Fabric, model: &LoopModel, counts: Option<&[usize]>) -> Resul
             .material(f.yarn.material()?)
             .options(opts.clone())
             .build()?;
+        let rod = if f.boundary == Boundary::Cell { run_on(rod)? } else { rod };
         let scale = rod.rest_length() / total;
         let u_at = |k: usize| rod.u_at_rest_arc_length((s[k] * scale).min(rod.rest_length()));
         for &(i, j, a, h, e) in &p.loops {
@@ -485,6 +568,22 @@ fn build_yarns(f: &Fabric, model: &LoopModel, counts: Option<&[usize]>) -> Resul
         rods.push(rod);
     }
     Ok((rods, loops.into_iter().map(|l| l.expect("every stitch lies on a yarn")).collect()))
+}
+
+/// The cell's yarn with its end tangent the image's start tangent: the
+/// interpolating spline's end legs (P1 − P0 and P_n−1 − P_n−2, which set
+/// the end tangents of a clamped cubic) both made their mean. As
+/// interpolated they were 0.35 rad apart (8 × 3 jersey), which the
+/// junction's tangent tie would have had to close in the first step.
+fn run_on(rod: Rod) -> Result<Rod> {
+    let (n, dofs) = (rod.n_ctrl(), rod.dofs());
+    let mut q = rod.coords().to_vec();
+    let p = |q: &[f64], k: usize| Vector3::new(q[k * dofs], q[k * dofs + 1], q[k * dofs + 2]);
+    let leg = 0.5 * ((p(&q, 1) - p(&q, 0)) + (p(&q, n - 1) - p(&q, n - 2)));
+    let (first, last) = (p(&q, 0) + leg, p(&q, n - 1) - leg);
+    q[dofs..dofs + 3].copy_from_slice(first.as_slice());
+    q[(n - 2) * dofs..(n - 2) * dofs + 3].copy_from_slice(last.as_slice());
+    Rod::new(rod.knots().clone(), dofs, q, rod.sections().to_vec(), rod.material().clone(), rod.options().clone())
 }
 
 /// The model's clearance, or an error if the yarns would overlap.

@@ -177,6 +177,48 @@ fn edges_and_tube() {
     assert!((mean - lay.tube_radius).abs() < 0.02 * lay.tube_radius, "{mean} vs {}", lay.tube_radius);
 }
 
+/// The cell: one yarn spiralling a course per turn, and its image one
+/// period (courses × c) up, tied to it at every Greville abscissa and
+/// joined to its end in position and tangent; no edge links.
+#[test]
+fn the_cell_is_a_spiral_yarn_and_its_image_one_period_up() {
+    let f = Fabric { boundary: Boundary::Cell, ..small(Pattern::Jersey, 8, 3) };
+    let (asm, lay) = fabric(&f).unwrap();
+    let (yarn, image) = (&asm.rods[lay.yarns[0]].rod, &asm.rods[lay.image.unwrap()].rod);
+    assert_eq!((asm.rods.len(), lay.yarns.len()), (2, 1));
+    assert!(!yarn.is_closed() && !image.is_closed());
+    let edges = [&lay.bind_off, &lay.cast_on, &lay.selvedge, &lay.yarn_ends, &lay.clamps];
+    assert!(edges.iter().all(|e| e.is_empty()), "a cell has no edge");
+    assert_eq!((lay.image_ties.len(), lay.junction.len()), (yarn.n_ctrl() - 1, 2));
+    assert_eq!(asm.constraints.len(), yarn.n_ctrl() + 1);
+    // Every control point one period up, and the image starts where the yarn ends.
+    let period = Vector3::new(0.0, 3.0 * lay.model.course_spacing, 0.0);
+    let (q, qi) = (yarn.coords(), image.coords());
+    for k in 0..yarn.n_ctrl() {
+        let d = Vector3::from_fn(|i, _| qi[k * yarn.dofs() + i] - q[k * yarn.dofs() + i]);
+        assert!((d - period).norm() < 1e-15 * period.norm().max(1.0) + 1e-15, "control point {k}: {d:?}");
+    }
+    let ((u0, u1), r) = (yarn.domain(), f.yarn.radius);
+    assert!((yarn.position(u1).unwrap() - image.position(u0).unwrap()).norm() < 1e-6 * r);
+    let bend = yarn.tangent(u1).unwrap().angle(&image.tangent(u0).unwrap());
+    assert!(bend < 0.05, "the yarn runs on into its image: the tangents {bend} rad apart");
+    // The spiral rises a course per turn: loop (i, j) is loop (i, 0) moved
+    // j courses up (to 0.06 c: the heads' marks drift along the yarn).
+    let head = |l: &LoopSpan| yarn.position(l.u_head).unwrap();
+    for (k, l) in lay.loops.iter().enumerate().skip(8) {
+        let rise = head(l) - head(&lay.loops[k % 8]);
+        let want = (k / 8) as f64 * lay.model.course_spacing;
+        assert!((rise - Vector3::new(0.0, want, 0.0)).norm() < 0.1 * lay.model.course_spacing, "loop {k}: {rise:?}");
+    }
+    // Half the modulus and density each: the two count the yarn once.
+    let full = f.yarn.material().unwrap();
+    for rod in [yarn, image] {
+        assert_eq!((rod.material().young, rod.material().density), (0.5 * full.young, 0.5 * full.density));
+    }
+    let (ey, ei) = (yarn.elastic_energy(), image.elastic_energy());
+    assert!((ey - ei).abs() < 1e-9 * ey, "a translated copy has the same energy: {ey} vs {ei}");
+}
+
 #[test]
 fn bad_fabrics_are_refused_before_building() {
     let d = Fabric::default();
@@ -191,6 +233,8 @@ fn bad_fabrics_are_refused_before_building() {
         (Fabric { control_points_per_loop: 2, ..d.clone() }, "control_points_per_loop"),
         (Fabric { control_points_per_loop: usize::MAX, ..d.clone() }, "control points"),
         (Fabric { boundary: Boundary::Periodic, continuous: false, ..small(Pattern::Jersey, 2, 3) }, "wales"),
+        (Fabric { boundary: Boundary::Cell, continuous: false, ..d.clone() }, "continuous"),
+        (Fabric { boundary: Boundary::Cell, ..small(Pattern::Jersey, 2, 3) }, "wales"),
     ];
     for (f, what) in cases {
         let e = fabric(&f).unwrap_err().to_string();

@@ -58,6 +58,11 @@ const FEW_ROWS: usize = 32;
 /// closer than their radii plus the margin enter the active-set candidates,
 /// so that a step does not tunnel through).
 /// `friction`: the Coulomb coefficient between rods (dimensionless, ≥ 0).
+/// `no_self_contact`: rods never paired with themselves even with
+/// `self_contact` (an image rod that repeats another's self-contacts).
+/// `joined`: pairs [a, b] of rods where b continues a (a's end at b's
+/// start, tied by the caller): their capsules closer along the joined
+/// yarn than the self-contact exclusion are never paired, as on one rod.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RodContacts {
     pub margin: f64,
@@ -65,11 +70,15 @@ pub struct RodContacts {
     pub between_rods: bool,
     #[serde(default)]
     pub friction: f64,
+    #[serde(default)]
+    pub no_self_contact: Vec<RodHandle>,
+    #[serde(default)]
+    pub joined: Vec<[RodHandle; 2]>,
 }
 
 impl RodContacts {
     pub fn new(margin: f64, self_contact: bool, between_rods: bool) -> Result<RodContacts> {
-        let d = RodContacts { margin, self_contact, between_rods, friction: 0.0 };
+        let d = RodContacts { margin, self_contact, between_rods, friction: 0.0, no_self_contact: Vec::new(), joined: Vec::new() };
         d.validate()?;
         Ok(d)
     }
@@ -77,6 +86,23 @@ impl RodContacts {
     pub fn with_friction(mut self, mu: f64) -> Result<RodContacts> {
         self.friction = mu;
         self.validate()?;
+        Ok(self)
+    }
+    /// These rods are never paired with themselves.
+    pub fn without_self_contact(mut self, rods: &[RodHandle]) -> RodContacts {
+        self.no_self_contact.extend_from_slice(rods);
+        self
+    }
+    /// Rod `b` continues rod `a` (a's end at b's start): points closer
+    /// along the two than the self-contact exclusion are never paired.
+    pub fn with_joined(mut self, a: RodHandle, b: RodHandle) -> Result<RodContacts> {
+        if a == b {
+            return Err(crate::Error::invalid("joined", format!("{a:?}"), "two different rods (a ring is a closed rod)"));
+        }
+        if self.joined.iter().any(|j| j[0] == a || j[1] == b) {
+            return Err(crate::Error::invalid("joined", format!("{a:?} → {b:?}"), "a rod continued by one rod at most and continuing one at most"));
+        }
+        self.joined.push([a, b]);
         Ok(self)
     }
     pub fn validate(&self) -> Result<()> {
@@ -108,6 +134,10 @@ pub(crate) struct Scratch {
     closed: Vec<bool>,
     /// Per rod: a segment's length along its chain.
     segment: Vec<f64>,
+    /// Per rod: never paired with itself (`no_self_contact`)?
+    no_self: Vec<bool>,
+    /// Per rod: the rod continuing it (`joined`), or usize::MAX.
+    next: Vec<usize>,
     rod_ranges: Vec<(usize, usize)>,
     runs: Runs,
     hits: Vec<HitBlock>,
@@ -233,10 +263,22 @@ impl ContactDetector for RodContacts {
         let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
         // Each rod's capsules in its own range of the arrays, filled rod by
         // rod (on the pool when parallel).
-        let Scratch { caps, boxes, spheres, strands, chain, closed, segment, rod_ranges, runs, hits, nearest, parts: parts_buf, seeds, seed_list, rows, sorted, by_pair, group_starts, choice, chosen } = &mut scratch.rods;
+        let Scratch { caps, boxes, spheres, strands, chain, closed, segment, no_self, next, rod_ranges, runs, hits, nearest, parts: parts_buf, seeds, seed_list, rows, sorted, by_pair, group_starts, choice, chosen } = &mut scratch.rods;
         rod_ranges.clear();
         closed.clear();
         closed.extend(rods.iter().map(|(_, r)| r.is_closed()));
+        no_self.clear();
+        no_self.extend(rods.iter().map(|(h, _)| self.no_self_contact.contains(h)));
+        next.clear();
+        next.resize(rods.len(), usize::MAX);
+        // A rod no longer in the world leaves nothing to exclude.
+        let index = |h: &RodHandle| rods.iter().position(|(x, _)| x == h);
+        for [a, b] in &self.joined {
+            if let (Some(a), Some(b)) = (index(a), index(b)) {
+                next[a] = b;
+            }
+        }
+        let (no_self, next) = (&no_self[..], &next[..]);
         for (_, rod) in rods {
             let start = rod_ranges.last().map_or(0, |r: &(usize, usize)| r.1);
             rod_ranges.push((start, start + capsule_count(rod)));
@@ -292,6 +334,17 @@ impl ContactDetector for RodContacts {
             let d = (sb - sa).abs();
             if closed[rod] { d.min(chain[rod] - d) } else { d }
         };
+        // Arc length between capsules of two joined rods (b continuing a,
+        // or a continuing b), or None.
+        let joined_along = |ra: usize, sa: f64, rb: usize, sb: f64| {
+            if next[ra] == rb {
+                Some(chain[ra] - sa + sb)
+            } else if next[rb] == ra {
+                Some(chain[rb] - sb + sa)
+            } else {
+                None
+            }
+        };
         // Two partners of capsule `i` on one rod closer along it than the
         // shortest loop are on the same pass of that rod. A knot's braid
         // brings three passes: keeping one nearest over all of them left the
@@ -315,6 +368,11 @@ impl ContactDetector for RodContacts {
             // margin's candidates need the rod to have turned back, half a
             // circle at least.
             if same && (along(a.rod, a.sa, b.sa) < exclusion(reach) || j == i + 1) {
+                return None;
+            }
+            // Across a join the capsule's own length is added: the pair
+            // next to the join is excluded whatever its lengths.
+            if !same && joined_along(a.rod, a.sa, b.rod, b.sa).is_some_and(|s| s < exclusion(reach) + a.dd.sqrt() + b.dd.sqrt()) {
                 return None;
             }
             let (s, t, gap2) = closest_on_axes(&a.p, &a.d, a.dd, &b.p, &b.d, b.dd);
@@ -343,7 +401,7 @@ impl ContactDetector for RodContacts {
                     let rod_a = caps[runs.capsules(a).start].rod;
                     for &b in partners.iter() {
                         let same = rod_a == caps[runs.capsules(b).start].rod;
-                        if (same && !self.self_contact) || (!same && !self.between_rods) {
+                        if (same && (!self.self_contact || no_self[rod_a])) || (!same && !self.between_rods) {
                             continue;
                         }
                         // Only the capsules of each run within the other's box.
@@ -481,6 +539,17 @@ impl ContactDetector for RodContacts {
                     let du = if ra.is_closed() { du.min(u1 - u0 - du) } else { du };
                     let along = du * chain[a.rod] / (u1 - u0);
                     if along < exclusion(c.distance) || (pa - pb).norm() < 1e-9 * c.distance {
+                        continue;
+                    }
+                } else if next[a.rod] == b.rod || next[b.rod] == a.rod {
+                    // Likewise across a join: arc to the end of the one and
+                    // from the start of the other.
+                    let arc = |rod: &Rod, k: usize, u: f64, to_end: bool| {
+                        let (u0, u1) = rod.domain();
+                        chain[k] * if to_end { u1 - u } else { u - u0 } / (u1 - u0)
+                    };
+                    let a_first = next[a.rod] == b.rod;
+                    if arc(ra, a.rod, c.ua, a_first) + arc(rb, b.rod, c.ub, !a_first) < exclusion(c.distance) {
                         continue;
                     }
                 }

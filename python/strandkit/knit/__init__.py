@@ -66,7 +66,10 @@ class Fabric:
     ``loop_length``: the built yarn length per stitch (m, within 1e-4 of
     the one asked for); ``bind_off``, ``cast_on``, ``selvedge``,
     ``yarn_ends``, ``clamps``: the assembly's constraint indices of each
-    edge's links (see :func:`fabric`)."""
+    edge's links (see :func:`fabric`); ``image``: the cell boundary's
+    image rod (the yarn one period up; None otherwise), ``image_ties`` its
+    ``EqualOffsets`` ties and ``junction`` the yarn end's ties to the
+    image's start (position, tangent)."""
 
     assembly: object
     rows: tuple
@@ -86,6 +89,9 @@ class Fabric:
     cast_on: tuple = ()
     selvedge: tuple = ()
     yarn_ends: tuple = ()
+    image: Optional[int] = None
+    image_ties: tuple = ()
+    junction: tuple = ()
 
     @property
     def wales(self) -> int:
@@ -118,7 +124,14 @@ class Fabric:
         params.setdefault("gravity", (0.0, 0.0, 0.0))
         w = World(**params)
         w.insert(self.assembly)
-        w.contact(margin=margin, friction=friction, self_contact=True, between_rods=True)
+        if self.image is None:
+            w.contact(margin=margin, friction=friction, self_contact=True, between_rods=True)
+        else:
+            # The image repeats the yarn's own contacts; the yarn runs on
+            # into it at the junction.
+            yarn, image = w.rods()[int(self.loops["rod"][0])], w.rods()[self.image]
+            w.contact(margin=margin, friction=friction, self_contact=True, between_rods=True,
+                      no_self_contact=[image], joined=[(yarn, image)])
         if "max_move" not in params:
             w.set_params(max_move=margin)
         return w
@@ -146,12 +159,21 @@ class Fabric:
             raise InvalidInputError(f"margin: a number of stitches ≥ 0, got {margin!r}")
         h = self.heads(world)
         nc, nw = self.courses, self.wales
+        if self.image is not None:
+            # The cell has no edge: every course, and the last against the
+            # image of the first.
+            up = world.rods()[self.image].position(self.loops["u_head"][:nw])
+            h = np.concatenate([h, up[None]], axis=0)
+            margin, nc = 0, nc + 1
         # At most the margin that leaves two heads each way to measure.
         limit = (nc - 2) // 2 if self.tube_radius > 0 else (min(nc, nw) - 2) // 2  # a ring has no side edges
         m = min(int(margin), limit)
         rows = slice(m, max(nc - m, m + 1))
         cols = slice(m, max(nw - m, m + 1))
-        if self.tube_radius > 0:
+        if self.image is not None:
+            # Head to head along the spiral, the last into the image's first.
+            w = np.linalg.norm(np.diff(h.reshape(-1, 3), axis=0), axis=1)[:self.courses * nw].mean()
+        elif self.tube_radius > 0:
             ring = np.roll(h, -1, axis=1) - h
             w = np.linalg.norm(ring[rows], axis=2).mean()
         else:
@@ -185,7 +207,11 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
     B/I, so EA = 4B/r² follows); continuous: one yarn turning round at the
     sides (default for flat swatches) or one yarn per course (with free
     tails); boundary: "free", "periodic" (a tube knitted in the round,
-    one ring per course) or "clamped_edges" (cast-on sinkers and bound-off
+    one ring per course), "cell" (periodic both ways, no edge: one yarn
+    spiralling round a tube, a course a turn, whose end runs on into its
+    image one period up, tied to be the yarn translated by a free vector;
+    yarn and image carry half the modulus and density each, and the
+    period along the wale is the equilibrium's) or "clamped_edges" (cast-on sinkers and bound-off
     heads held where built: groups ``bottom_edge``, ``top_edge``);
     spacing: initial (wale spacing, course spacing) in m (default: the
     loop model's proportions w : c = 4 : 3 scaled to ℓ);
@@ -253,4 +279,5 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
                   bending_stiffness=float(d["bending_stiffness"]), continuous=bool(continuous), boundary=boundary,
                   clearance=float(d["clearance"]), bind_off=tuple(d["bind_off"]), clamps=tuple(d["clamps"]),
                   tube_radius=float(d["tube_radius"]), params=params, cast_on=tuple(d["cast_on"]),
-                  selvedge=tuple(d["selvedge"]), yarn_ends=tuple(d["yarn_ends"]))
+                  selvedge=tuple(d["selvedge"]), yarn_ends=tuple(d["yarn_ends"]), image=d["image"],
+                  image_ties=tuple(d["image_ties"]), junction=tuple(d["junction"]))

@@ -319,6 +319,9 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     if fabric.boundary == "clamped_edges":
         raise errors.InvalidInputError("source: a fabric with boundary='clamped_edges' is held already; stretch adds its "
                                        "own bars to a 'free' one")
+    if fabric.image is not None:
+        raise errors.InvalidInputError("source: a cell (periodic both ways) has no edge for bars to grip; stretch a "
+                                       "'free' or 'periodic' fabric")
     from .. import position
     held, pulled, axis = _grips(fabric, direction)
     rods = world.rods()

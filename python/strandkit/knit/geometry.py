@@ -7,27 +7,41 @@ import numpy as np
 __all__ = ["yarn_points", "clearance", "curl", "Interlocks"]
 
 
-def yarn_points(world, fabric, per_loop: int = 40):
+def yarn_points(world, fabric, per_loop: int = 40, *, image: bool = False):
     """Points along every yarn now, about ``per_loop`` per stitch: a list
-    of (n, 3) arrays (m), one per yarn."""
+    of (n, 3) arrays (m), one per yarn (and with ``image`` the cell's
+    image last)."""
     out = []
-    for rod in world.rods()[: len(np.unique(fabric.loops["rod"]))]:
+    rods = world.rods()
+    chosen = rods[: len(np.unique(fabric.loops["rod"]))]
+    if image and fabric.image is not None:
+        chosen.append(rods[fabric.image])
+    for rod in chosen:
         u0, u1 = rod.domain
         n = max(8, int(round(per_loop * rod.rest_length / fabric.loop_length)))
-        out.append(rod.position(np.linspace(u0, u1, n, endpoint=not fabric.tube_radius > 0)))
+        out.append(rod.position(np.linspace(u0, u1, n, endpoint=not _rings(fabric))))
     return out
+
+
+def _rings(fabric) -> bool:
+    """Closed yarns: the tube's rings (the cell's spiral is open)."""
+    return fabric.tube_radius > 0 and fabric.image is None
 
 
 def clearance(world, fabric, *, exclude: float = 4.0) -> float:
     """Smallest distance between yarn centrelines over the yarn diameter
     2r, points closer than ``exclude`` radii along one yarn left out:
     ≥ 1 when no yarn enters another, < 0.5 only if one has passed through
-    (the centreline of one inside the other). A cell hash keeps it
-    O(points)."""
+    (the centreline of one inside the other); the cell's image counts (its
+    first course holds the last), as one yarn with the yarn that runs on
+    into it. A cell hash keeps it O(points)."""
     r = fabric.yarn_radius
-    ring = fabric.tube_radius > 0
+    ring = _rings(fabric)
+    lines = yarn_points(world, fabric, image=True)
+    if fabric.image is not None:
+        lines = [np.concatenate(lines)]
     pts, yarn, s, total = [], [], [], []
-    for k, p in enumerate(yarn_points(world, fabric)):
+    for k, p in enumerate(lines):
         arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(p, axis=0), axis=1))])
         # A ring's length includes its closing segment (its last point
         # neighbours its first along the yarn).
@@ -138,12 +152,15 @@ class Interlocks:
         rods = world.rods()
         lp = fabric.loops
         nw, nc = fabric.wales, fabric.courses
-        self.shape = (nc - 1, nw)
+        # A periodic cell's last course holds the image of its first.
+        cell = fabric.image is not None
+        self.shape = (nc if cell else nc - 1, nw)
         rows = []  # (interlock, rod L, u L, rod U, u U)
-        for j in range(nc - 1):
+        for j in range(self.shape[0]):
             for i in range(nw):
-                lo, up = lp[j * nw + i], lp[(j + 1) * nw + i]
-                rl, ru = rods[int(lo["rod"])], rods[int(up["rod"])]
+                lo, up = lp[j * nw + i], lp[((j + 1) % nc) * nw + i]
+                up_rod = fabric.image if j + 1 == nc else int(up["rod"])
+                rl, ru = rods[int(lo["rod"])], rods[up_rod]
                 ua = np.linspace(lo["u_start"], lo["u_end"], samples)
                 ub = np.linspace(up["u_start"], up["u_end"], samples)
                 a, b = rl.position(ua), ru.position(ub)
@@ -157,7 +174,7 @@ class Interlocks:
                 sa = ua[ia] + t * (ua[ia + 1] - ua[ia])
                 sb = ub[ib] + u * (ub[ib + 1] - ub[ib])
                 for k in range(len(sa)):
-                    rows.append((j * nw + i, int(lo["rod"]), sa[k], int(up["rod"]), sb[k]))
+                    rows.append((j * nw + i, int(lo["rod"]), sa[k], up_rod, sb[k]))
         arr = np.array(rows, dtype=float).reshape(-1, 5)
         self.owner = arr[:, 0].astype(int)
         self.rod_a, self.rod_b = arr[:, 1].astype(int), arr[:, 3].astype(int)
@@ -166,8 +183,8 @@ class Interlocks:
         # abscissa) and the domain an open yarn's abscissae stay in (a
         # tube's rings wrap round).
         per_loop = {int(r): fabric.loop_length / 24.0 * (rods[int(r)].domain[1] - rods[int(r)].domain[0])
-                    / rods[int(r)].rest_length for r in np.unique(lp["rod"])}
-        ring = fabric.tube_radius > 0
+                    / rods[int(r)].rest_length for r in np.unique(np.concatenate([lp["rod"], self.rod_b]))}
+        ring = _rings(fabric)
         dom = {r: (-np.inf, np.inf) if ring else rods[r].domain for r in per_loop}
         self._wa, self._wb = (np.array([per_loop[int(r)] for r in x]) for x in (self.rod_a, self.rod_b))
         self._lo_a, self._hi_a = (np.array([dom[int(r)][e] for r in self.rod_a]) for e in (0, 1))
@@ -223,8 +240,10 @@ class Interlocks:
 
     def update(self, world) -> np.ndarray:
         """Follow every crossing in ``world`` now; returns ``held``, a
-        (courses − 1, wales) boolean array: loop (i, j)'s interlock with
-        loop (i, j + 1) at [j, i]. ``ever_parted`` accumulates."""
+        (courses − 1, wales) boolean array (a periodic cell: (courses,
+        wales), the last course's with the image of the first): loop
+        (i, j)'s interlock with loop (i, j + 1) at [j, i]. ``ever_parted``
+        accumulates."""
         rods = world.rods()
         wa, wb = self._wa, self._wb
         ua, ub = self.u_a.copy(), self.u_b.copy()
