@@ -275,7 +275,7 @@ pub fn abscissae_of<K: ConstraintLaw>(k: &K) -> ([(Side, f64); MAX_ABSCISSAE], u
     (out, n)
 }
 
-fn same_abscissae<K: ConstraintLaw>(a: &K, b: &K) -> bool {
+pub(crate) fn same_abscissae<K: ConstraintLaw>(a: &K, b: &K) -> bool {
     let ((x, n), (y, m)) = (abscissae_of(a), abscissae_of(b));
     n == m && x[..n].iter().zip(&y[..m]).all(|(p, q)| p.0 == q.0 && (p.1 - q.1).abs() <= 1e-12 * (1.0 + p.1.abs()))
 }

@@ -103,10 +103,9 @@ impl ConstraintLaw for EqualOffsets {
         Ok(Reaction { force: [0.0; 3], torque: arm.cross(&-l).into() })
     }
     fn duplicates(&self, other: &Self) -> bool {
-        let same = |x: f64, y: f64| (x - y).abs() <= 1e-12 * (1.0 + x.abs());
-        let direct = same(self.ua, other.ua) && same(self.ub, other.ub) && same(self.va, other.va) && same(self.vb, other.vb);
-        let swapped = same(self.ua, other.va) && same(self.ub, other.vb) && same(self.va, other.ua) && same(self.vb, other.ub);
-        direct || swapped
+        // The same two pairs, in either order (the rows only change sign).
+        let swapped = EqualOffsets { ua: other.va, ub: other.vb, va: other.ua, vb: other.ub };
+        crate::constraint::same_abscissae(self, other) || crate::constraint::same_abscissae(self, &swapped)
     }
 }
 
