@@ -286,7 +286,10 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
             step_fraction: float = 0.25, viscosity: float = 1.0) -> Stretched:
     """Uniaxial stretch under displacement control between two clamped
     bars: along the wale (cast-on sinkers held, bound-off heads pulled) or
-    the course (first and last stitch of every course).
+    the course (first and last stitch of every course). A cell (periodic
+    both ways) has no edge: along the wale its period is held instead
+    (link ``period``; the force is the tension the whole tube carries, the
+    lateral strain that of its wale spacing).
 
     source: a :class:`Fabric` (stretched as built, ``friction`` at its
     contacts) or a :class:`Relaxed` (a copy of its world continues, with
@@ -319,10 +322,11 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     if fabric.boundary == "clamped_edges":
         raise errors.InvalidInputError("source: a fabric with boundary='clamped_edges' is held already; stretch adds its "
                                        "own bars to a 'free' one")
-    if fabric.image is not None:
-        raise errors.InvalidInputError("source: a cell (periodic both ways) has no edge for bars to grip; stretch a "
-                                       "'free' or 'periodic' fabric")
     from .. import position
+    cell = fabric.image is not None
+    if cell:
+        return _stretch_cell(fabric, world, source, direction, strain, increments, unload, settle_steps,
+                             steps_per_increment, tol, step_fraction)
     held, pulled, axis = _grips(fabric, direction)
     rods = world.rods()
     hold = lambda pts: [(rods[r], u, tuple(rods[r].position(u))) for r, u in pts]  # noqa: E731
@@ -337,8 +341,7 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
         for h in list(world.group(group).constraints if group in world.groups else []):
             if h.alive:
                 world.remove_constraint(h)
-    interlocks = source.interlocks.copy() if isinstance(source, Relaxed) and source.interlocks is not None \
-        else Interlocks(world, fabric)
+    interlocks = _interlocks(source, world, fabric)
     for i, (rod, u, p) in enumerate(held):
         world.add_constraint(rod, position(u, target=p), label=f"grip[{i}]")
     pulls = [world.add_constraint(rod, position(u, target=p), label=f"pull[{i}]") for i, (rod, u, p) in enumerate(pulled)]
@@ -360,6 +363,61 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
         # The pulled bar's force on the fabric along the stretch.
         return float(sum(np.dot(np.asarray(h.reaction().force), axis) for h in pulls))
 
+    def place(e):
+        for (rod, u, p), h in zip(pulled, pulls):
+            world.set_constraint(h, position(u, target=tuple(np.asarray(p) + e * gap * axis)))
+
+    return _increments(world, fabric, flow, interlocks, direction, strain, increments, unload, steps_per_increment, tol,
+                       gap, place, force, width)
+
+
+def _stretch_cell(fabric, world, source, direction, strain, increments, unload, settle_steps, steps_per_increment,
+                  tol, step_fraction) -> Stretched:
+    """:func:`stretch` of a cell along the wale: no bars, its period held.
+    The image is the yarn translated by a free vector; one more link
+    (``period``) holds that vector's wale component, P₀(1 + strain), P₀
+    the period where the stretch starts. Its reaction is the tension the
+    whole tube carries along the wale; the lateral strain is that of the
+    wale spacing (the tube's circumference), free in the cell."""
+    if direction != "wale":
+        raise errors.InvalidInputError(f"direction: a cell is stretched along the wale only (along the course its "
+                                       f"period is the tube's free circumference), got {direction!r}")
+    from .. import constraints
+    rods = world.rods()
+    yarn, image = rods[int(fabric.loops["rod"][0])], rods[fabric.image]
+    u0 = yarn.domain[0]
+    axis = np.array([0.0, 1.0, 0.0])
+    gap = float((image.position(u0) - yarn.position(u0)) @ axis)
+    held = lambda e: constraints.relative_position(u0, u0, offset=(0.0, -gap * (1.0 + e), 0.0), axes="y")  # noqa: E731
+    link = world.add_link(yarn, image, held(0.0), label="period")
+    interlocks = _interlocks(source, world, fabric)
+    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=_first_dt(fabric, world.params["viscosity"]))
+    for k in range(int(settle_steps)):
+        flow.step()
+        if k % 10 == 9:
+            interlocks.update(world)
+
+    def force():
+        # The link's force on the image along the wale: the image pulled
+        # back towards the yarn, the tube's tension.
+        return float(-np.dot(np.asarray(link.reaction().force), axis))
+
+    return _increments(world, fabric, flow, interlocks, direction, strain, increments, unload, steps_per_increment, tol,
+                       gap, lambda e: world.set_constraint(link, held(e)), force,
+                       lambda: fabric.dimensions(world)["wale_spacing"])
+
+
+def _interlocks(source, world, fabric):
+    """A relaxation's interlocks (a copy), else found anew in ``world``."""
+    if isinstance(source, Relaxed) and source.interlocks is not None:
+        return source.interlocks.copy()
+    return Interlocks(world, fabric)
+
+
+def _increments(world, fabric, flow, interlocks, direction, strain, increments, unload, steps_per_increment, tol,
+                gap, place, force, width) -> Stretched:
+    """The stretch's increments up (and down) to ``strain`` of ``gap`` (m),
+    the grips moved by ``place(e)``; ``force()`` and ``width()`` read."""
     w0 = width()
     levels = list(np.linspace(0.0, strain, increments + 1)[1:])
     if unload:
@@ -367,11 +425,6 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     out = {"strain": [0.0], "force": [force()], "lateral": [0.0], "loading": [True]}
     least = clearance(world, fabric)
     previous = 0.0
-
-    def place(e):
-        for (rod, u, p), h in zip(pulled, pulls):
-            world.set_constraint(h, position(u, target=tuple(np.asarray(p) + e * gap * axis)))
-
     for n, e in enumerate(levels):
         # The bar moves by at most half the step cap per step: the control
         # points about a grip move up to twice as far as the grip (measured
