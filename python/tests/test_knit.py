@@ -189,7 +189,9 @@ def test_a_cell_periodic_both_ways_holds_its_image_through_a_relaxation():
     st = ex.stretch(r, strain=0.1, increments=2, settle_steps=10, steps_per_increment=40)
     assert np.all(np.diff(st.force[:3]) > 0) and np.all(np.diff(st.force[2:]) < 0), st.force
     assert st.force[2] > 0 and st.clearance > 0.75, st
-    assert st.interlocks.parted == [] and "period" in st.world.groups
+    # The period link is the stretch's own group (the image's ties are `image_tie`).
+    assert st.interlocks.parted == [] and len(st.world.group("period").constraints) == 1
+    assert len(st.world.group("image_tie").constraints) == len(f.image_ties)
 
 
 @pytest.mark.parametrize("kwargs, match", [

@@ -177,7 +177,7 @@ pub struct FabricLayout {
     /// Tube radius (m) for the periodic and cell boundaries, else 0.
     pub tube_radius: f64,
     /// Cell: the image's rod index, and the constraint indices of its
-    /// ties (`period[k]`) and of the junction (position, tangent).
+    /// ties (`image_tie[k]`) and of the junction (position, tangent).
     pub image: Option<usize>,
     pub image_ties: Vec<usize>,
     pub junction: Vec<usize>,
@@ -488,7 +488,7 @@ fn add_image(asm: &mut Assembly, yarn: usize, period: f64) -> Result<(usize, Vec
     let img = asm.add_rod(image, Some("image"));
     let mut ties = Vec::with_capacity(at.len() - 1);
     for (k, &u) in at.iter().enumerate().skip(1) {
-        asm.link(yarn, img, EqualOffsets { ua: u, ub: u, va: at[0], vb: at[0] }).label(format!("period[{}]", k - 1));
+        asm.link(yarn, img, EqualOffsets { ua: u, ub: u, va: at[0], vb: at[0] }).label(format!("image_tie[{}]", k - 1));
         ties.push(asm.constraints.len() - 1);
     }
     asm.link(yarn, img, RelativePosition { ua: u1, ub: u0, axes: [true, true, true, false], offset: [0.0; 4] }).label("junction".to_string());
