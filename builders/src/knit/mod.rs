@@ -464,9 +464,9 @@ pub fn fabric(f: &Fabric) -> Result<(Assembly, FabricLayout)> {
 }
 
 /// The cell's image: the yarn moved `period` (m) along the wale (y), tied
-/// to it at each Greville abscissa against the first (chained pair to
-/// pair, a tie in the middle of a long rod held only to 3e-6 of its terms:
-/// see [`EqualOffsets`]). Collocation at the Greville abscissae of a
+/// to it at each Greville abscissa, every pair against the first (ties
+/// chained pair to pair failed: one in the middle of a long rod held only
+/// to 3e-6 of its terms, see [`EqualOffsets`]). Collocation at the Greville abscissae of a
 /// clamped B-spline is invertible (Schoenberg–Whitney), so the ties make
 /// the image's control points the yarn's plus one common vector. The
 /// yarn's end is tied to the image's start in position and tangent. Yarn

@@ -153,7 +153,9 @@ class Fabric:
         heads, measured in space so a curled swatch is measured along
         itself), ``wales_per_cm``, ``courses_per_cm``, ``stitch_density``
         (stitches/cm²), and Munden's ``k_w`` = w⁻¹·l, ``k_c``, ``k_s`` (l in
-        cm, as Munden's constants)."""
+        cm, as Munden's constants). A cell has no edge: every head counts
+        (``margin`` is not used), the last course's against the image's
+        first, and w is measured head to head along the spiral."""
         from ..errors import InvalidInputError
         if isinstance(margin, bool) or not isinstance(margin, (int, np.integer)) or margin < 0:
             raise InvalidInputError(f"margin: a number of stitches ≥ 0, got {margin!r}")
