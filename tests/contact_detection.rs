@@ -73,18 +73,8 @@ fn pressed_across(offset: f64) {
     // the clamped ends; a change of detection whose rows differed from
     // these by round-off took the centred one there too). Centred, exact
     // symmetry keeps it there.
-    let vertical: f64 = w
-        .contacts()
-        .active()
-        .map(|(_, p)| match &p.kind {
-            ConstraintKind::Contact(c) => {
-                let n = w.rod(p.rods[1]).unwrap().position(c.ub).unwrap() - w.rod(p.rods[0]).unwrap().position(c.ua).unwrap();
-                let sign = if p.rods[1] == b { 1.0 } else { -1.0 };
-                sign * p.force * n.z / n.norm()
-            }
-            k => panic!("rod pairs should be contacts, got {k:?}"),
-        })
-        .sum();
+    // The report's normal pushes its rod a out of contact.
+    let vertical: f64 = w.contact_report().unwrap().iter().map(|c| if c.rod_a == b { 1.0 } else { -1.0 } * c.normal_force * c.normal[2]).sum();
     println!("{offset} m off centre: closest approach {closest:.6} m (radii sum {}), contact force's vertical part {vertical:.4} N for a push of {push} N, {} active pairs", 2.0 * R, w.contacts().active().count());
     assert!((vertical / push - 1.0).abs() < 1e-2, "{offset} m off: contact force's vertical part {vertical} vs push {push}");
 }
