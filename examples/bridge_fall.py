@@ -78,6 +78,10 @@ def main():
     e1 = world.energy()["total"]
     print(f"first touch of the wall at t = {first_touch:.2f} s; at t = {world.time:.2f} s {len(c['normal_force'])} contacts "
           f"carry {c['normal_force'].sum():.1f} N (bridge weight {sum(r.mass for r in world.rods()) * G:.0f} N)")
+    # What leans on the wall: the net contact force on each group.
+    for name in ("floor", "handrail", "plank"):
+        f = world.group(name).contact_force
+        print(f"  the wall's force on the {name} rods: ({f[0]:+.1f}, {f[1]:+.1f}, {f[2]:+.1f}) N")
     checks.true("the fall ran to the end without a refused step", True, f"{steps} steps of 4 ms")
     segment = max(ins.rods[i].rest_length / (ins.rods[i].n_control_points - 3) for i in bridge.ropes)
     checks.true("at rest against the wall, nothing inside it by 5 % of a radius", resting < 0.05,

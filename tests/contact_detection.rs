@@ -6,7 +6,7 @@
 //! never pass through, and at rest the contact carries the push.
 use nalgebra::Vector3;
 use strandkit::prelude::*;
-use strandkit::{Obstacle, RodContacts};
+use strandkit::{Item, Obstacle, RodContacts};
 
 const R: f64 = 0.01;
 
@@ -74,9 +74,33 @@ fn pressed_across(offset: f64) {
     // these by round-off took the centred one there too). Centred, exact
     // symmetry keeps it there.
     // The report's normal pushes its rod a out of contact.
-    let vertical: f64 = w.contact_report().unwrap().iter().map(|c| if c.rod_a == b { 1.0 } else { -1.0 } * c.normal_force * c.normal[2]).sum();
+    // Read per group (issue 15): the contacts seen from each rod, and the
+    // net force on each from outside its group.
+    for (h, label) in [(a, "lower"), (b, "upper"), (a, "both[0]"), (b, "both[1]")] {
+        w.set_label(Item::Rod(h), label).unwrap();
+    }
+    let on_b = w.group_contact_force("upper").unwrap();
+    let vertical = on_b[2];
     println!("{offset} m off centre: closest approach {closest:.6} m (radii sum {}), contact force's vertical part {vertical:.4} N for a push of {push} N, {} active pairs", 2.0 * R, w.contacts().active().count());
     assert!((vertical / push - 1.0).abs() < 1e-2, "{offset} m off: contact force's vertical part {vertical} vs push {push}");
+    // Action and reaction: the net force on a is minus that on b.
+    let on_a = w.group_contact_force("lower").unwrap();
+    for k in 0..3 {
+        assert!((on_a[k] + on_b[k]).abs() <= 1e-12 * push, "{offset} m off: {on_a:?} on a, {on_b:?} on b");
+    }
+    // Each pair once per group, turned to the group's rod: pushing b up and
+    // a down, at each rod's own touching point.
+    let (seen_a, seen_b, all) = (w.group_contacts("lower").unwrap(), w.group_contacts("upper").unwrap(), w.contact_report().unwrap());
+    assert!(seen_a.len() == all.len() && seen_b.len() == all.len() && w.group_contacts("both").unwrap().len() == all.len());
+    for (rod, seen, up) in [(a, &seen_a, -1.0), (b, &seen_b, 1.0)] {
+        for c in seen.iter() {
+            assert!(c.rod_a == rod && c.normal[2] * up > 0.0, "{c:?} seen from {rod:?}");
+            let p = w.rod(rod).unwrap().position(c.ua).unwrap();
+            assert!((p - Vector3::from(c.point)).norm() < 1e-12, "{c:?}: the point is not rod {rod:?}'s at {}", c.ua);
+        }
+    }
+    // A pair inside a group acts and reacts within it.
+    assert_eq!(w.group_contact_force("both").unwrap(), [0.0; 3]);
 }
 
 /// A rod dropped flat (slightly tilted) on a plane obstacle comes to rest on
@@ -104,6 +128,7 @@ fn dropped_on_a_plane(mu: f64) {
     let mut w = World::new(IntegrationParameters { dt: 2e-3, gravity: [0.0, 0.0, -9.81], ..Default::default() });
     let h = w.add_rod(rod(Vector3::new(-0.5, 0.0, 0.05), Vector3::new(0.5, 0.0, 0.08)));
     w.add_contact_detector(Obstacle::plane([0.0; 3], [0.0, 0.0, 1.0]).unwrap().with_margin(0.02).unwrap().with_friction(mu).unwrap()).unwrap();
+    w.set_label(Item::Rod(h), "rod").unwrap();
     let weight = w.rod(h).unwrap().mass() * 9.81;
     let mut last = w.energy().unwrap().total();
     let e0 = last;
@@ -116,7 +141,7 @@ fn dropped_on_a_plane(mu: f64) {
         deepest = deepest.min(low);
         if k >= 1200 {
             at_rest = at_rest.min(low);
-            carried += w.contacts().active().map(|(_, p)| p.force).sum::<f64>() / 300.0;
+            carried += w.group_contact_force("rod").unwrap()[2] / 300.0;
         }
         assert!(low > -0.05 * R, "μ = {mu}, step {k}: the surface sank {} below the plane", -low);
         let e = w.energy().unwrap().total();

@@ -7,7 +7,7 @@ use crate::handles::{to_py, PyConstraintHandle};
 use crate::world_data::{read, PyWorld};
 use numpy::{PyArray1, PyArray2};
 use pyo3::prelude::*;
-use pyo3::types::PyTuple;
+use pyo3::types::{PyDict, PyTuple};
 use strandkit_core::world::{ConstraintState, ObjectState};
 use strandkit_core::Item;
 
@@ -19,9 +19,11 @@ use strandkit_core::Item;
 /// or once gone), `positions` (n, 3) of their first abscissa (length; NaN
 /// once gone), `alive`, `broken` (n,) bool, `broken_time` (time) and
 /// `broken_force` (the measure that broke it) (n,) NaN where not broken,
-/// `multipliers` (list of arrays). Other members: `rods`, `beads`,
-/// `loads`, `clips` (live objects), `members` ((label, object) pairs of
-/// every member).
+/// `multipliers` (list of arrays). Rod members' contacts: `contacts`
+/// (the arrays of `World.contacts()`, seen from the group's rods) and
+/// `contact_force` (3,) (net, from outside the group; force). Other
+/// members: `rods`, `beads`, `loads`, `clips` (live objects), `members`
+/// ((label, object) pairs of every member).
 ///
 /// >>> import strandkit as sk
 /// >>> world = sk.World(gravity=(0, -9.81, 0))
@@ -141,6 +143,25 @@ impl PyGroup {
     #[getter]
     fn multipliers<'py>(&self, py: Python<'py>) -> PyResult<Vec<Bound<'py, PyArray1<f64>>>> {
         Ok(self.states(py)?.into_iter().map(|s| PyArray1::from_vec(py, s.multipliers)).collect())
+    }
+    /// The active contacts of the last solve touching the group's rods, as
+    /// `World.contacts()` gives them but each seen from the group's rod
+    /// (`rod_a`, `u_a`, `points` its; `normals` pushing it out;
+    /// `friction_force` on it). A pair between two of its rods (or a rod
+    /// and itself) appears once.
+    #[getter]
+    fn contacts<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let w = read(self.world.bind(py))?;
+        let list = guard(|| w.inner.group_contacts(&self.name))?;
+        crate::world::contacts_dict(py, &w.inner, &list)
+    }
+    /// Net contact force on the group's rods (force unit), (3,): normal and
+    /// friction forces from obstacles and rods outside the group (pairs
+    /// within it cancel and are left out).
+    #[getter]
+    fn contact_force<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray1<f64>>> {
+        let w = read(self.world.bind(py))?;
+        Ok(PyArray1::from_vec(py, guard(|| w.inner.group_contact_force(&self.name))?.to_vec()))
     }
     /// Rod members (Rod views).
     #[getter]

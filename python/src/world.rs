@@ -371,22 +371,9 @@ impl PyWorld {
     /// rod a out), `normal_force` (n: force unit, ≥ 0), `friction_force`
     /// (n, 3: tangential force on rod a), `slipping` (n: bool).
     fn contacts<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyDict>> {
-        let py = slf.py();
         let w = read(slf)?;
         let list = guard(|| w.inner.contact_report())?;
-        let order: Vec<RodHandle> = w.inner.rods().map(|(h, _)| h).collect();
-        let index = |h: Option<RodHandle>| h.and_then(|h| order.iter().position(|x| *x == h)).map_or(-1, |i| i as i64);
-        let d = PyDict::new(py);
-        d.set_item("rod_a", PyArray1::from_vec(py, list.iter().map(|c| index(Some(c.rod_a))).collect()))?;
-        d.set_item("rod_b", PyArray1::from_vec(py, list.iter().map(|c| index(c.rod_b)).collect()))?;
-        d.set_item("u_a", PyArray1::from_vec(py, list.iter().map(|c| c.ua).collect()))?;
-        d.set_item("u_b", PyArray1::from_vec(py, list.iter().map(|c| c.ub.unwrap_or(f64::NAN)).collect()))?;
-        d.set_item("points", convert::points(py, list.iter().map(|c| c.point))?)?;
-        d.set_item("normals", convert::points(py, list.iter().map(|c| c.normal))?)?;
-        d.set_item("normal_force", PyArray1::from_vec(py, list.iter().map(|c| c.normal_force).collect()))?;
-        d.set_item("friction_force", convert::points(py, list.iter().map(|c| c.friction_force))?)?;
-        d.set_item("slipping", PyArray1::from_vec(py, list.iter().map(|c| c.slipping).collect()))?;
-        Ok(d)
+        contacts_dict(slf.py(), &w.inner, &list)
     }
     /// Replaces a constraint's kind (same kind and rows): moving targets.
     fn set_constraint(slf: &Bound<'_, Self>, constraint: &Bound<'_, PyConstraintHandle>, kind: &Bound<'_, PyAny>) -> PyResult<()> {
@@ -701,4 +688,22 @@ impl PyWorld {
 
 pub fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyWorld>()
+}
+
+/// Contacts as `World.contacts()` and `Group.contacts` give them: a dict of
+/// arrays, rods named by their position in `world.rods()` (−1: an obstacle).
+pub(crate) fn contacts_dict<'py>(py: Python<'py>, w: &World, list: &[strandkit_core::contact::ContactInfo]) -> PyResult<Bound<'py, PyDict>> {
+    let order: Vec<RodHandle> = w.rods().map(|(h, _)| h).collect();
+    let index = |h: Option<RodHandle>| h.and_then(|h| order.iter().position(|x| *x == h)).map_or(-1, |i| i as i64);
+    let d = PyDict::new(py);
+    d.set_item("rod_a", PyArray1::from_vec(py, list.iter().map(|c| index(Some(c.rod_a))).collect()))?;
+    d.set_item("rod_b", PyArray1::from_vec(py, list.iter().map(|c| index(c.rod_b)).collect()))?;
+    d.set_item("u_a", PyArray1::from_vec(py, list.iter().map(|c| c.ua).collect()))?;
+    d.set_item("u_b", PyArray1::from_vec(py, list.iter().map(|c| c.ub.unwrap_or(f64::NAN)).collect()))?;
+    d.set_item("points", convert::points(py, list.iter().map(|c| c.point))?)?;
+    d.set_item("normals", convert::points(py, list.iter().map(|c| c.normal))?)?;
+    d.set_item("normal_force", PyArray1::from_vec(py, list.iter().map(|c| c.normal_force).collect()))?;
+    d.set_item("friction_force", convert::points(py, list.iter().map(|c| c.friction_force))?)?;
+    d.set_item("slipping", PyArray1::from_vec(py, list.iter().map(|c| c.slipping).collect()))?;
+    Ok(d)
 }

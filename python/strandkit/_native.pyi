@@ -253,6 +253,10 @@ class Group:
     """Clip members (ClipHandles)."""
     constraints: Any
     """Handles of the constraint members (alive or gone)."""
+    contact_force: Any
+    """Net contact force on the group's rods (force unit), (3,): normal and friction forces from obstacles and rods outside the group (pairs within it cancel and are left out)."""
+    contacts: Any
+    """The active contacts of the last solve touching the group's rods, as `World.contacts()` gives them but each seen from the group's rod (`rod_a`, `u_a`, `points` its; `normals` pushing it out; `friction_force` on it)."""
     forces: Any
     """Reaction forces of the last solve on each constraint's first rod (force unit), (n, 3)."""
     labels: Any

@@ -218,3 +218,39 @@ def test_a_fast_rod_passes_through_a_bar_unless_its_steps_are_held_within_the_ma
     with pytest.raises(sk.DivergedError, match="control point 5 ") as e:
         w3.step()
     assert e.value.factor == pytest.approx(5.0, rel=1e-9)
+
+
+def test_contact_forces_read_per_group_balance_the_weights():
+    """Issue 15: contact forces per group. A rod lying across another on a
+    frictional floor, at rest: the net contact force on each group (from
+    obstacles and rods outside it) balances its weight — the floor and the
+    upper rod together hold the lower rod up, the pair between the two rods
+    acts and reacts inside the group of both — and each group sees the
+    pairs from its own rods."""
+    w = sk.World(dt=2e-3, gravity=(0, 0, -G))
+    lower = w.add_rod(sk.straight((-0.25, 0, R), (0.25, 0, R), section=R, material="nylon", n_control_points=8, with_roll=False))
+    upper = w.add_rod(sk.straight((0, -0.2, 3.1 * R), (0, 0.2, 3.1 * R), section=R, material="nylon", n_control_points=8, with_roll=False))
+    w.add_obstacle(sk.obstacles.plane(), margin=0.005, friction=0.5)
+    w.contact(margin=0.005, self_contact=False, friction=0.5)
+    for rod, label in [(lower, "lower"), (upper, "upper"), (lower, "rods[0]"), (upper, "rods[1]")]:
+        w.set_label(rod, label)
+    for _ in range(600):
+        w.step()
+    weight = {name: rod.mass * G for name, rod in [("lower", lower), ("upper", upper)]}
+    weight["rods"] = weight["lower"] + weight["upper"]
+    for name, mg in weight.items():
+        f = w.group(name).contact_force
+        print(f"{name}: net contact force {f} N, weight {mg:.6f} N")
+        assert f.shape == (3,)
+        assert abs(f[2] / mg - 1) < 1e-4 and np.abs(f[:2]).max() < 1e-4 * mg
+    # Seen from the upper rod: only the crossing, pushing it up, at its own
+    # centreline point; from the lower rod the same pair turned, and the floor.
+    up, low, both = w.group("upper").contacts, w.group("lower").contacts, w.contacts()
+    i_low, i_up = 0, 1  # positions in w.rods(), the order they were added
+    assert up["rod_a"].tolist() == [i_up] * len(up["rod_a"]) and (up["rod_b"] == i_low).all()
+    assert (up["normals"][:, 2] > 0.99).all()
+    assert np.allclose(up["points"], upper.position(up["u_a"]), atol=1e-12)
+    crossing = low["rod_b"] == i_up
+    assert crossing.sum() == len(up["rod_a"]) and (low["normals"][crossing, 2] < -0.99).all()
+    assert np.allclose(low["normal_force"][crossing], up["normal_force"])
+    assert len(w.group("rods").contacts["rod_a"]) == len(both["rod_a"])

@@ -203,6 +203,28 @@ pub struct ContactInfo {
     pub slipping: bool,
 }
 
+impl ContactInfo {
+    /// The same contact seen from rod b (a rod–rod pair): the rods and
+    /// abscissae swapped, `point_b` (rod b's centreline point at ub) as the
+    /// point, and the normal and friction force reversed — the force on b
+    /// is minus the force on a (a row's gradient is equal and opposite at
+    /// the two touching points). Against an obstacle (no rod b) unchanged.
+    pub fn turned(&self, point_b: [f64; 3]) -> ContactInfo {
+        let (Some(rod_b), Some(ub)) = (self.rod_b, self.ub) else { return self.clone() };
+        ContactInfo {
+            rod_a: rod_b,
+            rod_b: Some(self.rod_a),
+            ua: ub,
+            ub: Some(self.ua),
+            point: point_b,
+            normal: self.normal.map(|x| -x),
+            normal_force: self.normal_force,
+            friction_force: self.friction_force.map(|x| -x),
+            slipping: self.slipping,
+        }
+    }
+}
+
 impl ContactSet {
     /// The active pairs, with their geometry at the rods' current state.
     pub fn report<'r>(&self, rod: impl Fn(RodHandle) -> Result<&'r crate::rod::Rod>) -> Result<Vec<ContactInfo>> {

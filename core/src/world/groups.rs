@@ -3,6 +3,7 @@
 //! base name ("hbond"), in insertion order, or one label exactly. The world
 //! answers group queries — forces, broken flags, positions — without the
 //! caller keeping handle lists.
+use crate::contact::ContactInfo;
 use crate::error::{Error, Result};
 use crate::handles::{BeadHandle, ClipHandle, ConstraintHandle, LoadHandle, RodHandle};
 use serde::{Deserialize, Serialize};
@@ -198,6 +199,61 @@ impl super::World {
             out.push(s);
         }
         Ok(out)
+    }
+
+    /// The active contacts of the last solve that touch a rod of the group,
+    /// each seen from that rod: a pair whose rod a is outside the group and
+    /// rod b inside is turned around ([`ContactInfo::turned`]: the forces on
+    /// b, its point and abscissa first). A pair with both rods in the group
+    /// (self-contact included) is reported once, from its rod a.
+    pub fn group_contacts(&self, name: &str) -> Result<Vec<ContactInfo>> {
+        let rods = self.group_rods(name)?;
+        let mut out = Vec::new();
+        for c in self.contact_report()? {
+            if rods.binary_search(&c.rod_a).is_ok() {
+                out.push(c);
+            } else if let (Some(b), Some(ub)) = (c.rod_b, c.ub) {
+                if rods.binary_search(&b).is_ok() {
+                    let point_b = self.rod(b)?.position(ub)?;
+                    out.push(c.turned(point_b.into()));
+                }
+            }
+        }
+        Ok(out)
+    }
+
+    /// The net contact force (normal and friction; force unit) on the
+    /// group's rods from everything outside the group: obstacles and other
+    /// rods. Pairs between two of its rods act and react inside it and
+    /// cancel, so they are left out (not summed to round-off).
+    pub fn group_contact_force(&self, name: &str) -> Result<[f64; 3]> {
+        let rods = self.group_rods(name)?;
+        let inside = |h: Option<RodHandle>| h.is_some_and(|h| rods.binary_search(&h).is_ok());
+        let mut f = [0.0; 3];
+        for c in self.group_contacts(name)? {
+            if !inside(c.rod_b) {
+                for (k, fk) in f.iter_mut().enumerate() {
+                    *fk += c.normal_force * c.normal[k] + c.friction_force[k];
+                }
+            }
+        }
+        Ok(f)
+    }
+
+    /// The live rods of a group, sorted by handle.
+    pub fn group_rods(&self, name: &str) -> Result<Vec<RodHandle>> {
+        let mut rods: Vec<RodHandle> = self
+            .groups
+            .members(name)?
+            .into_iter()
+            .filter_map(|m| match m.item {
+                Item::Rod(h) if self.rod(h).is_ok() => Some(h),
+                _ => None,
+            })
+            .collect();
+        rods.sort_unstable();
+        rods.dedup();
+        Ok(rods)
     }
 
     /// The rods, beads, loads and clips of a group, alive or gone.
