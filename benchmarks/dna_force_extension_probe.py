@@ -4,14 +4,17 @@ and the free duplex's tangent correlations by scale. Not a test: the runs
 take minutes and their figures are recorded in README ("Not yet") and the
 session notes.
 
-    python benchmarks/dna_force_extension_probe.py duplex  N F STEPS [T [averaged]]   # N bp, F pN
+    python benchmarks/dna_force_extension_probe.py duplex  N F STEPS [T [averaged|brownian]]   # N bp, F pN
     python benchmarks/dna_force_extension_probe.py rod     L F STEPS pin|clamp
     python benchmarks/dna_force_extension_probe.py free    N STEPS
 
 duplex: N bp (break forces infinite) held at pair 0 by two traps, pulled
 at the last pair by F along the axis, Langevin noise at T K (trapezoidal,
 5 ps, viscosity 0.1; with ``averaged``, the stacking averaged over each
-step at 0.25 ps, framed every 20 steps); every 5 steps the pairs are framed as
+step at 0.25 ps, framed every 20 steps; with ``brownian``, overdamped with
+isotropic drag at water's viscosity and the stacking averaged, 5 ps;
+``DT``, ``ETA`` (viscosity, pN·ns/nm²) and ``SEED`` in the environment
+override); every 5 steps the pairs are framed as
 ``fluctuations.pair_frames`` frames them and, for interior spans (pairs
 m … N−1−m), the span z along the pull and the contour Lc (the rises along
 the local axis, summed) are read: z/Lc against Bouchiat's long chain.
@@ -31,6 +34,10 @@ Measured 2026-11-29 (first fifth of each run dropped, 8 blocks):
 - duplex 100 bp, 10 pN, averaged stacking, 48000 steps of 0.25 ps: z/Lc
   0.9660 ± 0.0029 (m = 15), 0.9685 ± 0.0022 (m = 30), 48 ms/step: within
   the error of the held stacking's (2026-11-29, thirty-fourth session).
+- duplex 100 bp, 10 pN, brownian, 4000 steps (2026-11-30): ⟨θ²⟩ 0.0587 ±
+  0.0024, z/Lc 0.9709 ± 0.0013 (m = 15) at water's viscosity; with
+  ETA=0.1 0.0780 ± 0.0057 and 0.9599 ± 0.0031 (exact tilt 0.0898), 424
+  ms/step.
 - rod 34 nm, 10 pN, 20000 steps: 0.9564 ± 0.0008 pinned, 0.9572 ± 0.0008
   clamped (shortening 4.4 %, 4.3 %); 3 pN clamped 0.9235 ± 0.0023 (7.7 %
   against Bouchiat's 8.3 %): finite length and ends take 5–8 % of the
@@ -65,14 +72,17 @@ def blocks(x, n=8):
     return float(np.mean(x)), standard_error([b.mean() for b in np.array_split(np.asarray(x), n)])
 
 
-def duplex_run(n, force, steps, temperature=T, averaged=False, spans=(15, 30)):
+def duplex_run(n, force, steps, temperature=T, averaged=False, brownian=False, spans=(15, 30)):
     spans = [m for m in spans if n - 1 - 2 * m >= 4]  # interior spans of at least 4 steps
+    averaged = averaged or brownian
     d = sk.dna.duplex(("GATTACA" * (n // 7 + 1))[:n], break_forces=[math.inf] * n, averaged_stacking=averaged)
     noisy = temperature > 0
-    every = 20 if averaged else 5
-    dt = float(os.environ["DT"]) if "DT" in os.environ else 0.00025 if averaged else 0.005 if noisy else 0.05
-    w = sk.World(units="molecular", dt=dt, viscosity=0.1 if noisy else 1.0,
-                 temperature=temperature, seed=3, scheme=noise_scheme(temperature, None), adaptive_dt=True)
+    every = 5 if brownian or not averaged else 20
+    dt = float(os.environ["DT"]) if "DT" in os.environ else 0.005 if brownian else 0.00025 if averaged else 0.005 if noisy else 0.05
+    eta = float(os.environ["ETA"]) if "ETA" in os.environ else 0.1 if noisy and not brownian else 1.0
+    w = sk.World(units="molecular", dt=dt, viscosity=eta,
+                 temperature=temperature, seed=int(os.environ.get("SEED", 3)), scheme=noise_scheme(temperature, None),
+                 adaptive_dt=True, overdamped=brownian, isotropic_drag=brownian)
     ins = w.insert(d.assembly)
     a, b = (ins.rods[i] for i in d.strands)
     ends = lambda k: ((a, float(d.abscissae[0][k])), (b, float(d.abscissae[1][int(d.partner[k])])))  # noqa: E731
@@ -94,7 +104,7 @@ def duplex_run(n, force, steps, temperature=T, averaged=False, spans=(15, 30)):
                          for v in (float(np.dot(o[n - 1 - m] - o[m], e)), float(rise[m:n - 1 - m].sum()),
                                    float(tilt[m:n - m].mean()))])
     r = np.array(rows)
-    print(f"duplex {n} bp, {force:g} pN, {temperature:g} K, {'averaged' if averaged else 'held'} stacking, "
+    print(f"duplex {n} bp, {force:g} pN, {temperature:g} K, {'Brownian, ' if brownian else ''}{'averaged' if averaged else 'held'} stacking, "
           f"dt {dt * 1e3:g} ps: {(time.time() - start) / steps * 1e3:.1f} ms/step; "
           f"Bouchiat {bouchiat_extension(force, A, KT):.4f}")
     for j, m in enumerate(spans):
@@ -154,7 +164,7 @@ if __name__ == "__main__":
     mode, args = sys.argv[1], sys.argv[2:]
     if mode == "duplex":
         duplex_run(int(args[0]), float(args[1]), int(args[2]), float(args[3]) if len(args) > 3 else T,
-                   averaged=len(args) > 4 and args[4] == "averaged")
+                   averaged=len(args) > 4 and args[4] == "averaged", brownian=len(args) > 4 and args[4] == "brownian")
     elif mode == "rod":
         rod_run(float(args[0]), float(args[1]), int(args[2]), args[3] == "clamp")
     elif mode == "free":
