@@ -353,8 +353,17 @@ impl PyWorld {
     /// / mesh`) the rods' surfaces cannot enter, detected `margin` (length)
     /// ahead of contact, with Coulomb `friction` (μ ≥ 0) against the rods.
     #[pyo3(signature = (obstacle, *, margin = 0.0, friction = 0.0))]
-    fn add_obstacle(slf: &Bound<'_, Self>, obstacle: &crate::obstacles::PyObstacle, margin: f64, friction: f64) -> PyResult<()> {
-        let o = obstacle.inner.clone();
+    fn add_obstacle(slf: &Bound<'_, Self>, obstacle: &Bound<'_, PyAny>, margin: f64, friction: f64) -> PyResult<()> {
+        let Ok(obstacle) = obstacle.cast::<crate::obstacles::PyObstacle>() else {
+            // `sk.plane` is the constraint holding a rod point on a plane
+            // (the catalogue's name), which is what gets passed here by mistake.
+            return Err(pyo3::exceptions::PyTypeError::new_err(format!(
+                "add_obstacle takes a strandkit.obstacles shape (plane, sphere, capsule, cylinder, mesh, mesh_arrays), got {}; \
+                 sk.plane(u, origin, normal) is the constraint holding a rod point on a plane, the wall is sk.obstacles.plane(origin=..., normal=...)",
+                obstacle.get_type().name()?
+            )));
+        };
+        let o = obstacle.borrow().inner.clone();
         Self::with_mut(slf, |w| w.add_contact_detector(o.with_margin(margin)?.with_friction(friction)?))
     }
     /// Removes every contact detector and obstacle, and the contacts found.

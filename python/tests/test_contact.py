@@ -156,6 +156,9 @@ def test_bad_contact_input_is_refused(tmp_path):
         w.add_obstacle(sk.obstacles.plane(), margin=np.nan)
     with pytest.raises(sk.InvalidInputError):
         w.contact(margin=0.01, friction=np.inf)
+    # sk.plane is the plane *constraint*: the error points to the obstacle.
+    with pytest.raises(TypeError, match=r"sk\.obstacles\.plane"):
+        w.add_obstacle(sk.plane(0.0, (0, 0, 0), (0, 0, 1)), margin=0.01)
     # Missing, empty, or not a mesh: a FileError naming the file.
     (tmp_path / "empty.stl").write_bytes(b"")
     (tmp_path / "notes.obj").write_text("just some text\nv 1 2\n")
