@@ -158,9 +158,24 @@ fn dropped_on_a_plane(mu: f64) {
 }
 
 /// Bad input: a negative or non-finite margin, a non-finite origin, a zero
-/// or non-finite normal — typed errors.
+/// or non-finite normal, a rod pair's friction negative, non-finite or
+/// given twice, a rod the world does not have (removed, or never there) —
+/// typed errors, nothing added.
 #[test]
 fn contact_detectors_refuse_bad_parameters() {
+    let mut w = World::new(IntegrationParameters::default());
+    let (a, b) = (w.add_rod(rod(Vector3::zeros(), Vector3::x())), w.add_rod(rod(Vector3::y(), Vector3::new(1.0, 1.0, 0.0))));
+    let d = || RodContacts::new(1e-3, true, true).unwrap();
+    for mu in [-0.1, f64::NAN, f64::INFINITY] {
+        assert!(matches!(d().with_pair_friction(a, b, mu), Err(Error::InvalidInput { .. })), "pair friction {mu}");
+    }
+    assert!(matches!(d().with_pair_friction(a, b, 0.2).unwrap().with_pair_friction(b, a, 0.3), Err(Error::InvalidInput { .. })));
+    w.remove_rod(b).unwrap();
+    for h in [b, RodHandle { index: b.index + 5, generation: 0 }] {
+        assert!(w.add_contact_detector(d().with_pair_friction(a, h, 0.2).unwrap()).is_err(), "{h:?}");
+    }
+    assert!(w.contact_detectors().is_empty());
+    assert_eq!(d().with_pair_friction(a, a, 0.2).unwrap().friction_between(a, a), 0.2);
     for m in [-1e-3, f64::NAN, f64::INFINITY] {
         assert!(matches!(RodContacts::new(m, true, true), Err(Error::InvalidInput { .. })), "margin {m}");
         assert!(matches!(Obstacle::plane([0.0; 3], [0.0, 0.0, 1.0]).unwrap().with_margin(m), Err(Error::InvalidInput { .. })), "margin {m}");

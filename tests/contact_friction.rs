@@ -162,6 +162,8 @@ fn capstan_rope_slipping_over_a_cylinder() {
 /// F = 1.5 μP, its slipping pairs reporting a friction force of μ N with N
 /// the reported normal force (to 1e-3, the rounds' tolerance on N; measured
 /// 3.4e-7: the row across ŝ turns the force, it does not lengthen it).
+/// The same with μ = 0.4 given to the rod pair alone, the detector's own μ
+/// 0.1 (which would let b slide at 0.8 μP).
 #[test]
 fn a_rod_pulled_across_another_sticks_then_slides() {
     let (r, mu, push) = (0.01, 0.4, 20.0);
@@ -174,7 +176,7 @@ fn a_rod_pulled_across_another_sticks_then_slides() {
             .build()
             .unwrap()
     };
-    let run = |pull: f64| -> (f64, f64, f64, (f64, usize)) {
+    let run = |pull: f64, by_pair: bool| -> (f64, f64, f64, (f64, usize)) {
         let mut w = World::new(IntegrationParameters { dt: 1e-3, ..Default::default() });
         let a = w.add_rod(rod(Vector3::new(-0.5, 0.0, 0.0), Vector3::new(0.5, 0.0, 0.0)));
         let b = w.add_rod(rod(Vector3::new(0.0, -0.2, 2.0 * r), Vector3::new(0.0, 0.2, 2.0 * r)));
@@ -190,7 +192,9 @@ fn a_rod_pulled_across_another_sticks_then_slides() {
         let um = 0.5 * (u0 + u1);
         // Pressed for 0.1 s (the contact force builds up), then pulled.
         let load = w.add_load(Load::PointForce(PointForce { rod: b, u: um, force: [0.0, 0.0, -push] })).unwrap();
-        w.add_contact_detector(RodContacts::new(0.005, false, true).unwrap().with_friction(mu).unwrap()).unwrap();
+        let detector = RodContacts::new(0.005, false, true).unwrap();
+        let detector = if by_pair { detector.with_friction(0.1).unwrap().with_pair_friction(b, a, mu).unwrap() } else { detector.with_friction(mu).unwrap() };
+        w.add_contact_detector(detector).unwrap();
         for _ in 0..100 {
             w.step().unwrap();
         }
@@ -220,15 +224,20 @@ fn a_rod_pulled_across_another_sticks_then_slides() {
         (track[n - 1].1, acc, mass, off_cone)
     };
     use strandkit::RodContacts;
-    let (held, _, _, _) = run(0.8 * mu * push);
-    println!("F = 0.8 μP: rod b moved {held:.2e} m in 0.4 s");
-    assert!(held.abs() < 1e-6, "should stick: moved {held}");
-    let (slid, acc, mass, (off_cone, n_slipping)) = run(1.5 * mu * push);
+    for by_pair in [false, true] {
+        let (held, _, _, _) = run(0.8 * mu * push, by_pair);
+        println!("F = 0.8 μP (μ {}): rod b moved {held:.2e} m in 0.4 s", if by_pair { "of the pair" } else { "of the detector" });
+        assert!(held.abs() < 1e-6, "should stick: moved {held}");
+    }
+    let (_, acc_pair, _, _) = run(1.5 * mu * push, true);
+    let (slid, acc, mass, (off_cone, n_slipping)) = run(1.5 * mu * push, false);
     println!("{n_slipping} slipping pairs, friction force off μ N by up to {off_cone:.1e}");
     assert!(n_slipping > 0 && off_cone < 1e-3, "{n_slipping} slipping pairs, friction force off μ N by up to {off_cone}");
     let expected = 0.5 * mu * push / mass;
     println!("F = 1.5 μP: a = {acc:.4} m/s² vs (F − μP)/m = {expected:.4} ({:+.2} %), slid {slid:.4} m", 100.0 * (acc / expected - 1.0));
     assert!((acc / expected - 1.0).abs() < 1e-2);
+    println!("μ given to the pair: a = {acc_pair:.4} m/s² ({:+.2} %)", 100.0 * (acc_pair / expected - 1.0));
+    assert!((acc_pair / expected - 1.0).abs() < 1e-2);
 }
 
 /// A rope lying across a slope (a horizontal line of 20 control points on

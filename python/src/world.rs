@@ -326,9 +326,11 @@ impl PyWorld {
     /// world never paired with themselves (an image rod repeating another's
     /// self-contacts); `joined`: pairs (a, b) of rods where b continues a
     /// (a's end tied at b's start), whose points closer along the join than
-    /// the self-contact exclusion are never paired. Snapshots keep the
-    /// detection and the contacts' state.
-    #[pyo3(signature = (*, margin, self_contact = true, between_rods = true, friction = 0.0, no_self_contact = Vec::new(), joined = Vec::new()))]
+    /// the self-contact exclusion are never paired; `pair_friction`:
+    /// triples (a, b, μ) giving rods a and b (either order; a rod twice for
+    /// its self-contact) their own coefficient instead of `friction`.
+    /// Snapshots keep the detection and the contacts' state.
+    #[pyo3(signature = (*, margin, self_contact = true, between_rods = true, friction = 0.0, no_self_contact = Vec::new(), joined = Vec::new(), pair_friction = Vec::new()))]
     #[allow(clippy::too_many_arguments)]
     fn contact(
         slf: &Bound<'_, Self>,
@@ -338,13 +340,18 @@ impl PyWorld {
         friction: f64,
         no_self_contact: Vec<Bound<'_, PyRod>>,
         joined: Vec<(Bound<'_, PyRod>, Bound<'_, PyRod>)>,
+        pair_friction: Vec<(Bound<'_, PyRod>, Bound<'_, PyRod>, f64)>,
     ) -> PyResult<()> {
         let alone = no_self_contact.iter().map(|r| Self::rod_handle(slf, r)).collect::<PyResult<Vec<_>>>()?;
         let pairs = joined.iter().map(|(a, b)| Ok((Self::rod_handle(slf, a)?, Self::rod_handle(slf, b)?))).collect::<PyResult<Vec<_>>>()?;
+        let mus = pair_friction.iter().map(|(a, b, mu)| Ok((Self::rod_handle(slf, a)?, Self::rod_handle(slf, b)?, *mu))).collect::<PyResult<Vec<_>>>()?;
         Self::with_mut(slf, |w| {
             let mut d = strandkit_core::RodContacts::new(margin, self_contact, between_rods)?.with_friction(friction)?.without_self_contact(&alone);
             for (a, b) in pairs {
                 d = d.with_joined(a, b)?;
+            }
+            for (a, b, mu) in mus {
+                d = d.with_pair_friction(a, b, mu)?;
             }
             w.add_contact_detector(d)
         })

@@ -1,6 +1,7 @@
 """Contact from Python (issue 15): obstacles (plane, sphere, capsule, meshes
 read from OBJ and STL), friction, the contacts as arrays, snapshots that
 restart mid-contact bit for bit, and bad input."""
+import json
 import struct
 
 import numpy as np
@@ -257,3 +258,23 @@ def test_contact_forces_read_per_group_balance_the_weights():
     assert crossing.sum() == len(up["rod_a"]) and (low["normals"][crossing, 2] < -0.99).all()
     assert np.allclose(low["normal_force"][crossing], up["normal_force"])
     assert len(w.group("rods").contacts["rod_a"]) == len(both["rod_a"])
+
+
+def test_a_rod_pair_gets_its_own_friction_kept_in_snapshots():
+    """Issue 15: friction per rod pair (`pair_friction`), instead of the
+    detector's μ for that pair only; kept in snapshots; bad μ or a rod of
+    another world refused. (Its physics: tests/contact_friction.rs, a rod
+    pulled across another sticks and slides by the pair's μ.)"""
+    w = sk.World()
+    a, b, c = (w.add_rod(sk.straight((0, y, 0), (1, y, 0), section=R, material="nylon", with_roll=False)) for y in (0, 0.1, 0.2))
+    w.contact(margin=0.005, friction=0.1, pair_friction=[(b, a, 0.5), (c, c, 0.3)])
+    detector = next(d for d in json.loads(w.to_json())["world"]["detectors"] if "Rods" in d)["Rods"]
+    assert sorted(mu for _, mu in detector["pair_friction"]) == [0.3, 0.5] and detector["friction"] == 0.1
+    assert sk.World.from_json(w.to_json()).to_json() == w.to_json()
+    for bad in [[(a, b, -0.2)], [(a, b, float("nan"))], [(a, b, 0.2), (b, a, 0.3)]]:
+        with pytest.raises(sk.InvalidInputError):
+            w.contact(margin=0.005, pair_friction=bad)
+    stranger = sk.World().add_rod(sk.straight((0, 0, 0), (1, 0, 0), section=R, material="nylon", with_roll=False))
+    with pytest.raises(sk.StrandkitError):
+        w.contact(margin=0.005, pair_friction=[(a, stranger, 0.2)])
+    assert len([d for d in json.loads(w.to_json())["world"]["detectors"] if "Rods" in d]) == 1

@@ -63,6 +63,9 @@ const FEW_ROWS: usize = 32;
 /// `joined`: pairs [a, b] of rods where b continues a (a's end at b's
 /// start, tied by the caller): their capsules closer along the joined
 /// yarn than the self-contact exclusion are never paired, as on one rod.
+/// `pair_friction`: Coulomb coefficients for given rod pairs (either
+/// order; [a, a] for a rod against itself) instead of `friction` — a
+/// cable against a rope, yarns of two fibres.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RodContacts {
     pub margin: f64,
@@ -74,11 +77,13 @@ pub struct RodContacts {
     pub no_self_contact: Vec<RodHandle>,
     #[serde(default)]
     pub joined: Vec<[RodHandle; 2]>,
+    #[serde(default)]
+    pub pair_friction: Vec<([RodHandle; 2], f64)>,
 }
 
 impl RodContacts {
     pub fn new(margin: f64, self_contact: bool, between_rods: bool) -> Result<RodContacts> {
-        let d = RodContacts { margin, self_contact, between_rods, friction: 0.0, no_self_contact: Vec::new(), joined: Vec::new() };
+        let d = RodContacts { margin, self_contact, between_rods, friction: 0.0, no_self_contact: Vec::new(), joined: Vec::new(), pair_friction: Vec::new() };
         d.validate()?;
         Ok(d)
     }
@@ -105,8 +110,31 @@ impl RodContacts {
         self.joined.push([a, b]);
         Ok(self)
     }
+    /// Coulomb coefficient `mu` (≥ 0) between rods `a` and `b` (either
+    /// order; `a` = `b`: the rod against itself), instead of the
+    /// detector's; each pair given once.
+    pub fn with_pair_friction(mut self, a: RodHandle, b: RodHandle, mu: f64) -> Result<RodContacts> {
+        let key = [a.min(b), a.max(b)];
+        if self.pair_friction.iter().any(|(k, _)| *k == key) {
+            return Err(crate::Error::invalid("pair friction", format!("{a:?} and {b:?}"), "each rod pair given once"));
+        }
+        self.pair_friction.push((key, mu));
+        self.validate()?;
+        Ok(self)
+    }
+    /// Every rod the detector names (its lists of rods and pairs).
+    pub fn rods_named(&self) -> impl Iterator<Item = RodHandle> + '_ {
+        let pairs = self.joined.iter().chain(self.pair_friction.iter().map(|(k, _)| k));
+        self.no_self_contact.iter().copied().chain(pairs.flat_map(|k| k.iter().copied()))
+    }
+    /// The Coulomb coefficient between rods `a` and `b`.
+    pub fn friction_between(&self, a: RodHandle, b: RodHandle) -> f64 {
+        let key = [a.min(b), a.max(b)];
+        self.pair_friction.iter().find(|(k, _)| *k == key).map_or(self.friction, |&(_, mu)| mu)
+    }
     pub fn validate(&self) -> Result<()> {
-        super::check_margin_and_friction(self.margin, self.friction)
+        super::check_margin_and_friction(self.margin, self.friction)?;
+        self.pair_friction.iter().try_for_each(|&(_, mu)| super::friction::check_mu(mu))
     }
 }
 
@@ -613,7 +641,7 @@ impl ContactDetector for RodContacts {
             chosen.sort_unstable_by(along_rods);
         }
         for (handles, c) in chosen.iter() {
-            out.pairs.push(ContactPair::new(*handles, ConstraintKind::Contact(c.clone()))?.with_friction(self.friction)?);
+            out.pairs.push(ContactPair::new(*handles, ConstraintKind::Contact(c.clone()))?.with_friction(self.friction_between(handles[0], handles[1]))?);
         }
         Ok(())
     }

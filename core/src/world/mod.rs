@@ -166,6 +166,11 @@ impl World {
     pub fn add_contact_detector(&mut self, d: impl Into<Detector>) -> Result<()> {
         let d = d.into();
         d.validate()?;
+        if let Detector::Rods(r) = &d {
+            // The rods it names are this world's (a handle from another
+            // world, or a removed rod, is refused).
+            r.rods_named().try_for_each(|h| self.rod(h).map(drop))?;
+        }
         self.detectors.push(d);
         Ok(())
     }
