@@ -37,7 +37,7 @@ Measured 2026-11-29 (first fifth of each run dropped, 8 blocks):
 - duplex 100 bp, 10 pN, brownian, 4000 steps (2026-11-30): ⟨θ²⟩ 0.0587 ±
   0.0024, z/Lc 0.9709 ± 0.0013 (m = 15) at water's viscosity; with
   ETA=0.1 0.0780 ± 0.0057 and 0.9599 ± 0.0031 (exact tilt 0.0898), 424
-  ms/step.
+  ms/step; SEED=7: 0.0726 ± 0.0061 and 0.9629 ± 0.0033.
 - rod 34 nm, 10 pN, 20000 steps: 0.9564 ± 0.0008 pinned, 0.9572 ± 0.0008
   clamped (shortening 4.4 %, 4.3 %); 3 pN clamped 0.9235 ± 0.0023 (7.7 %
   against Bouchiat's 8.3 %): finite length and ends take 5–8 % of the
