@@ -167,8 +167,8 @@ impl World {
         let d = d.into();
         d.validate()?;
         if let Detector::Rods(r) = &d {
-            // The rods it names are this world's (a handle from another
-            // world, or a removed rod, is refused).
+            // The rods it names are in this world (a removed rod, or an
+            // index the world never gave, is refused).
             r.rods_named().try_for_each(|h| self.rod(h).map(drop))?;
         }
         self.detectors.push(d);
