@@ -175,7 +175,26 @@ fn contact_detectors_refuse_bad_parameters() {
         assert!(w.add_contact_detector(d().with_pair_friction(a, h, 0.2).unwrap()).is_err(), "{h:?}");
     }
     assert!(w.contact_detectors().is_empty());
-    assert_eq!(d().with_pair_friction(a, a, 0.2).unwrap().friction_between(a, a), 0.2);
+    // The pair list is kept sorted for the lookup detection makes per row:
+    // pairs given out of order (and reversed) each find their own μ, a pair
+    // not given the detector's; a list out of order (a hand-edited
+    // snapshot) is refused.
+    let h = |i: u32| RodHandle { index: i, generation: 0 };
+    let given = [(3, 1, 0.31), (0, 0, 0.0), (2, 4, 0.24), (1, 2, 0.12), (0, 3, 0.03), (4, 4, 0.44)];
+    let mut many = d().with_friction(0.5).unwrap();
+    for &(i, j, mu) in &given {
+        many = many.with_pair_friction(h(i), h(j), mu).unwrap();
+    }
+    for &(i, j, mu) in &given {
+        assert_eq!((many.friction_between(h(i), h(j)), many.friction_between(h(j), h(i))), (mu, mu), "pair {i}, {j}");
+    }
+    assert_eq!(many.friction_between(h(1), h(4)), 0.5);
+    let mut unsorted = many.clone();
+    unsorted.pair_friction.swap(0, 1);
+    assert!(matches!(unsorted.validate(), Err(Error::InvalidInput { .. })));
+    let mut reversed = many.clone();
+    reversed.pair_friction[4].0.reverse(); // [2, 4] as [4, 2]: still in order, the wrong way round
+    assert!(matches!(reversed.validate(), Err(Error::InvalidInput { .. })));
     for m in [-1e-3, f64::NAN, f64::INFINITY] {
         assert!(matches!(RodContacts::new(m, true, true), Err(Error::InvalidInput { .. })), "margin {m}");
         assert!(matches!(Obstacle::plane([0.0; 3], [0.0, 0.0, 1.0]).unwrap().with_margin(m), Err(Error::InvalidInput { .. })), "margin {m}");

@@ -115,10 +115,11 @@ impl RodContacts {
     /// detector's; each pair given once.
     pub fn with_pair_friction(mut self, a: RodHandle, b: RodHandle, mu: f64) -> Result<RodContacts> {
         let key = [a.min(b), a.max(b)];
-        if self.pair_friction.iter().any(|(k, _)| *k == key) {
-            return Err(crate::Error::invalid("pair friction", format!("{a:?} and {b:?}"), "each rod pair given once"));
+        // Kept sorted by pair: detection looks a coefficient up per row.
+        match self.pair_friction.binary_search_by(|(k, _)| k.cmp(&key)) {
+            Ok(_) => return Err(crate::Error::invalid("pair friction", format!("{a:?} and {b:?}"), "each rod pair given once")),
+            Err(at) => self.pair_friction.insert(at, (key, mu)),
         }
-        self.pair_friction.push((key, mu));
         self.validate()?;
         Ok(self)
     }
@@ -130,10 +131,21 @@ impl RodContacts {
     /// The Coulomb coefficient between rods `a` and `b`.
     pub fn friction_between(&self, a: RodHandle, b: RodHandle) -> f64 {
         let key = [a.min(b), a.max(b)];
-        self.pair_friction.iter().find(|(k, _)| *k == key).map_or(self.friction, |&(_, mu)| mu)
+        match self.pair_friction.binary_search_by(|(k, _)| k.cmp(&key)) {
+            Ok(i) => self.pair_friction[i].1,
+            Err(_) => self.friction,
+        }
     }
     pub fn validate(&self) -> Result<()> {
         super::check_margin_and_friction(self.margin, self.friction)?;
+        // Sorted, each pair once, each key (min, max): what the lookup
+        // needs (a hand-edited snapshot may break it).
+        if let Some(w) = self.pair_friction.windows(2).find(|w| w[0].0 >= w[1].0) {
+            return Err(crate::Error::invalid("pair friction", format!("{:?} after {:?}", w[1].0, w[0].0), "pairs sorted, each once"));
+        }
+        if let Some((k, _)) = self.pair_friction.iter().find(|(k, _)| k[0] > k[1]) {
+            return Err(crate::Error::invalid("pair friction", format!("{k:?}"), "each pair as [smaller, larger] handle"));
+        }
         self.pair_friction.iter().try_for_each(|&(_, mu)| super::friction::check_mu(mu))
     }
 }

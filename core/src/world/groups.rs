@@ -207,7 +207,11 @@ impl super::World {
     /// b, its point and abscissa first). A pair with both rods in the group
     /// (self-contact included) is reported once, from its rod a.
     pub fn group_contacts(&self, name: &str) -> Result<Vec<ContactInfo>> {
-        let rods = self.group_rods(name)?;
+        self.contacts_of(&self.group_rods(name)?)
+    }
+
+    /// [`Self::group_contacts`] for the rods `rods` (sorted by handle).
+    fn contacts_of(&self, rods: &[RodHandle]) -> Result<Vec<ContactInfo>> {
         let mut out = Vec::new();
         for c in self.contact_report()? {
             if rods.binary_search(&c.rod_a).is_ok() {
@@ -230,7 +234,7 @@ impl super::World {
         let rods = self.group_rods(name)?;
         let inside = |h: Option<RodHandle>| h.is_some_and(|h| rods.binary_search(&h).is_ok());
         let mut f = [0.0; 3];
-        for c in self.group_contacts(name)? {
+        for c in self.contacts_of(&rods)? {
             if !inside(c.rod_b) {
                 for (k, fk) in f.iter_mut().enumerate() {
                     *fk += c.normal_force * c.normal[k] + c.friction_force[k];
