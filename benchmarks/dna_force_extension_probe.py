@@ -81,7 +81,7 @@ def duplex_run(n, force, steps, temperature=T, averaged=False, brownian=False, s
     dt = float(os.environ["DT"]) if "DT" in os.environ else 0.005 if brownian else 0.00025 if averaged else 0.005 if noisy else 0.05
     eta = float(os.environ["ETA"]) if "ETA" in os.environ else 0.1 if noisy and not brownian else 1.0
     w = sk.World(units="molecular", dt=dt, viscosity=eta,
-                 temperature=temperature, seed=int(os.environ.get("SEED", 3)), scheme=noise_scheme(temperature, None),
+                 temperature=temperature, seed=int(os.environ.get("SEED", 3)), scheme=noise_scheme(temperature, os.environ.get("SCHEME")),
                  adaptive_dt=True, overdamped=brownian, isotropic_drag=brownian)
     ins = w.insert(d.assembly)
     a, b = (ins.rods[i] for i in d.strands)

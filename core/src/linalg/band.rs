@@ -103,6 +103,16 @@ impl BandMatrix {
         (i0, &self.data[start..start + (i1 + 1 - i0)])
     }
 
+    /// Row `i`'s stored entries: the first column `j0` and the values of
+    /// columns `j0..`, in order. Row i of column j sits at j·(ldab − 1) +
+    /// ku + i: one stride through the columns, no per-entry band test.
+    pub fn row(&self, i: usize) -> (usize, impl Iterator<Item = f64> + '_) {
+        let (j0, j1) = (i.saturating_sub(self.kl), (i + self.ku + 1).min(self.n));
+        let start = if j0 < j1 { self.idx(i, j0) } else { 0 };
+        // (A diagonal matrix, ldab = 1, has one entry a row: any stride.)
+        (j0, self.data[start..].iter().step_by((self.ldab - 1).max(1)).take(j1.saturating_sub(j0)).copied())
+    }
+
     /// Index of `(i, j)` in `data`; caller guarantees `in_band(i, j)`.
     #[inline]
     fn idx(&self, i: usize, j: usize) -> usize {
@@ -1583,6 +1593,27 @@ mod tests {
         assert_eq!(a.data, b.data);
         b.reshape_on(big - 7, kd, kd, true);
         assert!(b.n() == big - 7 && b.data.len() == (2 * kd + 1) * (big - 7) && b.data.iter().all(|&v| v == 0.0));
+    }
+
+    #[test]
+    fn rows_read_by_stride_are_the_entries() {
+        let mut rng = Lcg(21);
+        for (n, kl, ku) in [(9, 2, 3), (7, 0, 0), (5, 4, 1), (1, 0, 2), (6, 6, 6)] {
+            let mut a = BandMatrix::new(n, kl, ku);
+            for i in 0..n {
+                for j in 0..n {
+                    if a.in_band(i, j) {
+                        a.set(i, j, rng.next());
+                    }
+                }
+            }
+            for i in 0..n {
+                let (j0, row) = a.row(i);
+                let got: Vec<(usize, f64)> = row.enumerate().map(|(c, v)| (j0 + c, v)).collect();
+                let want: Vec<(usize, f64)> = (0..n).filter(|&j| a.in_band(i, j)).map(|j| (j, a.get(i, j))).collect();
+                assert_eq!(got, want, "n {n}, kl {kl}, ku {ku}, row {i}");
+            }
+        }
     }
 
     #[test]

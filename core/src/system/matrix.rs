@@ -126,9 +126,8 @@ impl KktMatrix {
     pub fn for_row(&self, i: usize, mut f: impl FnMut(usize, f64)) {
         match self.storage {
             Storage::Band => {
-                let n = self.band.n();
-                let (lo, hi) = (i.saturating_sub(self.band.kl()), (i + self.band.ku() + 1).min(n));
-                (lo..hi).for_each(|j| f(j, self.band.get(i, j)));
+                let (j0, row) = self.band.row(i);
+                row.enumerate().for_each(|(c, v)| f(j0 + c, v));
             }
             Storage::Sparse => self.csc.row(i).for_each(|(j, v)| f(j, v)),
         }
