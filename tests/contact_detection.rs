@@ -192,6 +192,11 @@ fn contact_detectors_refuse_bad_parameters() {
     let mut unsorted = many.clone();
     unsorted.pair_friction.swap(0, 1);
     assert!(matches!(unsorted.validate(), Err(Error::InvalidInput { .. })));
+    // A snapshot that kept them in the order given (as those of 2026-11-30
+    // did) reads back in order, pairs oriented.
+    unsorted.pair_friction[2].0.reverse();
+    let read: RodContacts = serde_json::from_str(&serde_json::to_string(&unsorted).unwrap()).unwrap();
+    assert_eq!(read, many);
     let mut reversed = many.clone();
     reversed.pair_friction[4].0.reverse(); // [2, 4] as [4, 2]: still in order, the wrong way round
     assert!(matches!(reversed.validate(), Err(Error::InvalidInput { .. })));

@@ -77,8 +77,20 @@ pub struct RodContacts {
     pub no_self_contact: Vec<RodHandle>,
     #[serde(default)]
     pub joined: Vec<[RodHandle; 2]>,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "sorted_pairs")]
     pub pair_friction: Vec<([RodHandle; 2], f64)>,
+}
+
+/// Pair coefficients as read from a snapshot, put in the order the lookup
+/// needs (snapshots of 2026-11-30 kept them in the order given); a pair
+/// given twice is still refused by `validate`.
+fn sorted_pairs<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Vec<([RodHandle; 2], f64)>, D::Error> {
+    let mut v: Vec<([RodHandle; 2], f64)> = serde::Deserialize::deserialize(d)?;
+    for (k, _) in &mut v {
+        k.sort_unstable();
+    }
+    v.sort_by(|a, b| a.0.cmp(&b.0));
+    Ok(v)
 }
 
 impl RodContacts {
