@@ -13,8 +13,8 @@ at the last pair by F along the axis, Langevin noise at T K (trapezoidal,
 5 ps, viscosity 0.1; with ``averaged``, the stacking averaged over each
 step at 0.25 ps, framed every 20 steps; with ``brownian``, overdamped with
 isotropic drag at water's viscosity and the stacking averaged, 5 ps;
-``DT``, ``ETA`` (viscosity, pN·ns/nm²) and ``SEED`` in the environment
-override); every 5 steps the pairs are framed as
+``DT``, ``ETA`` (viscosity, pN·ns/nm²), ``SEED`` and ``SCHEME`` (e.g.
+``implicit_euler``) in the environment override); every 5 steps the pairs are framed as
 ``fluctuations.pair_frames`` frames them and, for interior spans (pairs
 m … N−1−m), the span z along the pull and the contour Lc (the rises along
 the local axis, summed) are read: z/Lc against Bouchiat's long chain.
@@ -38,6 +38,12 @@ Measured 2026-11-29 (first fifth of each run dropped, 8 blocks):
   0.0024, z/Lc 0.9709 ± 0.0013 (m = 15) at water's viscosity; with
   ETA=0.1 0.0780 ± 0.0057 and 0.9599 ± 0.0031 (exact tilt 0.0898), 424
   ms/step; SEED=7: 0.0726 ± 0.0061 and 0.9629 ± 0.0033.
+- duplex, brownian, SCHEME=implicit_euler (2026-11-30): 100 bp, 10 pN,
+  ETA=0.1, 8000 steps: ⟨θ²⟩ 0.0743 ± 0.0054, z/Lc 0.9611 ± 0.0030 (m =
+  15), 13.6 ms/step. 300 bp, 40000 steps, ETA=0.03: 3 pN z/Lc 0.9329 ±
+  0.0059 (Bouchiat 0.9171), ⟨θ²⟩ 0.124 (exact 0.166); 10 pN 0.9637 ±
+  0.0020 (0.9546), ⟨θ²⟩ 0.069 (0.091); 42 ms/step. 3 pN at ETA=0.1,
+  30000 steps: 0.9412 ± 0.0051, ⟨θ²⟩ 0.109 (docs/dna_calibration.md).
 - rod 34 nm, 10 pN, 20000 steps: 0.9564 ± 0.0008 pinned, 0.9572 ± 0.0008
   clamped (shortening 4.4 %, 4.3 %); 3 pN clamped 0.9235 ± 0.0023 (7.7 %
   against Bouchiat's 8.3 %): finite length and ends take 5–8 % of the
