@@ -44,8 +44,8 @@ Measured 2026-11-29 (first fifth of each run dropped, 8 blocks):
   0.0059 (Bouchiat 0.9171), ⟨θ²⟩ 0.124 (exact 0.166); 10 pN 0.9637 ±
   0.0020 (0.9546), ⟨θ²⟩ 0.069 (0.091); 5 pN, 30000 steps: 0.9474 ±
   0.0049 (0.9358); 30 pN, 20000 steps: 0.9821 ± 0.0004 (0.9738); 42
-  ms/step. 3 pN at ETA=0.1,
-  30000 steps: 0.9412 ± 0.0051, ⟨θ²⟩ 0.109 (docs/dna_calibration.md).
+  ms/step. 3 pN at ETA=0.1, 30000 steps: 0.9412 ± 0.0051, ⟨θ²⟩ 0.109
+  (docs/dna_calibration.md).
 - rod 34 nm, 10 pN, 20000 steps: 0.9564 ± 0.0008 pinned, 0.9572 ± 0.0008
   clamped (shortening 4.4 %, 4.3 %); 3 pN clamped 0.9235 ± 0.0023 (7.7 %
   against Bouchiat's 8.3 %): finite length and ends take 5–8 % of the

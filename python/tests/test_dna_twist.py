@@ -40,7 +40,8 @@ def test_torque_and_extension_follow_the_calibrated_twist(twisted):
                                 dict(turns_per_ns=0.0), dict(turns_per_ns=lambda n: -1.0), dict(dt=0.0),
                                 dict(wait=-1.0), dict(viscosity=0.0), dict(temperature=-3.0), dict(held_pairs=0),
                                 dict(imperfection=-0.1), dict(turns_per_ns=1e-9), dict(force="x"),
-                                dict(held_pairs=2.7), dict(record_every=0), dict(wait=1e9)])
+                                dict(held_pairs=2.7), dict(record_every=0), dict(wait=1e9),
+                                dict(brownian="yes")])
 def test_magnetic_tweezers_refuses_bad_input(kw):
     with pytest.raises(sk.errors.InvalidInputError):
         ex.magnetic_tweezers("GATTACA" * 3, progress_bar=False, **kw)

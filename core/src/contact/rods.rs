@@ -87,10 +87,15 @@ pub struct RodContacts {
 fn sorted_pairs<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Vec<([RodHandle; 2], f64)>, D::Error> {
     let mut v: Vec<([RodHandle; 2], f64)> = serde::Deserialize::deserialize(d)?;
     for (k, _) in &mut v {
-        k.sort_unstable();
+        *k = pair_key(k[0], k[1]);
     }
     v.sort_by(|a, b| a.0.cmp(&b.0));
     Ok(v)
+}
+
+/// A rod pair's key in `pair_friction`: [smaller, larger] handle.
+fn pair_key(a: RodHandle, b: RodHandle) -> [RodHandle; 2] {
+    [a.min(b), a.max(b)]
 }
 
 impl RodContacts {
@@ -126,7 +131,7 @@ impl RodContacts {
     /// order; `a` = `b`: the rod against itself), instead of the
     /// detector's; each pair given once.
     pub fn with_pair_friction(mut self, a: RodHandle, b: RodHandle, mu: f64) -> Result<RodContacts> {
-        let key = [a.min(b), a.max(b)];
+        let key = pair_key(a, b);
         // Kept sorted by pair: detection looks a coefficient up per row.
         match self.pair_friction.binary_search_by(|(k, _)| k.cmp(&key)) {
             Ok(_) => return Err(crate::Error::invalid("pair friction", format!("{a:?} and {b:?}"), "each rod pair given once")),
@@ -142,7 +147,7 @@ impl RodContacts {
     }
     /// The Coulomb coefficient between rods `a` and `b`.
     pub fn friction_between(&self, a: RodHandle, b: RodHandle) -> f64 {
-        let key = [a.min(b), a.max(b)];
+        let key = pair_key(a, b);
         match self.pair_friction.binary_search_by(|(k, _)| k.cmp(&key)) {
             Ok(i) => self.pair_friction[i].1,
             Err(_) => self.friction,

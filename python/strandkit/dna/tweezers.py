@@ -105,7 +105,8 @@ class TwistResult:
 def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 3.0,
                       turns_per_ns: Union[float, Callable[[float], float]] = 0.02,
                       wait: float = 20.0, dt: float = 0.01, viscosity: float = 1.0, temperature: float = 0.0,
-                      seed: int = 0, scheme: Optional[str] = None, held_pairs: int = 2, imperfection: float = 0.01,
+                      seed: int = 0, scheme: Optional[str] = None, brownian: bool = False, held_pairs: int = 2,
+                      imperfection: float = 0.01,
                       record_every: int = 10, out: Optional[str] = None, frame_every: int = 100,
                       progress_bar: bool = True, duplex_options=None) -> TwistResult:
     """Turns the bead end of a duplex by ``turns`` (negative: unwinding) at
@@ -116,7 +117,11 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     relaxes over ~γ_θ L²/(π² C)); temperature: K (0: no noise; seed for the
     noise; the duplex's bonds must then break on an averaged tension,
     ``duplex(break_averaging_time=…)``, or not at all); scheme: the World's
-    (default: trapezoidal with noise, implicit Euler without); held_pairs:
+    (default: trapezoidal with noise, implicit Euler without); brownian:
+    overdamped (Brownian) dynamics with isotropic drag, as in
+    ``experiments.pull`` (with implicit Euler it samples the slow bending
+    and writhe modes that buckling is made of at a fraction of the
+    trapezoidal rule's cost, ``docs/dna_calibration.md``); held_pairs:
     pairs held at each end; imperfection: the lateral
     force at the middle pair as a fraction of ``force``; record_every: steps between
     records; out: file prefix for ``.csv`` (streamed, so an interrupted run
@@ -136,6 +141,8 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     temperature = number("temperature (K)", temperature, strict=False)
     imperfection = number("imperfection", imperfection, strict=False)
     held_pairs, record_every = integer("held_pairs", held_pairs, 1), integer("record_every", record_every, 1)
+    if not isinstance(brownian, bool):
+        raise _invalid(f"brownian must be True or False, got {brownian!r}")
     frame_every, seed = integer("frame_every", frame_every, 1), integer("seed", seed, 0)
     n_wait = int(round(wait / dt))
     if n_wait > MAX_STEPS:
@@ -162,7 +169,7 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     n_turn = len(schedule) - 1
 
     world = World(units="molecular", dt=dt, viscosity=viscosity, temperature=temperature, seed=seed,
-                  scheme=noise_scheme(temperature, scheme))
+                  scheme=noise_scheme(temperature, scheme), overdamped=brownian, isotropic_drag=brownian)
     ins = world.insert(d.assembly)
     rods = [ins.rods[i] for i in d.strands]
     surface = list(range(held_pairs))
@@ -206,7 +213,7 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     records = Records(("time", "turns", "extension", "deflection", "torque", "surface_torque"),
                       ["time_ns", "turns", "extension_nm", "deflection_nm", "torque_pNnm", "surface_torque_pNnm"], out,
                       f"strandkit.dna.experiments.magnetic_tweezers: {d!r}; force {force} pN, {turns} turns at "
-                      f"{rate_text} after {wait} ns, {temperature} K", world, d, ins, frame_every)
+                      f"{rate_text} after {wait} ns, {temperature} K{', Brownian' if brownian else ''}", world, d, ins, frame_every)
 
     def record(step):
         free = pair_frames(d, rods[0], rods[1])[0][held_pairs:n - held_pairs, :2]
