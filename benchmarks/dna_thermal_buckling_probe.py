@@ -20,10 +20,17 @@ and the references:
   duplex does not have (its strands pass through each other), so it is
   printed for scale, not compared.
 
+Runs of 2026-11-30 (5 ps, seed 1; docs/dna_calibration.md): at 0.001 and
+0.01 of water's drag the step diverged (steps 185 and 172; at 0.01 with
+adaptive sub-steps at step 7276); at 0.03 it runs, 60 ms a step, but the
+slowest bending mode at 1 pN relaxes in ~450 ns there (the extension was
+still 0.96 of the contour after 20 ns at rest): a run that reads the
+buckling needs microseconds, ~200,000 steps. Not yet run that long.
+
 Usage:
     python3 benchmarks/dna_thermal_buckling_probe.py [N_BP [F_PN [TURNS [RATE [ETA [SEED]]]]]]
 (defaults 455 bp, 1 pN, 2.4 turns, 0.02 turns/ns, 0.03 of water's drag,
-seed 1; 298.15 K, 5 ps steps, 10 ns at rest first). Writes
+seed 1; 298.15 K, 5 ps steps, ``WAIT`` ns at rest first, default 10). Writes
 ``/tmp/buckle_<n>_<F>_<seed>.csv`` as it runs (``OUT`` overrides the
 prefix) and reads it back with ``ANALYSE=1`` (no run).
 """

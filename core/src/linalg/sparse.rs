@@ -38,7 +38,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::lu::{
     factorize_symbolic_lu, LuRef, LuSymbolicParams, NumericLu, SymbolicLu,
 };
-use faer::sparse::linalg::LuError;
+use faer::sparse::linalg::{amd, LuError};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
@@ -115,12 +115,26 @@ pub struct SparseLu {
     ldlt_trusted: bool,
     sym_lu: Option<SymbolicLu<usize>>,
     num_lu: NumericLu<usize, f64>,
+    /// The LDLᵀ's symbolic factor of the matrix already in its fill-reducing
+    /// order (upper triangle): faer then factors it without permuting it
+    /// at every step.
     sym_ldlt: Option<SymbolicCholesky<usize>>,
     ldlt_val: Vec<f64>,
+    /// The fill-reducing order: `perm[k]` is the unknown eliminated k-th,
+    /// `place` its inverse.
+    perm: Vec<usize>,
+    place: Vec<usize>,
+    /// The permuted upper triangle's pattern, and for each loaded slot its
+    /// place in it (`usize::MAX` for the lower triangle's mirror).
+    up_col_ptr: Vec<usize>,
+    up_row_idx: Vec<usize>,
+    up_slot: Vec<usize>,
+    up_val: Vec<f64>,
+    /// The right-hand side in the permuted order (solves).
+    work_perm: Vec<f64>,
     /// LDLᵀ factors `D A D` (one symmetric Ruiz step: `d_i = 1/√max_j|a_ij|`)
     /// so that its regularisation thresholds do not depend on the scaling.
     dscale: Vec<f64>,
-    sval: Vec<f64>,
     /// A band matrix's entries, for [`SparseLu::factor`].
     from_band: CscAssembly,
     /// Per slot of the assembly: in the factorised pattern.
@@ -214,11 +228,10 @@ impl SparseLu {
             self.probe_residual = 0.0;
             return Ok(());
         }
-        let amax = self.val.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let amax = self.row_norms();
         if amax == 0.0 {
             return Err(Error::pivot(0, "zero pivot at row 0: the matrix is zero"));
         }
-        self.anorm = self.norm_inf();
         let try_ldlt =
             self.method == SparseMethod::Auto && !self.ldlt_rejected && self.is_symmetric(amax);
         if try_ldlt {
@@ -317,16 +330,21 @@ impl SparseLu {
     /// when a nonzero appears outside. One pass over `a`'s entries.
     fn load(&mut self, a: &CscAssembly) -> Result<()> {
         let (ptr, idx, val) = a.csc();
-        if let Some(p) = val.iter().position(|v| !v.is_finite()) {
-            let j = ptr.partition_point(|&q| q <= p) - 1;
-            return Err(non_finite(idx[p], j, val[p]));
-        }
         let fresh = !self.pattern_valid || a.n() != self.n || a.generation() != self.generation;
         if fresh {
             self.in_pattern.clear();
             self.in_pattern.resize(val.len(), false);
         }
-        let grown = fresh || val.iter().zip(&self.in_pattern).any(|(&v, &inside)| v != 0.0 && !inside);
+        // One pass: a non-finite entry is refused, a nonzero outside the
+        // pattern grows it.
+        let mut grown = fresh;
+        for (p, (&v, &inside)) in val.iter().zip(&self.in_pattern).enumerate() {
+            if !v.is_finite() {
+                let j = ptr.partition_point(|&q| q <= p) - 1;
+                return Err(non_finite(idx[p], j, v));
+            }
+            grown |= v != 0.0 && !inside;
+        }
         if grown {
             self.n = a.n();
             self.generation = a.generation();
@@ -395,18 +413,16 @@ impl SparseLu {
 
     fn factor_ldlt(&mut self) -> Result<()> {
         let n = self.n;
-        self.dscale.clear();
-        self.dscale.resize(n, 0.0);
-        for j in 0..n {
-            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
-                let d = &mut self.dscale[self.row_idx[p]];
-                *d = f64::max(*d, self.val[p].abs());
-            }
-        }
+        // `dscale` holds each row's largest |entry| (`row_norms`).
         for d in &mut self.dscale {
             *d = if *d > 0.0 { 1.0 / d.sqrt() } else { 1.0 };
         }
-        self.sval.clear();
+        if self.sym_ldlt.is_none() {
+            self.symbolic_ldlt()?;
+        }
+        // D A D written straight into the permuted upper triangle.
+        self.up_val.clear();
+        self.up_val.resize(self.up_row_idx.len(), 0.0);
         self.signs.clear();
         self.signs.resize(n, -1);
         let mut amax = 0.0f64;
@@ -415,25 +431,16 @@ impl SparseLu {
                 let i = self.row_idx[p];
                 let v = self.val[p] * self.dscale[i] * self.dscale[j];
                 amax = amax.max(v.abs());
-                self.sval.push(v);
-                // Expected pivot sign: + for a positive diagonal (coordinates),
-                // − otherwise (multiplier rows: 0 or −compliance).
+                if self.up_slot[p] != usize::MAX {
+                    self.up_val[self.up_slot[p]] = v;
+                }
+                // Expected pivot sign (at the unknown's place in the order):
+                // + for a positive diagonal (coordinates), − otherwise
+                // (multiplier rows: 0 or −compliance).
                 if i == j && v > 0.0 {
-                    self.signs[j] = 1;
+                    self.signs[self.place[j]] = 1;
                 }
             }
-        }
-        if self.sym_ldlt.is_none() {
-            let sym = factorize_symbolic_cholesky(
-                self.symbolic_ref(),
-                Side::Lower,
-                SymmetricOrdering::Amd,
-                CholeskySymbolicParams::default(),
-            )
-            .map_err(|e| Error::singular(format!("sparse LDLᵀ symbolic analysis failed: {e:?}")))?;
-            self.symbolic_count += 1;
-            self.ldlt_val.resize(sym.len_val(), 0.0);
-            self.sym_ldlt = Some(sym);
         }
         let Some(sym) = self.sym_ldlt.as_ref() else { return Err(Error::singular("sparse LDLᵀ: no symbolic factor")) };
         let req = sym.factorize_numeric_ldlt_scratch::<f64>(Par::Seq, Default::default());
@@ -442,8 +449,8 @@ impl SparseLu {
             return Err(Error::singular("sparse LDLᵀ: no symbolic factor or scratch"));
         };
         let a = SparseColMatRef::new(
-            SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx),
-            &self.sval,
+            SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.up_col_ptr, None, &self.up_row_idx),
+            &self.up_val,
         );
         let reg = LdltRegularization {
             dynamic_regularization_signs: Some(&self.signs),
@@ -454,7 +461,7 @@ impl SparseLu {
         sym.factorize_numeric_ldlt(
             &mut self.ldlt_val,
             a,
-            Side::Lower,
+            Side::Upper,
             reg,
             Par::Seq,
             stack,
@@ -463,6 +470,85 @@ impl SparseLu {
         .map_err(|e| Error::singular(format!("sparse LDLᵀ: {e:?}")))?;
         // Solving needs `active`; the probe sets it provisionally.
         self.active = Some(SparseFactor::Ldlt);
+        Ok(())
+    }
+
+    /// faer's AMD order of the pattern, the pattern's upper triangle in that
+    /// order (`up_*`), each slot's place in it, and the symbolic factor of
+    /// the permuted matrix with no further ordering.
+    fn symbolic_ldlt(&mut self) -> Result<()> {
+        let n = self.n;
+        // The order faer's own analysis would choose (it runs the same AMD).
+        self.perm.clear();
+        self.perm.resize(n, 0);
+        self.place.clear();
+        self.place.resize(n, 0);
+        let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n, self.row_idx.len()))
+            .map_err(|_| Error::singular("sparse LDLᵀ: no memory for the ordering"))?; // once per pattern
+        let pattern = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
+        amd::order(&mut self.perm, &mut self.place, pattern, amd::Control::default(), MemStack::new(&mut mem))
+            .map_err(|e| Error::singular(format!("sparse LDLᵀ ordering failed: {e:?}")))?;
+        let place = &self.place;
+        // Count, then fill, the permuted upper triangle column by column
+        // (entry (i, j) goes to (min, max) of their places).
+        self.up_col_ptr.clear();
+        self.up_col_ptr.resize(n + 1, 0);
+        for j in 0..n {
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let (pi, pj) = (place[self.row_idx[p]], place[j]);
+                if pi <= pj {
+                    self.up_col_ptr[pj + 1] += 1;
+                }
+            }
+        }
+        for k in 0..n {
+            self.up_col_ptr[k + 1] += self.up_col_ptr[k];
+        }
+        let nnz = self.up_col_ptr[n];
+        self.up_row_idx.clear();
+        self.up_row_idx.resize(nnz, 0);
+        self.up_slot.clear();
+        self.up_slot.resize(self.row_idx.len(), usize::MAX);
+        let mut next = self.up_col_ptr.clone(); // once per pattern
+        for j in 0..n {
+            for p in self.col_ptr[j]..self.col_ptr[j + 1] {
+                let (pi, pj) = (place[self.row_idx[p]], place[j]);
+                if pi <= pj {
+                    self.up_row_idx[next[pj]] = pi;
+                    self.up_slot[p] = next[pj];
+                    next[pj] += 1;
+                }
+            }
+        }
+        // faer wants each column's rows sorted: sort the pairs (row, slot).
+        let mut order: Vec<usize> = Vec::new(); // once per pattern
+        let mut rows: Vec<usize> = Vec::new();
+        let mut at = vec![0usize; nnz]; // entry of the column → its new place
+        for k in 0..n {
+            let (lo, hi) = (self.up_col_ptr[k], self.up_col_ptr[k + 1]);
+            order.clear();
+            order.extend(lo..hi);
+            order.sort_unstable_by_key(|&q| self.up_row_idx[q]);
+            rows.clear();
+            rows.extend(order.iter().map(|&q| self.up_row_idx[q]));
+            self.up_row_idx[lo..hi].copy_from_slice(&rows);
+            for (r, &q) in order.iter().enumerate() {
+                at[q] = lo + r;
+            }
+        }
+        for s in self.up_slot.iter_mut().filter(|s| **s != usize::MAX) {
+            *s = at[*s];
+        }
+        let sym = factorize_symbolic_cholesky(
+            SymbolicSparseColMatRef::new_checked(n, n, &self.up_col_ptr, None, &self.up_row_idx),
+            Side::Upper,
+            SymmetricOrdering::Identity,
+            CholeskySymbolicParams::default(),
+        )
+        .map_err(|e| Error::singular(format!("sparse LDLᵀ symbolic analysis failed: {e:?}")))?;
+        self.symbolic_count += 1;
+        self.ldlt_val.resize(sym.len_val(), 0.0);
+        self.sym_ldlt = Some(sym);
         Ok(())
     }
 
@@ -515,19 +601,19 @@ impl SparseLu {
         match self.active {
             Some(SparseFactor::Ldlt) => {
                 let Some(sym) = self.sym_ldlt.as_ref() else { return false };
-                // A⁻¹ = D (D A D)⁻¹ D
-                for (xi, d) in x.iter_mut().zip(&self.dscale) {
-                    *xi *= d;
-                }
+                // A⁻¹ = D (D A D)⁻¹ D, DAD factored in the order `perm`.
+                let y = &mut self.work_perm;
+                y.clear();
+                y.extend(self.perm.iter().map(|&i| x[i] * self.dscale[i]));
                 let stack = MemStack::new(buf);
                 LdltRef::new(sym, &self.ldlt_val).solve_in_place_with_conj(
                     Conj::No,
-                    MatMut::from_column_major_slice_mut(x, n, 1),
+                    MatMut::from_column_major_slice_mut(y, n, 1),
                     Par::Seq,
                     stack,
                 );
-                for (xi, d) in x.iter_mut().zip(&self.dscale) {
-                    *xi *= d;
+                for (&i, &yk) in self.perm.iter().zip(y.iter()) {
+                    x[i] = yk * self.dscale[i];
                 }
             }
             Some(SparseFactor::Lu) => {
@@ -634,14 +720,21 @@ impl SparseLu {
     }
 
 
-    fn norm_inf(&mut self) -> f64 {
-        let rows = &mut self.work_rows;
-        rows.clear();
-        rows.resize(self.n, 0.0);
+    /// One pass over the loaded entries: sets `anorm` (the ∞-norm) and each
+    /// row's largest |entry| in `dscale` (the LDLᵀ's scaling starts from
+    /// it); returns the largest |entry|.
+    fn row_norms(&mut self) -> f64 {
+        let (sums, maxes) = (&mut self.work_rows, &mut self.dscale);
+        sums.clear();
+        sums.resize(self.n, 0.0);
+        maxes.clear();
+        maxes.resize(self.n, 0.0);
         for (&i, &v) in self.row_idx.iter().zip(&self.val) {
-            rows[i] += v.abs();
+            sums[i] += v.abs();
+            maxes[i] = f64::max(maxes[i], v.abs());
         }
-        rows.iter().fold(0.0, |m, &v| m.max(v))
+        self.anorm = sums.iter().fold(0.0, |m, &v| m.max(v));
+        maxes.iter().fold(0.0, |m, &v| m.max(v))
     }
 
     /// Solves a probe system with a pseudo-random right-hand side; accepts the

@@ -168,8 +168,11 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
             raise _invalid(f"more than {MAX_STEPS:.0e} steps to turn {turns} turns: raise turns_per_ns or dt")
     n_turn = len(schedule) - 1
 
+    # adaptive_dt: a step refused (a kick too large for one step) is retried
+    # in sub-steps, as in experiments.pull.
     world = World(units="molecular", dt=dt, viscosity=viscosity, temperature=temperature, seed=seed,
-                  scheme=noise_scheme(temperature, scheme), overdamped=brownian, isotropic_drag=brownian)
+                  scheme=noise_scheme(temperature, scheme), overdamped=brownian, isotropic_drag=brownian,
+                  adaptive_dt=True)
     ins = world.insert(d.assembly)
     rods = [ins.rods[i] for i in d.strands]
     surface = list(range(held_pairs))
