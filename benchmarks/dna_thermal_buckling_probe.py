@@ -20,12 +20,14 @@ and the references:
   duplex does not have (its strands pass through each other), so it is
   printed for scale, not compared.
 
-Runs of 2026-11-30 (5 ps, seed 1; docs/dna_calibration.md): at 0.001 and
-0.01 of water's drag the step diverged (steps 185 and 172; at 0.01 with
-adaptive sub-steps at step 7276); at 0.03 it runs, 60 ms a step, but the
-slowest bending mode at 1 pN relaxes in ~450 ns there (the extension was
-still 0.96 of the contour after 20 ns at rest): a run that reads the
-buckling needs microseconds, ~200,000 steps. Not yet run that long.
+Runs of 2026-11-30 (5 ps, 30 ns at rest; docs/dna_calibration.md): at
+0.001 and 0.01 of water's drag the step diverged (steps 185 and 172; at
+0.01 with adaptive sub-steps at step 7276). At 0.03, 0.01 turns/ns, 455 bp,
+1 pN: torque slope 13.40 (seed 1) and 14.56 (seed 2) pN·nm per turn over
+the first 0.65–0.85 turns, against C_s's 14.46 and C's 16.88; seed 1 to
+2.2 turns reached 28.7 ± 1.4 pN·nm (0.96 of the zero-T threshold) with no
+clear buckling. The slowest bending mode relaxes in ~450 ns there: these
+runs are shorter than it.
 
 Usage:
     python3 benchmarks/dna_thermal_buckling_probe.py [N_BP [F_PN [TURNS [RATE [ETA [SEED]]]]]]

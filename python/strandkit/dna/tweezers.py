@@ -112,8 +112,9 @@ def magnetic_tweezers(sequence_or_duplex, *, force: float = 5.0, turns: float = 
     """Turns the bead end of a duplex by ``turns`` (negative: unwinding) at
     ``turns_per_ns`` (a number, or a function of the turns done giving the
     rate: fast, then slow near the buckling) under a constant ``force``
-    (pN) after ``wait`` ns at rest (see the module). dt: ns; viscosity: pN·ns/nm² (water: 1; with the
-    rate it sets how far from quasi-static the run is: the duplex's twist
+    (pN) after ``wait`` ns at rest (see the module). dt: ns (a step refused
+    as diverged is retried in sub-steps); viscosity: pN·ns/nm² (water: 1;
+    with the rate it sets how far from quasi-static the run is: the duplex's twist
     relaxes over ~γ_θ L²/(π² C)); temperature: K (0: no noise; seed for the
     noise; the duplex's bonds must then break on an averaged tension,
     ``duplex(break_averaging_time=…)``, or not at all); scheme: the World's
