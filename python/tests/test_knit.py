@@ -194,6 +194,26 @@ def test_a_cell_periodic_both_ways_holds_its_image_through_a_relaxation():
     assert len(st.world.group("image_tie").constraints) == len(f.image_ties)
 
 
+def test_a_relaxed_fabric_is_stretched_with_the_friction_asked_for():
+    # Relaxed frictionless, stretched with μ = 0.3 (Poincloux's hysteresis
+    # needs both): the stretch's contacts carry Coulomb friction within μN,
+    # the relaxation's world keeps its frictionless ones.
+    f = sk.knit.fabric("jersey", wales=4, courses=4)
+    r = ex.relax(f, friction=0.0, max_steps=10, record_every=10)
+    s = ex.stretch(r, strain=0.05, increments=1, unload=False, friction=0.3, settle_steps=5,
+                   steps_per_increment=20)
+    c = s.world.contacts()
+    n, t = c["normal_force"], np.linalg.norm(c["friction_force"], axis=1)
+    assert len(n) > 0 and t.max() > 0
+    # Within μN to the stick/slip rounds' tolerance (4e-5 above it measured).
+    assert np.all(t <= 0.3 * n * (1 + 1e-4))
+    w = r.world.copy()
+    w.step()
+    assert len(w.contacts()["normal_force"]) > 0 and not np.any(w.contacts()["friction_force"])
+    with pytest.raises(sk.InvalidInputError, match="friction"):
+        ex.stretch(r, friction=-0.1)
+
+
 @pytest.mark.parametrize("kwargs, match", [
     (dict(direction="diagonal"), "direction"),
     (dict(strain=-0.1), "strain"),

@@ -124,17 +124,26 @@ class Fabric:
         params.setdefault("gravity", (0.0, 0.0, 0.0))
         w = World(**params)
         w.insert(self.assembly)
-        if self.image is None:
-            w.contact(margin=margin, friction=friction, self_contact=True, between_rods=True)
-        else:
-            # The image repeats the yarn's own contacts; the yarn runs on
-            # into it at the junction.
-            yarn, image = w.rods()[int(self.loops["rod"][0])], w.rods()[self.image]
-            w.contact(margin=margin, friction=friction, self_contact=True, between_rods=True,
-                      no_self_contact=[image], joined=[(yarn, image)])
+        self.set_contact(w, friction=friction, margin=margin)
         if "max_move" not in params:
             w.set_params(max_move=margin)
         return w
+
+    def set_contact(self, world, *, friction: float, margin: Optional[float] = None) -> None:
+        """(Re)sets yarn–yarn contact in ``world`` (made by :meth:`world`):
+        Coulomb ``friction`` μ (dimensionless), detection ``margin`` (m,
+        default half the yarn radius). Replaces the world's contact
+        detectors, so a relaxed fabric can be stretched with another μ."""
+        margin = 0.5 * self.yarn_radius if margin is None else margin
+        world.clear_contact()
+        if self.image is None:
+            world.contact(margin=margin, friction=friction, self_contact=True, between_rods=True)
+        else:
+            # The image repeats the yarn's own contacts; the yarn runs on
+            # into it at the junction.
+            yarn, image = world.rods()[int(self.loops["rod"][0])], world.rods()[self.image]
+            world.contact(margin=margin, friction=friction, self_contact=True, between_rods=True,
+                          no_self_contact=[image], joined=[(yarn, image)])
 
     def heads(self, world) -> np.ndarray:
         """Positions of the loops' heads now, shape (courses, wales, 3) (m)."""

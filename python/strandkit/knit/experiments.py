@@ -282,7 +282,7 @@ def _grips(fabric: Fabric, direction: str):
 
 
 def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments: int = 10, unload: bool = True,
-            friction: float = 0.0, settle_steps: int = 300, steps_per_increment: int = 200, tol: float = 1e-3,
+            friction: Optional[float] = None, settle_steps: int = 300, steps_per_increment: int = 200, tol: float = 1e-3,
             step_fraction: float = 0.25, viscosity: float = 1.0) -> Stretched:
     """Uniaxial stretch under displacement control between two clamped
     bars: along the wale (cast-on sinkers held, bound-off heads pulled) or
@@ -291,9 +291,11 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     (link ``period``; the force is the tension the whole tube carries, the
     lateral strain that of its wale spacing).
 
-    source: a :class:`Fabric` (stretched as built, ``friction`` at its
-    contacts) or a :class:`Relaxed` (a copy of its world continues, with
-    its contact settings); the bars grip where the yarn is, then the
+    source: a :class:`Fabric` (stretched as built, ``friction`` μ at its
+    contacts, 0 if None) or a :class:`Relaxed` (a copy of its world
+    continues, with its contact settings, or if ``friction`` μ is given
+    with it and the default margin: relaxed frictionless, stretched with
+    friction); the bars grip where the yarn is, then the
     fabric settles between them for ``settle_steps`` (the rest state
     between bars; the bars replace the fabric's cast-on, bind-off and
     selvedge links, its yarn ends stay fastened); strain: largest grip strain; increments: steps of grip
@@ -314,9 +316,12 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
         # A copy: the relaxed world stays as it was (stretch adds bars).
         fabric, world = source.fabric, source.world.copy()
         world.set_params(viscosity=_check("viscosity", viscosity))
+        if friction is not None:
+            fabric.set_contact(world, friction=_check("friction", friction, low=-1e-300))
     elif isinstance(source, Fabric):
         fabric = source
-        world = fabric.world(friction=_check("friction", friction, low=-1e-300), viscosity=_check("viscosity", viscosity))
+        mu = 0.0 if friction is None else _check("friction", friction, low=-1e-300)
+        world = fabric.world(friction=mu, viscosity=_check("viscosity", viscosity))
     else:
         raise errors.InvalidInputError(f"source: a strandkit.knit Fabric or Relaxed, got {type(source).__name__}")
     if fabric.boundary == "clamped_edges":
