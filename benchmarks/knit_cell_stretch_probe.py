@@ -14,7 +14,12 @@ Usage: python3 knit_cell_stretch_probe.py START FRICTION [LOOP_MM] [STEPS]
   START: default | narrow (``spacing`` built narrow, as in the README);
   FRICTION: μ during the stretch (the relaxation is frictionless);
   LOOP_MM: loop length in mm (3.8: ℓ/d = 19); STEPS: relaxation steps.
-Writes a JSON beside the system's temporary directory's other files.
+  STRAIN (environment, 0.2): the largest strain, in 10 increments.
+  HOLD=n (environment): instead of the cycle, one increment to STRAIN,
+  then n more steps of the flow at that strain, the force and lateral
+  strain printed every 100 (how far an increment is from equilibrium).
+Writes a JSON into the system's temporary directory. Measured
+(2026-12-01): the README's "Knitted fabrics", the table after the cell.
 """
 import json
 import os
@@ -41,10 +46,26 @@ t0 = time.time()
 r = ex.relax(f, friction=0.0, max_steps=steps, record_every=50)
 print(r, f"{time.time() - t0:.0f} s", flush=True)
 d0 = r.dimensions
+c0, w0 = d0["wale_spacing"], d0["course_spacing"]
+hold = int(os.environ.get("HOLD", "0"))
+if hold:
+    s = ex.stretch(r, strain=strain, friction=mu, increments=1, unload=False, settle_steps=100,
+                   steps_per_increment=100)
+    w = s.world
+    link = w.group("period").constraints[0]
+    flow = ex._Flow(w, f.yarn_radius, 0.25, dt=w.params["dt"])
+    print(f"after the increment: F {s.force[-1]:.4g} N, lateral {s.lateral_strain[-1]:.5f}", flush=True)
+    for k in range(1, hold + 1):
+        flow.step()
+        if k % 100 == 0:
+            lat = f.dimensions(w)["wale_spacing"] / c0 - 1.0
+            F = -float(np.asarray(link.reaction().force)[1])
+            print(f"{k:5d} F {F:.4g} N lateral {lat:.5f} nu {-lat / strain:.3f} delta {-lat * c0 / (strain * w0):.3f} "
+                  f"E {w.energy()['elastic']:.6g} J", flush=True)
+    sys.exit(0)
 s = ex.stretch(r, direction="wale", strain=strain, friction=mu, increments=10, settle_steps=200,
                steps_per_increment=300)
 print(s, f"{time.time() - t0:.0f} s", flush=True)
-c0, w0 = d0["wale_spacing"], d0["course_spacing"]
 print(f"rest: c* = {c0 * 1e3:.4f} mm (wale spacing), w* = {w0 * 1e3:.4f} mm (course spacing), c*/w* = {c0 / w0:.3f}")
 print(" strain  force(N)   lateral  delta    nu")
 for e, F, lat in zip(s.strain, s.force, s.lateral_strain):
