@@ -130,6 +130,10 @@ pub struct SparseLu {
     up_row_idx: Vec<usize>,
     up_slot: Vec<usize>,
     up_val: Vec<f64>,
+    /// Scratch of the pattern's analysis, kept: the kept entries by
+    /// permuted row (slot, row, column) and each row's or column's next place.
+    sym_by_row: Vec<(usize, usize, usize)>,
+    sym_next: Vec<usize>,
     /// The right-hand side in the permuted order (solves).
     work_perm: Vec<f64>,
     /// LDLᵀ factors `D A D` (one symmetric Ruiz step: `d_i = 1/√max_j|a_ij|`)
@@ -489,55 +493,51 @@ impl SparseLu {
         amd::order(&mut self.perm, &mut self.place, pattern, amd::Control::default(), MemStack::new(&mut mem))
             .map_err(|e| Error::singular(format!("sparse LDLᵀ ordering failed: {e:?}")))?;
         let place = &self.place;
-        // Count, then fill, the permuted upper triangle column by column
-        // (entry (i, j) goes to (min, max) of their places).
+        // The permuted upper triangle (entry (i, j) goes to (min, max) of
+        // their places), its columns' rows sorted as faer wants them: the
+        // kept entries are counted per column and per row, bucketed by row
+        // (a counting sort, no comparison sort), then dealt to their
+        // columns in increasing row order.
+        let (by_row, next) = (&mut self.sym_by_row, &mut self.sym_next);
         self.up_col_ptr.clear();
         self.up_col_ptr.resize(n + 1, 0);
+        next.clear();
+        next.resize(n + 1, 0);
         for j in 0..n {
             for p in self.col_ptr[j]..self.col_ptr[j + 1] {
                 let (pi, pj) = (place[self.row_idx[p]], place[j]);
                 if pi <= pj {
                     self.up_col_ptr[pj + 1] += 1;
+                    next[pi + 1] += 1;
                 }
             }
         }
         for k in 0..n {
             self.up_col_ptr[k + 1] += self.up_col_ptr[k];
+            next[k + 1] += next[k];
         }
         let nnz = self.up_col_ptr[n];
         self.up_row_idx.clear();
         self.up_row_idx.resize(nnz, 0);
         self.up_slot.clear();
         self.up_slot.resize(self.row_idx.len(), usize::MAX);
-        let mut next = self.up_col_ptr.clone(); // once per pattern
+        by_row.clear();
+        by_row.resize(nnz, (0, 0, 0));
         for j in 0..n {
             for p in self.col_ptr[j]..self.col_ptr[j + 1] {
                 let (pi, pj) = (place[self.row_idx[p]], place[j]);
                 if pi <= pj {
-                    self.up_row_idx[next[pj]] = pi;
-                    self.up_slot[p] = next[pj];
-                    next[pj] += 1;
+                    by_row[next[pi]] = (p, pi, pj);
+                    next[pi] += 1;
                 }
             }
         }
-        // faer wants each column's rows sorted: sort the pairs (row, slot).
-        let mut order: Vec<usize> = Vec::new(); // once per pattern
-        let mut rows: Vec<usize> = Vec::new();
-        let mut at = vec![0usize; nnz]; // entry of the column → its new place
-        for k in 0..n {
-            let (lo, hi) = (self.up_col_ptr[k], self.up_col_ptr[k + 1]);
-            order.clear();
-            order.extend(lo..hi);
-            order.sort_unstable_by_key(|&q| self.up_row_idx[q]);
-            rows.clear();
-            rows.extend(order.iter().map(|&q| self.up_row_idx[q]));
-            self.up_row_idx[lo..hi].copy_from_slice(&rows);
-            for (r, &q) in order.iter().enumerate() {
-                at[q] = lo + r;
-            }
-        }
-        for s in self.up_slot.iter_mut().filter(|s| **s != usize::MAX) {
-            *s = at[*s];
+        // Rows in increasing order: each column fills from its start.
+        next[..n].copy_from_slice(&self.up_col_ptr[..n]);
+        for &(p, pi, pj) in by_row.iter() {
+            self.up_row_idx[next[pj]] = pi;
+            self.up_slot[p] = next[pj];
+            next[pj] += 1;
         }
         let sym = factorize_symbolic_cholesky(
             SymbolicSparseColMatRef::new_checked(n, n, &self.up_col_ptr, None, &self.up_row_idx),
