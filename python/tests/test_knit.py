@@ -212,6 +212,12 @@ def test_a_relaxed_fabric_is_stretched_with_the_friction_asked_for():
     assert len(w.contacts()["normal_force"]) > 0 and not np.any(w.contacts()["friction_force"])
     with pytest.raises(sk.InvalidInputError, match="friction"):
         ex.stretch(r, friction=-0.1)
+    # A refused setting leaves the world's contact as it was.
+    for bad in (dict(friction=float("nan")), dict(friction=0.3, margin=-1e-4)):
+        with pytest.raises(sk.InvalidInputError):
+            f.set_contact(w, **bad)
+    w.step()
+    assert len(w.contacts()["normal_force"]) > 0
 
 
 @pytest.mark.parametrize("kwargs, match", [

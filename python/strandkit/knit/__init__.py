@@ -134,7 +134,19 @@ class Fabric:
         Coulomb ``friction`` μ (dimensionless), detection ``margin`` (m,
         default half the yarn radius). Replaces the world's contact
         detectors, so a relaxed fabric can be stretched with another μ."""
+        from ..errors import InvalidInputError
+
         margin = 0.5 * self.yarn_radius if margin is None else margin
+        # Checked before the world's contact is cleared: a refusal leaves it as it was.
+        for name, x, low in (("friction", friction, 0.0), ("margin", margin, 1e-300)):
+            try:
+                ok = not isinstance(x, bool) and bool(np.isfinite(x)) and x >= low
+            except (TypeError, ValueError):
+                ok = False
+            if not ok:
+                raise InvalidInputError(f"{name}: a finite number ≥ {low:g}, got {x!r}")
+        if self.image is not None and len(world.rods()) <= self.image:
+            raise InvalidInputError("world: a world made by this fabric's world()")
         world.clear_contact()
         if self.image is None:
             world.contact(margin=margin, friction=friction, self_contact=True, between_rods=True)
