@@ -15,7 +15,8 @@ Usage: python3 knit_cell_stretch_probe.py START FRICTION [LOOP_MM] [STEPS]
   START: default | narrow (``spacing`` built narrow, as in the README);
   FRICTION: μ during the stretch (the relaxation is frictionless);
   LOOP_MM: loop length in mm (3.8: ℓ/d = 19); STEPS: relaxation steps.
-  STRAIN (environment, 0.2): the largest strain, in 10 increments.
+  STRAIN (environment, 0.2): the largest strain, in INCREMENTS (10)
+  increments of at most PER_INCREMENT (300) steps each way.
   HOLD=n (environment): instead of the cycle, one increment to STRAIN,
   then n more steps of the flow at that strain, the force and lateral
   strain printed every 100 (how far an increment is from equilibrium).
@@ -64,8 +65,8 @@ if hold:
             print(f"{k:5d} F {F:.4g} N lateral {lat:.5f} nu {-lat / strain:.3f} delta {-lat * c0 / (strain * w0):.3f} "
                   f"E {w.energy()['elastic']:.6g} J", flush=True)
     sys.exit(0)
-s = ex.stretch(r, direction="wale", strain=strain, friction=mu, increments=10, settle_steps=200,
-               steps_per_increment=300)
+s = ex.stretch(r, direction="wale", strain=strain, friction=mu, increments=int(os.environ.get("INCREMENTS", "10")),
+               settle_steps=200, steps_per_increment=int(os.environ.get("PER_INCREMENT", "300")))
 print(s, f"{time.time() - t0:.0f} s", flush=True)
 print(f"rest: c* = {c0 * 1e3:.4f} mm (wale spacing), w* = {w0 * 1e3:.4f} mm (course spacing), c*/w* = {c0 / w0:.3f}")
 print(" strain  force(N)   lateral  delta    nu")

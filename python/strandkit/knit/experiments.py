@@ -47,8 +47,9 @@ class _Flow:
         before = self._coords()
         try:
             self.world.step()
-        except (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError) as e:
-            # The world is unchanged by a refused step: retry shorter.
+        except (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError, errors.SingularError) as e:
+            # The world is unchanged by a refused step: retry shorter (a
+            # singular one too: a cell stretched with friction met one).
             self.fails += 1
             reach = e.factor if isinstance(e, errors.DivergedError) and "max_move" in str(e) else None
             if (reach is not None and self._reach is not None and 0.5 * self._reach < reach <= 2.0 * self._reach
@@ -85,7 +86,7 @@ class _Flow:
         self.world.set_params(max_move=1.5 * reach * limit)
         try:
             self.world.step()
-        except (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError):
+        except (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError, errors.SingularError):
             return False
         finally:
             self.world.set_params(max_move=limit)
