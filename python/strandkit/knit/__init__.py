@@ -30,6 +30,23 @@ from .. import _native
 
 __all__ = ["YARNS", "PATTERNS", "Fabric", "fabric", "MUNDEN"]
 
+
+def _check(name, x, low=0.0, integer=False, inclusive=False):
+    """x as a float (or int) > low (≥ low if ``inclusive``), else
+    InvalidInputError naming it."""
+    from ..errors import InvalidInputError
+
+    try:
+        ok = not isinstance(x, bool) and bool(np.isfinite(x)) and (x >= low if inclusive else x > low)
+        ok = ok and (not integer or int(x) == x)
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise InvalidInputError(f"{name}: {'an integer' if integer else 'a finite number'} {'≥' if inclusive else '>'} {low:g}, "
+                                f"got {x!r}")
+    return int(x) if integer else float(x)
+
+
 #: Fibre values of the yarn presets (SPEC §9.3): density kg/m³, Young's
 #: modulus Pa (nylon 6,6 "< 5 GPa": 3 GPa; aramid 70–135: 100 GPa).
 YARNS = {
@@ -136,15 +153,9 @@ class Fabric:
         detectors, so a relaxed fabric can be stretched with another μ."""
         from ..errors import InvalidInputError
 
-        margin = 0.5 * self.yarn_radius if margin is None else margin
         # Checked before the world's contact is cleared: a refusal leaves it as it was.
-        for name, x, low in (("friction", friction, 0.0), ("margin", margin, 1e-300)):
-            try:
-                ok = not isinstance(x, bool) and bool(np.isfinite(x)) and x >= low
-            except (TypeError, ValueError):
-                ok = False
-            if not ok:
-                raise InvalidInputError(f"{name}: a finite number ≥ {low:g}, got {x!r}")
+        friction = _check("friction", friction, inclusive=True)
+        margin = _check("margin", 0.5 * self.yarn_radius if margin is None else margin)
         if self.image is not None and len(world.rods()) <= self.image:
             raise InvalidInputError("world: a world made by this fabric's world()")
         world.clear_contact()

@@ -22,10 +22,15 @@ from typing import Optional
 import numpy as np
 
 from .. import errors
-from . import Fabric
+from . import Fabric, _check
 from .geometry import Interlocks, clearance, curl
 
 __all__ = ["Relaxed", "relax", "Stretched", "stretch"]
+
+
+# What a refused step raises (the world unchanged): the flow retries it
+# shorter (a singular one too: a cell stretched with friction met one).
+_REFUSED = (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError, errors.SingularError)
 
 
 class _Flow:
@@ -47,9 +52,8 @@ class _Flow:
         before = self._coords()
         try:
             self.world.step()
-        except (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError, errors.SingularError) as e:
-            # The world is unchanged by a refused step: retry shorter (a
-            # singular one too: a cell stretched with friction met one).
+        except _REFUSED as e:
+            # The world is unchanged by a refused step: retry shorter.
             self.fails += 1
             reach = e.factor if isinstance(e, errors.DivergedError) and "max_move" in str(e) else None
             if (reach is not None and self._reach is not None and 0.5 * self._reach < reach <= 2.0 * self._reach
@@ -86,7 +90,7 @@ class _Flow:
         self.world.set_params(max_move=1.5 * reach * limit)
         try:
             self.world.step()
-        except (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError, errors.SingularError):
+        except _REFUSED:
             return False
         finally:
             self.world.set_params(max_move=limit)
@@ -135,17 +139,6 @@ def _first_dt(fabric: Fabric, viscosity: float) -> float:
     return 100.0 * viscosity * fabric.yarn_radius ** 4 / fabric.bending_stiffness
 
 
-def _check(name, x, low=0.0, integer=False):
-    """x as a float (or int) > low, else InvalidInputError naming it."""
-    try:
-        ok = not isinstance(x, bool) and np.isfinite(x) and x > low and (not integer or int(x) == x)
-    except (TypeError, ValueError):
-        ok = False
-    if not ok:
-        raise errors.InvalidInputError(f"{name}: {'an integer' if integer else 'a finite number'} > {low:g}, got {x!r}")
-    return int(x) if integer else float(x)
-
-
 def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: float = 2e-4, window: int = 100,
           step_fraction: float = 0.25, viscosity: float = 1.0, record_every: int = 10, world=None,
           interlocks: Optional[Interlocks] = None, progress_bar: bool = False) -> Relaxed:
@@ -171,7 +164,7 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
     viscosity = _check("viscosity", viscosity)
     dt = _first_dt(fabric, viscosity)
     if world is None:
-        world = fabric.world(friction=_check("friction", friction, low=-1e-300), viscosity=viscosity)
+        world = fabric.world(friction=_check("friction", friction, inclusive=True), viscosity=viscosity)
     else:
         # A relaxation continued (its world and interlocks) goes on with its
         # last step (the world's dt under the flow): a new flow's first step is far from the one the
@@ -311,17 +304,17 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
         raise errors.InvalidInputError(f"strain: at most 10 (a knit is not stretched 11×), got {strain!r}")
     increments = _check("increments", increments, integer=True)
     steps_per_increment = _check("steps_per_increment", steps_per_increment, integer=True)
-    settle_steps = _check("settle_steps", settle_steps, low=-1, integer=True)
+    settle_steps = _check("settle_steps", settle_steps, integer=True, inclusive=True)
     tol, step_fraction = _check("tol", tol), _check("step_fraction", step_fraction)
     if isinstance(source, Relaxed):
         # A copy: the relaxed world stays as it was (stretch adds bars).
         fabric, world = source.fabric, source.world.copy()
         world.set_params(viscosity=_check("viscosity", viscosity))
         if friction is not None:
-            fabric.set_contact(world, friction=_check("friction", friction, low=-1e-300))
+            fabric.set_contact(world, friction=_check("friction", friction, inclusive=True))
     elif isinstance(source, Fabric):
         fabric = source
-        mu = 0.0 if friction is None else _check("friction", friction, low=-1e-300)
+        mu = 0.0 if friction is None else _check("friction", friction, inclusive=True)
         world = fabric.world(friction=mu, viscosity=_check("viscosity", viscosity))
     else:
         raise errors.InvalidInputError(f"source: a strandkit.knit Fabric or Relaxed, got {type(source).__name__}")
