@@ -262,6 +262,8 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
             let found = detectors.iter().try_for_each(|d| d.detect_with(&list, contacts, &mut ws.detect));
             ws.rod_list = recycle(list);
             found?;
+            // Pairs a first solve of this step went through (recheck.rs).
+            contacts.pairs.extend(ws.recheck_pairs.iter().cloned());
             if reuse {
                 ws.detected.pairs.clear();
                 ws.detected.pairs.extend(contacts.pairs.iter().cloned());

@@ -152,15 +152,42 @@ fn step_by(world: &mut World, h: f64) -> Result<StepReport> {
 fn advance(world: &mut World, h: f64) -> Result<(f64, crate::system::Solved, usize)> {
     super::beads::prepare(world, h)?;
     Ok(match world.params.scheme {
-        Scheme::ImplicitEuler => {
-            let (energy, solved) = solve::assemble_and_solve(world, Regime::Dynamic { h })?;
-            solve::check_reach(world, 1.0)?;
-            // Brownian dynamics has no velocity to update (zeroed after the step).
-            let velocity = (!world.params.overdamped).then_some(1.0 / h);
-            solve::commit(world, 1.0, velocity, Some(energy))?;
-            (energy, solved, 1)
-        }
+        Scheme::ImplicitEuler => implicit_euler(world, h)?,
         Scheme::Trapezoidal => super::trapezoidal::step(world, h)?,
         Scheme::TrBdf2 => super::trapezoidal::tr_bdf2(world, h)?,
     })
+}
+
+/// The implicit Euler step: one solve, or with `contact_recheck` one more
+/// for each detection at its end that finds pairs it went through
+/// (`recheck.rs`), each from the start of the step.
+fn implicit_euler(world: &mut World, h: f64) -> Result<(f64, crate::system::Solved, usize)> {
+    world.ws.recheck_pairs.clear();
+    let out = implicit_euler_solves(world, h);
+    // The pairs a step went through are that step's only.
+    world.ws.recheck_pairs.clear();
+    out
+}
+
+fn implicit_euler_solves(world: &mut World, h: f64) -> Result<(f64, crate::system::Solved, usize)> {
+    let growth = world.growth;
+    let mut solves = 1;
+    loop {
+        let (energy, solved) = solve::assemble_and_solve(world, Regime::Dynamic { h })?;
+        solve::check_reach(world, 1.0)?;
+        // Brownian dynamics has no velocity to update (zeroed after the step).
+        let velocity = (!world.params.overdamped).then_some(1.0 / h);
+        solve::commit(world, 1.0, velocity, Some(energy))?;
+        let again = if world.params.contact_recheck && solves <= super::recheck::MAX_AGAIN { super::recheck::missed(world) } else { Ok(false) };
+        if let Ok(false) = again {
+            return Ok((energy, solved, solves));
+        }
+        // From the start of the step again (or refused as it was): its rods,
+        // its contact set as it was, and the pairs it went through.
+        solve::undo(world);
+        world.growth = growth;
+        again?;
+        world.contacts.pairs.clone_from(&world.ws.contacts_before.pairs);
+        solves += 1;
+    }
 }

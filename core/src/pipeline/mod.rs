@@ -16,6 +16,7 @@ mod definedness;
 pub mod dynamic;
 pub mod post_solve;
 pub mod quasi_dynamic;
+mod recheck;
 mod rupture;
 mod solve;
 pub(crate) mod trapezoidal;

@@ -104,6 +104,11 @@ pub struct Workspace {
     pub(crate) stick_of: Vec<usize>,
     /// The contact set at the start of a step, put back if it is refused.
     pub(crate) contacts_before: crate::contact::ContactSet,
+    /// With `contact_recheck`: pairs found past contact where a step ended,
+    /// added to its pairs when it is solved again (`pipeline/recheck.rs`),
+    /// and the detection that found them.
+    pub(crate) recheck_pairs: Vec<crate::contact::ContactPair>,
+    pub(crate) recheck_found: crate::contact::ContactSet,
     /// The clips walked after a solve.
     pub(crate) clip_ids: Vec<Index>,
 }

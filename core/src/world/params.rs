@@ -70,6 +70,14 @@ pub struct IntegrationParameters {
     /// their solves, so a step of several can move farther.
     #[serde(default)]
     pub max_move: Option<f64>,
+    /// Implicit Euler steps with contact detection look again where they
+    /// ended: pairs that went past contact by more than 1 % of their
+    /// contact distance at places the step had no row are added and the
+    /// step is solved again from its start (up to 3 times; `solves` in
+    /// the report counts them). For strands wrapped round each other,
+    /// whose closest places move with them (knits).
+    #[serde(default)]
+    pub contact_recheck: bool,
     /// Time integration of dynamic steps (SPEC §3): implicit Euler (the
     /// thesis' method, the default) or the trapezoidal rule.
     #[serde(default)]
@@ -195,6 +203,7 @@ impl Default for IntegrationParameters {
             adaptive_dt: false,
             max_halvings: default_max_halvings(),
             max_move: None,
+            contact_recheck: false,
             scheme: Scheme::ImplicitEuler,
             temperature: 0.0,
             viscosity: 0.0,
