@@ -70,7 +70,7 @@ pub struct IntegrationParameters {
     /// their solves, so a step of several can move farther.
     #[serde(default)]
     pub max_move: Option<f64>,
-    /// Implicit Euler steps with contact detection look again where they
+    /// Off by default. Implicit Euler steps with contact detection look again where they
     /// ended: pairs that went past contact by more than 1 % of their
     /// contact distance at places the step had no row are added and the
     /// step is solved again from its start (up to 3 times; `solves` in
