@@ -487,11 +487,15 @@ impl SparseLu {
         self.perm.resize(n, 0);
         self.place.clear();
         self.place.resize(n, 0);
-        let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n, self.row_idx.len()))
-            .map_err(|_| Error::singular("sparse LDLᵀ: no memory for the ordering"))?; // once per pattern
+        // The ordering fails only for want of memory or index range: the
+        // system is too large, not singular.
+        let nnz = self.row_idx.len();
+        let too_large = |e: &dyn std::fmt::Debug| {
+            Error::invalid("sparse system", format!("{n} unknowns, {nnz} stored entries ({e:?})"), "a system whose ordering fits in memory")
+        };
+        let mut mem = MemBuffer::try_new(amd::order_scratch::<usize>(n, nnz)).map_err(|e| too_large(&e))?; // once per pattern
         let pattern = SymbolicSparseColMatRef::new_checked(n, n, &self.col_ptr, None, &self.row_idx);
-        amd::order(&mut self.perm, &mut self.place, pattern, amd::Control::default(), MemStack::new(&mut mem))
-            .map_err(|e| Error::singular(format!("sparse LDLᵀ ordering failed: {e:?}")))?;
+        amd::order(&mut self.perm, &mut self.place, pattern, amd::Control::default(), MemStack::new(&mut mem)).map_err(|e| too_large(&e))?;
         let place = &self.place;
         // The permuted upper triangle (entry (i, j) goes to (min, max) of
         // their places), its columns' rows sorted as faer wants them: the

@@ -257,11 +257,7 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
             contacts.pairs.extend(ws.detected.pairs.iter().cloned());
         } else {
             ws.detected.valid = false;
-            let mut list: Vec<(crate::handles::RodHandle, &Rod)> = recycle(std::mem::take(&mut ws.rod_list));
-            list.extend(rod_arena.iter().map(|(i, r)| (i.into(), r)));
-            let found = detectors.iter().try_for_each(|d| d.detect_with(&list, contacts, &mut ws.detect));
-            ws.rod_list = recycle(list);
-            found?;
+            detect_all(rod_arena, detectors, ws, contacts)?;
             // Pairs a first solve of this step went through (recheck.rs).
             contacts.pairs.extend(ws.recheck_pairs.iter().cloned());
             if reuse {
@@ -364,6 +360,16 @@ pub(crate) fn largest_radius(r: &Rod) -> f64 {
 /// its normal turned less than 60°.
 /// A ring's abscissae are compared around its period (a row on its seam
 /// may come back as u ≈ 0 or u ≈ period).
+/// Every detector over every rod, its pairs appended to `out` (the list
+/// of rods kept in the workspace's buffer between calls).
+pub(crate) fn detect_all(rods: &Arena<Rod>, detectors: &[crate::contact::Detector], ws: &mut Workspace, out: &mut ContactSet) -> Result<()> {
+    let mut list: Vec<(RodHandle, &Rod)> = recycle(std::mem::take(&mut ws.rod_list));
+    list.extend(rods.iter().map(|(i, r)| (i.into(), r)));
+    let found = detectors.iter().try_for_each(|d| d.detect_with(&list, out, &mut ws.detect));
+    ws.rod_list = recycle(list);
+    found
+}
+
 pub(crate) fn same_place(rods: &Arena<Rod>, a: &crate::contact::ContactPair, b: &crate::contact::ContactPair) -> bool {
     use crate::constraint::ConstraintKind::{Contact, Plane};
     let apart = |side: usize, x: f64, y: f64| {

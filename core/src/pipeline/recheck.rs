@@ -10,7 +10,7 @@
 //! distance, at places the step had no row, join the step's pairs and the
 //! step is solved again from its start.
 use crate::constraint::{ConstraintKind, Row};
-use crate::contact::{ContactDetector, ContactPair};
+use crate::contact::ContactPair;
 use crate::error::Result;
 use crate::world::World;
 
@@ -29,15 +29,12 @@ pub(crate) fn missed(world: &mut World) -> Result<bool> {
         return Ok(false);
     }
     let World { rods, detectors, contacts, ws, .. } = world;
-    let mut list: Vec<(crate::handles::RodHandle, &crate::rod::Rod)> = crate::system::workspace::recycle(std::mem::take(&mut ws.rod_list));
-    list.extend(rods.iter().map(|(i, r)| (i.into(), r)));
+    // The buffer goes back to the workspace whatever fails.
     let mut found = std::mem::take(&mut ws.recheck_found);
     found.pairs.clear();
-    let detected = detectors.iter().try_for_each(|d| d.detect_with(&list, &mut found, &mut ws.detect));
-    ws.rod_list = crate::system::workspace::recycle(list);
-    let mut added = false;
-    let mut rows = [Row::default(); 1];
-    if detected.is_ok() {
+    let added = super::assemble::detect_all(rods, detectors, ws, &mut found).and_then(|()| {
+        let mut added = false;
+        let mut rows = [Row::default(); 1];
         for p in found.pairs.drain(..) {
             let ConstraintKind::Contact(c) = &p.kind else { continue };
             let (Some(a), Some(b)) = (rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) else { continue };
@@ -53,8 +50,8 @@ pub(crate) fn missed(world: &mut World) -> Result<bool> {
             ws.recheck_pairs.push(ContactPair { active: false, force: 0.0, ..p });
             added = true;
         }
-    }
+        Ok(added)
+    });
     ws.recheck_found = found;
-    detected?;
-    Ok(added)
+    added
 }
