@@ -131,8 +131,8 @@ pub struct SparseLu {
     up_slot: Vec<usize>,
     up_val: Vec<f64>,
     /// Scratch of the pattern's analysis, kept: the kept entries by
-    /// permuted row (slot, row, column) and each row's or column's next place.
-    sym_by_row: Vec<(usize, usize, usize)>,
+    /// permuted row (slot, column) and each row's or column's next place.
+    sym_by_row: Vec<(usize, usize)>,
     sym_next: Vec<usize>,
     /// The right-hand side in the permuted order (solves).
     work_perm: Vec<f64>,
@@ -526,20 +526,20 @@ impl SparseLu {
         self.up_slot.clear();
         self.up_slot.resize(self.row_idx.len(), usize::MAX);
         by_row.clear();
-        by_row.resize(nnz, (0, 0, 0));
+        by_row.resize(nnz, (0, 0));
         for j in 0..n {
             for p in self.col_ptr[j]..self.col_ptr[j + 1] {
                 let (pi, pj) = (place[self.row_idx[p]], place[j]);
                 if pi <= pj {
-                    by_row[next[pi]] = (p, pi, pj);
+                    by_row[next[pi]] = (p, pj);
                     next[pi] += 1;
                 }
             }
         }
         // Rows in increasing order: each column fills from its start.
         next[..n].copy_from_slice(&self.up_col_ptr[..n]);
-        for &(p, pi, pj) in by_row.iter() {
-            self.up_row_idx[next[pj]] = pi;
+        for &(p, pj) in by_row.iter() {
+            self.up_row_idx[next[pj]] = place[self.row_idx[p]];
             self.up_slot[p] = next[pj];
             next[pj] += 1;
         }
@@ -549,7 +549,7 @@ impl SparseLu {
             SymmetricOrdering::Identity,
             CholeskySymbolicParams::default(),
         )
-        .map_err(|e| Error::singular(format!("sparse LDLᵀ symbolic analysis failed: {e:?}")))?;
+        .map_err(|e| too_large(&e))?;
         self.symbolic_count += 1;
         self.ldlt_val.resize(sym.len_val(), 0.0);
         self.sym_ldlt = Some(sym);
