@@ -320,17 +320,34 @@ def test_relax_reports_a_swatch_unravelling_from_its_open_edge_and_tied_edges_ho
 def test_the_flow_takes_a_constraint_jump_that_no_shorter_step_shortens():
     # A held point moved 5 max_moves away: a quarter of the step moves as
     # far (the constraint is met whatever dt), so the flow takes it once
-    # with the guard let out to it instead of shrinking dt forever.
-    w = sk.World(gravity=(0, 0, 0), viscosity=1.0, max_move=1e-4)
-    rod = w.add_rod(sk.straight((0, 0, 0), (0.01, 0, 0), section=1e-4, material="nylon", n_control_points=6,
-                                with_roll=False))
-    h = w.add_constraint(rod, sk.position(0.0, target=(0.0, 0.0, 0.0)))
-    flow = ex._Flow(w, 1e-4, 0.25, dt=1e-3)
-    flow.step()
+    # with the guard let out to it instead of shrinking dt forever - when
+    # that is within a yarn diameter (here a yarn of 0.5 mm radius).
+    def world():
+        w = sk.World(gravity=(0, 0, 0), viscosity=1.0, max_move=1e-4)
+        rod = w.add_rod(sk.straight((0, 0, 0), (0.01, 0, 0), section=1e-4, material="nylon", n_control_points=6,
+                                    with_roll=False))
+        return w, rod, w.add_constraint(rod, sk.position(0.0, target=(0.0, 0.0, 0.0)))
+
+    w, rod, h = world()
+    flow = ex._Flow(w, 5e-4, 0.25, dt=1e-3)
+    assert flow.step() is not None
     assert flow.forced == 0 and flow.fails == 0
     w.set_constraint(h, sk.position(0.0, target=(0.0, 5e-4, 0.0)))
-    for _ in range(3):
-        flow.step()
+    moves = [flow.step() for _ in range(3)]
+    # Refused, then refused again and forced (the move returned).
+    assert moves[0] is None and moves[1] == pytest.approx(5e-4, rel=1e-6), moves
     assert flow.fails == 2 and flow.forced == 1, (flow.fails, flow.forced)
     assert np.allclose(rod.position(0.0), (0.0, 5e-4, 0.0), atol=1e-9)
     assert w.params["max_move"] == 1e-4  # the guard is back on
+    # Farther than a diameter (a yarn of 0.1 mm radius) it is not forced: a
+    # forced step of a stretched cell moved a yarn 7 mm, through others. The
+    # flow shortens its step to the floor, then refuses, the world as it was.
+    w, rod, h = world()
+    flow = ex._Flow(w, 1e-4, 0.25, dt=1e-3)
+    flow.step()
+    w.set_constraint(h, sk.position(0.0, target=(0.0, 5e-4, 0.0)))
+    with pytest.raises(sk.DivergedError, match="max_move"):
+        for _ in range(30):
+            assert flow.step() is None
+    assert flow.forced == 0 and flow.fails > 15
+    assert np.allclose(rod.position(0.0), (0.0, 0.0, 0.0), atol=1e-9)

@@ -33,12 +33,21 @@ __all__ = ["Relaxed", "relax", "Stretched", "stretch"]
 _REFUSED = (errors.DivergedError, errors.ConvergenceError, errors.NonFiniteError, errors.SingularError)
 
 
+# A step moving no point farther than this fraction of the step cap does
+# not lengthen the next (see _Flow.step).
+STUCK = 1e-3
+
+# A forced step (a constraint's correction, see _Flow._forced_step) moves
+# no point farther than this many yarn radii: a diameter.
+FORCED_MOVE = 2.0
+
+
 class _Flow:
     """Adaptive overdamped steps on a world: dt grows while steps move
     little, shrinks when one moves too much, quarters when one fails."""
 
     def __init__(self, world, radius: float, step_fraction: float, dt: float):
-        self.world, self.cap, self.dt, self.first = world, step_fraction * radius, dt, dt
+        self.world, self.radius, self.cap, self.dt, self.first = world, radius, step_fraction * radius, dt, dt
         self.fails = 0
         self.forced = 0
         self._reach = None  # the last refusal's move over max_move
@@ -47,8 +56,9 @@ class _Flow:
     def _coords(self):
         return [r.control_points.copy() for r in self.world.rods()]
 
-    def step(self) -> float:
-        """One step; returns the largest control-point move (m)."""
+    def step(self) -> Optional[float]:
+        """One step; returns the largest control-point move (m), or None
+        when the step was refused (the world unchanged, dt shortened)."""
         before = self._coords()
         try:
             self.world.step()
@@ -56,15 +66,20 @@ class _Flow:
             # The world is unchanged by a refused step: retry shorter.
             self.fails += 1
             reach = e.factor if isinstance(e, errors.DivergedError) and "max_move" in str(e) else None
+            limit = self.world.params["max_move"]
             if (reach is not None and self._reach is not None and 0.5 * self._reach < reach <= 2.0 * self._reach
-                    and self._forced_step(reach)):
+                    and 1.5 * reach * limit <= FORCED_MOVE * self.radius and self._forced_step(reach)):
                 # A quarter of the step moved about as far: the move is a
                 # constraint's correction (contacts pushing yarns that sag
                 # into each other apart, a clamp's drift), which no shorter
                 # step shortens: taken once with the guard let out to it.
                 # Farther than the whole step is no such correction (a seed
                 # swatch's first quarter step reached 121 max_moves where
-                # the whole reached 20): shortened again.
+                # the whole reached 20): shortened again. Nor is one
+                # farther than a diameter (FORCED_MOVE): a stretched cell's
+                # quarter steps all reached 140 max_moves, a near-free
+                # mode, and the step forced through moved a yarn 7 mm,
+                # through the yarns about it.
                 pass
             else:
                 self._reach = reach
@@ -72,10 +87,17 @@ class _Flow:
                     raise
                 self.dt *= 0.25
                 self.world.set_params(dt=self.dt)
-                return 0.0
+                return None
         self._reach = None
         move = max(float(np.linalg.norm(a - b, axis=1).max()) for a, b in zip(self._coords(), before))
-        self.dt *= min(2.0, max(0.5, np.sqrt(self.cap / max(move, 1e-300))))
+        grow = min(2.0, max(0.5, np.sqrt(self.cap / max(move, 1e-300))))
+        if move < STUCK * self.cap:
+            # Held by friction (or settled), a longer step moves no more:
+            # grown on, dt doubled every step (to 5e7 s in 50 steps of a
+            # settling stretch, measured), and the next grip move was
+            # refused and quartered twenty times over.
+            grow = min(grow, 1.0)
+        self.dt *= grow
         self.world.set_params(dt=self.dt)
         return move
 
@@ -429,17 +451,22 @@ def _increments(world, fabric, flow, interlocks, direction, strain, increments, 
         # points about a grip move up to twice as far as the grip (measured
         # 2.1×), and no shorter step makes up for a constraint's jump
         # beyond the world's max_move (the contact margin, twice the cap).
+        # The grip moves on only after a step taken: moved on through
+        # refused ones, it jumped by the whole increment (a cell stretched
+        # with friction, 23 refusals in a row).
         moves = max(1, int(np.ceil(abs(e - previous) * abs(gap) / (0.5 * flow.cap))))
-        last = None
-        for k in range(max(steps_per_increment, moves)):
-            if k < moves:
-                place(previous + (e - previous) * (k + 1) / moves)
-            flow.step()
-            if k % 10 == 9:
+        last, done, k = None, 0, 0
+        while done < moves or k < steps_per_increment:
+            if done < moves:
+                place(previous + (e - previous) * (done + 1) / moves)
+            taken = flow.step() is not None
+            k += 1
+            if k % 10 == 0:
                 interlocks.update(world)
-            if k < moves:
+            if done < moves:
+                done += taken
                 continue
-            if k % 20 == 19:
+            if k % 20 == 0:
                 f = force()
                 if last is not None and abs(f - last) <= tol * max(abs(f), 1e-300):
                     break
