@@ -253,7 +253,11 @@ class Stretched:
     width across the stretch over its initial value, at mid-length),
     ``loading`` (True while the grips move apart); ``work_loading``,
     ``work_unloading`` (J, ∫F du on each branch); ``clearance`` (smallest
-    seen); ``interlocks`` followed through the settling and every
+    seen); ``settled`` (per increment, after the first point: whether its
+    force had stopped changing, by less than ``tol`` over 20 steps, before
+    ``steps_per_increment`` ran out; unsettled, the force lags the
+    equilibrium's, above it on loading, while the yarn still slides);
+    ``interlocks`` followed through the settling and every
     increment (``interlocks.parted``: loops that came out of the loop
     above, with a relaxed source counting from its relaxation's)."""
 
@@ -265,6 +269,7 @@ class Stretched:
     work_loading: float
     work_unloading: float
     clearance: float
+    settled: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=bool))
     world: object = field(repr=False, default=None)
     interlocks: Optional[Interlocks] = field(default=None, repr=False)
 
@@ -272,7 +277,8 @@ class Stretched:
         parted = len(self.interlocks.parted) if self.interlocks is not None else 0
         return (f"Stretched({self.direction}, {len(self.strain)} increments to strain {self.strain.max():.3f}, "
                 f"peak force {self.force.max():.4g} N, work loading {self.work_loading:.4g} J / "
-                f"unloading {self.work_unloading:.4g} J{f', {parted} interlocks parted' if parted else ''})")
+                f"unloading {self.work_unloading:.4g} J, {int(self.settled.sum())} of {len(self.settled)} increments "
+                f"settled{f', {parted} interlocks parted' if parted else ''})")
 
 
 def _grips(fabric: Fabric, direction: str):
@@ -368,11 +374,6 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
     pulls = [world.add_constraint(rod, position(u, target=p), label=f"pull[{i}]") for i, (rod, u, p) in enumerate(pulled)]
     start = np.array([p for _, _, p in pulled])
     gap = float(np.mean(start @ axis) - np.mean(np.array([p for _, _, p in held]) @ axis))
-    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=_first_dt(fabric, world.params["viscosity"]))
-    for k in range(int(settle_steps)):
-        flow.step()
-        if k % 10 == 9:
-            interlocks.update(world)
     across = np.array([1.0, 0.0, 0.0]) if direction == "wale" else np.array([0.0, 1.0, 0.0])
 
     def width():
@@ -388,8 +389,8 @@ def stretch(source, *, direction: str = "wale", strain: float = 0.3, increments:
         for (rod, u, p), h in zip(pulled, pulls):
             world.set_constraint(h, position(u, target=tuple(np.asarray(p) + e * gap * axis)))
 
-    return _increments(world, fabric, flow, interlocks, direction, strain, increments, unload, steps_per_increment, tol,
-                       gap, place, force, width)
+    return _increments(world, fabric, interlocks, direction, strain, increments, unload, settle_steps,
+                       steps_per_increment, tol, step_fraction, gap, place, force, width)
 
 
 def _stretch_cell(fabric, world, source, direction, strain, increments, unload, settle_steps, steps_per_increment,
@@ -412,19 +413,14 @@ def _stretch_cell(fabric, world, source, direction, strain, increments, unload, 
     held = lambda e: constraints.relative_position(u0, u0, offset=(0.0, -gap * (1.0 + e), 0.0), axes="y")  # noqa: E731
     link = world.add_link(yarn, image, held(0.0), label="period")
     interlocks = _interlocks(source, world, fabric)
-    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=_first_dt(fabric, world.params["viscosity"]))
-    for k in range(int(settle_steps)):
-        flow.step()
-        if k % 10 == 9:
-            interlocks.update(world)
 
     def force():
         # The link's force on the image along the wale: the image pulled
         # back towards the yarn, the tube's tension.
         return float(-np.dot(np.asarray(link.reaction().force), axis))
 
-    return _increments(world, fabric, flow, interlocks, direction, strain, increments, unload, steps_per_increment, tol,
-                       gap, lambda e: world.set_constraint(link, held(e)), force,
+    return _increments(world, fabric, interlocks, direction, strain, increments, unload, settle_steps,
+                       steps_per_increment, tol, step_fraction, gap, lambda e: world.set_constraint(link, held(e)), force,
                        lambda: fabric.dimensions(world)["wale_spacing"])
 
 
@@ -435,15 +431,21 @@ def _interlocks(source, world, fabric):
     return Interlocks(world, fabric)
 
 
-def _increments(world, fabric, flow, interlocks, direction, strain, increments, unload, steps_per_increment, tol,
-                gap, place, force, width) -> Stretched:
-    """The stretch's increments up (and down) to ``strain`` of ``gap`` (m),
-    the grips moved by ``place(e)``; ``force()`` and ``width()`` read."""
+def _increments(world, fabric, interlocks, direction, strain, increments, unload, settle_steps, steps_per_increment,
+                tol, step_fraction, gap, place, force, width) -> Stretched:
+    """The fabric settled between its grips for ``settle_steps``, then the
+    stretch's increments up (and down) to ``strain`` of ``gap`` (m), the
+    grips moved by ``place(e)``; ``force()`` and ``width()`` read."""
+    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=_first_dt(fabric, world.params["viscosity"]))
+    for k in range(int(settle_steps)):
+        flow.step()
+        if k % 10 == 9:
+            interlocks.update(world)
     w0 = width()
     levels = list(np.linspace(0.0, strain, increments + 1)[1:])
     if unload:
         levels += list(np.linspace(strain, 0.0, increments + 1)[1:])
-    out = {"strain": [0.0], "force": [force()], "lateral": [0.0], "loading": [True]}
+    out = {"strain": [0.0], "force": [force()], "lateral": [0.0], "loading": [True], "settled": []}
     least = clearance(world, fabric)
     previous = 0.0
     for n, e in enumerate(levels):
@@ -455,7 +457,7 @@ def _increments(world, fabric, flow, interlocks, direction, strain, increments, 
         # refused ones, it jumped by the whole increment (a cell stretched
         # with friction, 23 refusals in a row).
         moves = max(1, int(np.ceil(abs(e - previous) * abs(gap) / (0.5 * flow.cap))))
-        last, done, k = None, 0, 0
+        last, done, k, settled = None, 0, 0, False
         while done < moves or k < steps_per_increment:
             if done < moves:
                 place(previous + (e - previous) * (done + 1) / moves)
@@ -469,9 +471,11 @@ def _increments(world, fabric, flow, interlocks, direction, strain, increments, 
             if k % 20 == 0:
                 f = force()
                 if last is not None and abs(f - last) <= tol * max(abs(f), 1e-300):
+                    settled = True
                     break
                 last = f
         previous = e
+        out["settled"].append(settled)
         out["strain"].append(e), out["force"].append(force()), out["lateral"].append(width() / w0 - 1.0)
         out["loading"].append(n < increments)
         least = min(least, clearance(world, fabric))
@@ -483,4 +487,5 @@ def _increments(world, fabric, flow, interlocks, direction, strain, increments, 
     return Stretched(direction=direction, strain=s, force=f, lateral_strain=np.array(out["lateral"]), loading=ld,
                      work_loading=trap(s[up] * gap, f[up]),
                      work_unloading=-trap(s[down] * gap, f[down]) if unload else float("nan"),
-                     clearance=least, world=world, interlocks=interlocks)
+                     clearance=least, settled=np.array(out["settled"], dtype=bool), world=world,
+                     interlocks=interlocks)
