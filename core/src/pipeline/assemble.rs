@@ -354,12 +354,6 @@ pub(crate) fn largest_radius(r: &Rod) -> f64 {
     r.sections().iter().map(|s| s.bounding_radius()).fold(0.0, f64::max)
 }
 
-/// Two contact rows at the same place (abscissae within half a parameter
-/// unit, a fraction of a knot span).
-/// An obstacle row's tangent plane turns with the rod: the same place if
-/// its normal turned less than 60°.
-/// A ring's abscissae are compared around its period (a row on its seam
-/// may come back as u ≈ 0 or u ≈ period).
 /// Every detector over every rod, its pairs appended to `out` (the list
 /// of rods kept in the workspace's buffer between calls).
 pub(crate) fn detect_all(rods: &Arena<Rod>, detectors: &[crate::contact::Detector], ws: &mut Workspace, out: &mut ContactSet) -> Result<()> {
@@ -370,6 +364,12 @@ pub(crate) fn detect_all(rods: &Arena<Rod>, detectors: &[crate::contact::Detecto
     found
 }
 
+/// Two contact rows at the same place (abscissae within half a parameter
+/// unit, a fraction of a knot span).
+/// An obstacle row's tangent plane turns with the rod: the same place if
+/// its normal turned less than 60°.
+/// A ring's abscissae are compared around its period (a row on its seam
+/// may come back as u ≈ 0 or u ≈ period).
 pub(crate) fn same_place(rods: &Arena<Rod>, a: &crate::contact::ContactPair, b: &crate::contact::ContactPair) -> bool {
     use crate::constraint::ConstraintKind::{Contact, Plane};
     let apart = |side: usize, x: f64, y: f64| {
