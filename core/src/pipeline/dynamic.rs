@@ -162,9 +162,9 @@ fn advance(world: &mut World, h: f64) -> Result<(f64, crate::system::Solved, usi
 /// for each detection at its end that finds pairs it went through
 /// (`recheck.rs`), each from the start of the step.
 fn implicit_euler(world: &mut World, h: f64) -> Result<(f64, crate::system::Solved, usize)> {
-    world.ws.recheck_pairs.clear();
     let out = implicit_euler_solves(world, h);
-    // The pairs a step went through are that step's only.
+    // The pairs a step went through are that step's only (cleared however
+    // it ends, so every step starts without any).
     world.ws.recheck_pairs.clear();
     out
 }

@@ -68,7 +68,7 @@ class _Flow:
             reach = e.factor if isinstance(e, errors.DivergedError) and "max_move" in str(e) else None
             limit = self.world.params["max_move"]
             if (reach is not None and self._reach is not None and 0.5 * self._reach < reach <= 2.0 * self._reach
-                    and 1.5 * reach * limit <= FORCED_MOVE * self.radius and self._forced_step(reach)):
+                    and 1.5 * reach * limit <= FORCED_MOVE * self.radius and self._forced_step(reach, limit)):
                 # A quarter of the step moved about as far: the move is a
                 # constraint's correction (contacts pushing yarns that sag
                 # into each other apart, a clamp's drift), which no shorter
@@ -101,14 +101,13 @@ class _Flow:
         self.world.set_params(dt=self.dt)
         return move
 
-    def _forced_step(self, reach: float) -> bool:
+    def _forced_step(self, reach: float, limit: float) -> bool:
         """One step with the reach guard let out to 1.5 × the refused
-        ``reach`` (the step's farthest move over max_move); False if
+        ``reach`` (the step's farthest move over ``limit``, the world's max_move, m); False if
         refused. Not lifted altogether: the step may move other points
         farther than the correction that triggered it (measured: a seed
         swatch's first steps, taken unguarded, moved a yarn 120 max_moves,
         its energy 0.16 → 8.6 J)."""
-        limit = self.world.params["max_move"]
         self.world.set_params(max_move=1.5 * reach * limit)
         try:
             self.world.step()
