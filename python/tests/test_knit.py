@@ -95,6 +95,8 @@ def test_relaxation_lowers_the_energy_without_yarn_passing_through():
     assert e[-1] < 0.9 * e[0]
     # No yarn inside another beyond the contact rows' sag (measured 0.95).
     assert r.clearance > 0.85, r.clearance
+    # The start's apart from what the relaxation reached: the built world's.
+    assert r.start_clearance == clearance(f.world(), f)
     d = r.dimensions
     assert all(math.isfinite(d[k]) and d[k] > 0 for k in ("k_c", "k_w", "k_s"))
     assert "NOT converged" in repr(r) and r.steps == 80
