@@ -750,14 +750,18 @@ fn eliminate(l: &mut [f64], n: usize, kd: usize, j: usize) {
 
 /// Every elimination step of `l` (n columns, half-bandwidth kd). Interior
 /// columns (j + kd < n) of the common half-bandwidths (a rod with 3 or 4
-/// coordinates per control point: 11 or 15) run a kernel compiled for that
-/// width. (256-bit vectors through runtime dispatch measured no faster
+/// coordinates per control point: 11 or 15; 12–14 when sliding abscissas
+/// interleave, as in the necklace: kd 14, ≈2 % of its step) run a kernel
+/// compiled for that width. (256-bit vectors through runtime dispatch measured no faster
 /// here: the elimination is bound by the pivot's division chain, not by
 /// vector width.)
 fn eliminate_all(l: &mut [f64], n: usize, kd: usize) {
     for j in 0..n {
         match kd {
             11 if j + kd < n => eliminate_fixed::<11, 12>(l, j),
+            12 if j + kd < n => eliminate_fixed::<12, 13>(l, j),
+            13 if j + kd < n => eliminate_fixed::<13, 14>(l, j),
+            14 if j + kd < n => eliminate_fixed::<14, 15>(l, j),
             15 if j + kd < n => eliminate_fixed::<15, 16>(l, j),
             _ => eliminate(l, n, kd, j),
         }
@@ -1306,17 +1310,18 @@ mod tests {
         (m, d)
     }
 
-    /// The unrolled kernels of half-bandwidths 11 and 15 do the generic
+    /// The unrolled kernels of half-bandwidths 11–15 do the generic
     /// elimination's arithmetic in the same order: the same matrix stored
-    /// one band wider (the generic path, whose extra diagonal is zero) gives
-    /// bit-identical pivots and multipliers.
+    /// with half-bandwidth 16 (the generic path, whose extra diagonals are
+    /// zero) gives bit-identical pivots and multipliers.
     #[test]
     fn fixed_width_elimination_is_the_generic_one_bit_for_bit() {
         let mut rng = Lcg(5);
-        for k in [11usize, 15] {
+        const WIDE: usize = 16; // no fixed kernel: the generic path
+        for k in 11usize..=15 {
             for n in [k + 1, 3 * k, 200] {
                 let (a, d) = random_spd(&mut rng, n, k, 0.5);
-                let mut wide = BandMatrix::new(n, k + 1, k + 1);
+                let mut wide = BandMatrix::new(n, WIDE, WIDE);
                 for i in 0..n {
                     for j in i.saturating_sub(k)..(i + k + 1).min(n) {
                         wide.set(i, j, d[i][j]);
@@ -1327,7 +1332,7 @@ mod tests {
                 g.factor(&wide).unwrap();
                 for j in 0..n {
                     for c in 0..=k.min(n - 1 - j) {
-                        assert_eq!(f.l[j * (k + 1) + c].to_bits(), g.l[j * (k + 2) + c].to_bits(), "k={k} n={n} column {j} entry {c}");
+                        assert_eq!(f.l[j * (k + 1) + c].to_bits(), g.l[j * (WIDE + 1) + c].to_bits(), "k={k} n={n} column {j} entry {c}");
                     }
                 }
             }
