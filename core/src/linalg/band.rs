@@ -750,9 +750,9 @@ fn eliminate(l: &mut [f64], n: usize, kd: usize, j: usize) {
 
 /// Every elimination step of `l` (n columns, half-bandwidth kd). Interior
 /// columns (j + kd < n) of the common half-bandwidths (a rod with 3 or 4
-/// coordinates per control point: 11 or 15; 12–14 when sliding abscissas
-/// interleave, as in the necklace: kd 14, ≈2 % of its step) run a kernel
-/// compiled for that width. (256-bit vectors through runtime dispatch measured no faster
+/// coordinates per control point: 11 or 15; 12–14 where constraint rows
+/// interleave, as in the necklace's 14) run a kernel compiled for that
+/// width. (256-bit vectors through runtime dispatch measured no faster
 /// here: the elimination is bound by the pivot's division chain, not by
 /// vector width.)
 fn eliminate_all(l: &mut [f64], n: usize, kd: usize) {
@@ -1317,14 +1317,30 @@ mod tests {
     /// The unrolled kernels of half-bandwidths 11–15 do the generic
     /// elimination's arithmetic in the same order: the same matrix stored
     /// with half-bandwidth 16 (the generic path, whose extra diagonals are
-    /// zero) gives bit-identical pivots and multipliers.
+    /// zero) gives bit-identical pivots and multipliers. Also with zeros
+    /// that stay zero in the factor (each row's entries left of a varying
+    /// envelope, as where a KKT band's constraint rows interleave): the
+    /// zero multipliers both paths skip.
     #[test]
     fn fixed_width_elimination_is_the_generic_one_bit_for_bit() {
         let mut rng = Lcg(5);
         const WIDE: usize = 16; // no fixed kernel: the generic path
-        for k in 11usize..=15 {
+        for (k, envelope) in (11usize..=15).flat_map(|k| [(k, false), (k, true)]) {
             for n in [k + 1, 3 * k, 200] {
-                let (a, d) = random_spd(&mut rng, n, k, 0.5);
+                let (mut a, mut d) = random_spd(&mut rng, n, k, 0.5);
+                if envelope {
+                    // Row i starts at column i − k + i % 4: no fill reaches
+                    // left of it (every column m < j < start has L[i][m] = 0).
+                    // Still diagonally dominant.
+                    for i in 0..n {
+                        for j in i.saturating_sub(k)..(i + i % 4).saturating_sub(k).min(i) {
+                            d[i][j] = 0.0;
+                            d[j][i] = 0.0;
+                            a.set(i, j, 0.0);
+                            a.set(j, i, 0.0);
+                        }
+                    }
+                }
                 let mut wide = BandMatrix::new(n, WIDE, WIDE);
                 for i in 0..n {
                     for j in i.saturating_sub(k)..(i + k + 1).min(n) {
@@ -1336,7 +1352,7 @@ mod tests {
                 g.factor(&wide).unwrap();
                 for j in 0..n {
                     for c in 0..=k.min(n - 1 - j) {
-                        assert_eq!(f.l[j * (k + 1) + c].to_bits(), g.l[j * (WIDE + 1) + c].to_bits(), "k={k} n={n} column {j} entry {c}");
+                        assert_eq!(f.l[j * (k + 1) + c].to_bits(), g.l[j * (WIDE + 1) + c].to_bits(), "k={k} n={n} envelope {envelope} column {j} entry {c}");
                     }
                 }
             }
