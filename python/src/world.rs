@@ -329,8 +329,14 @@ impl PyWorld {
     /// the self-contact exclusion are never paired; `pair_friction`:
     /// triples (a, b, μ) giving rods a and b (either order; a rod twice for
     /// its self-contact) their own coefficient instead of `friction`.
+    /// `line_stiffness` (force/length², finite > 0; None: rigid rows):
+    /// distributed rows — a compliant row at every sample of a strand
+    /// within reach of another, so that a line of contact (a yarn wrapped
+    /// round another) is held along its length and sinks by q/k under a
+    /// line load q (force/length) instead of one rigid row per place of
+    /// contact, which moves wherever the last step pressed deepest.
     /// Snapshots keep the detection and the contacts' state.
-    #[pyo3(signature = (*, margin, self_contact = true, between_rods = true, friction = 0.0, no_self_contact = Vec::new(), joined = Vec::new(), pair_friction = Vec::new()))]
+    #[pyo3(signature = (*, margin, self_contact = true, between_rods = true, friction = 0.0, no_self_contact = Vec::new(), joined = Vec::new(), pair_friction = Vec::new(), line_stiffness = None))]
     #[allow(clippy::too_many_arguments)]
     fn contact(
         slf: &Bound<'_, Self>,
@@ -341,6 +347,7 @@ impl PyWorld {
         no_self_contact: Vec<Bound<'_, PyRod>>,
         joined: Vec<(Bound<'_, PyRod>, Bound<'_, PyRod>)>,
         pair_friction: Vec<(Bound<'_, PyRod>, Bound<'_, PyRod>, f64)>,
+        line_stiffness: Option<f64>,
     ) -> PyResult<()> {
         let alone = no_self_contact.iter().map(|r| Self::rod_handle(slf, r)).collect::<PyResult<Vec<_>>>()?;
         let pairs = joined.iter().map(|(a, b)| Ok((Self::rod_handle(slf, a)?, Self::rod_handle(slf, b)?))).collect::<PyResult<Vec<_>>>()?;
@@ -352,6 +359,9 @@ impl PyWorld {
             }
             for (a, b, mu) in mus {
                 d = d.with_pair_friction(a, b, mu)?;
+            }
+            if let Some(k) = line_stiffness {
+                d = d.with_line_stiffness(k)?;
             }
             w.add_contact_detector(d)
         })

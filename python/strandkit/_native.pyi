@@ -593,7 +593,7 @@ class World:
         """The clips, in handle order."""
     def constraints(self):
         """The live constraints, in handle order."""
-    def contact(self, *, margin, self_contact=True, between_rods=True, friction=0.0, no_self_contact=..., joined=..., pair_friction=...):
+    def contact(self, *, margin, self_contact=True, between_rods=True, friction=0.0, no_self_contact=..., joined=..., pair_friction=..., line_stiffness=None):
         """Detects contacts between rods before every solve (SPEC §7): each rod a chain of capsules of its largest section radius; pairs closer than their radii plus `margin` (length; large enough that a step does not carry a rod through another) become unilateral contact rows with an active set, with Coulomb `friction` (dimensionless μ ≥ 0: stick while the friction force is within μ N, else slip against the motion)."""
     def contacts(self):
         """The active contacts of the last solve, as arrays (n pairs): `rod_a`, `rod_b` (positions in `world.rods()`; −1 for an obstacle), `u_a`, `u_b` (abscissae; NaN against an obstacle), `points` (n, 3: rod a's centreline point, length), `normals` (n, 3: unit, pushing rod a out), `normal_force` (n: force unit, ≥ 0), `friction_force` (n, 3: tangential force on rod a), `slipping` (n: bool)."""

@@ -144,12 +144,17 @@ pub struct ContactPair {
     /// Coulomb friction, when the pair has a coefficient.
     #[serde(default)]
     pub friction: Option<friction::Friction>,
+    /// Compliance of the normal row (length/force): 0 for a rigid row, a
+    /// distributed row's share of its line stiffness otherwise
+    /// ([`rods::RodContacts::line_stiffness`]).
+    #[serde(default)]
+    pub compliance: f64,
 }
 
 impl ContactPair {
     pub fn new(rods: [RodHandle; 2], kind: ConstraintKind) -> Result<ContactPair> {
         match &kind {
-            ConstraintKind::Contact(_) | ConstraintKind::Plane(_) => Ok(ContactPair { rods, kind, force: 0.0, active: false, friction: None }),
+            ConstraintKind::Contact(_) | ConstraintKind::Plane(_) => Ok(ContactPair { rods, kind, force: 0.0, active: false, friction: None, compliance: 0.0 }),
             k => Err(Error::invalid("contact pair kind", k.name(), "Contact (rod–rod) or Plane (rod–obstacle)")),
         }
     }
@@ -157,6 +162,11 @@ impl ContactPair {
     pub fn with_friction(mut self, mu: f64) -> Result<ContactPair> {
         friction::check_mu(mu)?;
         self.friction = if mu > 0.0 { Some(friction::Friction::new(mu)?) } else { None };
+        Ok(self)
+    }
+    /// With a compliant normal row (`c`: length/force, finite ≥ 0).
+    pub fn with_compliance(mut self, c: f64) -> Result<ContactPair> {
+        self.compliance = crate::error::non_negative("contact compliance", c)?;
         Ok(self)
     }
     /// The tangential (friction) force on rod a of the last solve (force unit).

@@ -66,6 +66,10 @@ const FEW_ROWS: usize = 32;
 /// `pair_friction`: Coulomb coefficients for given rod pairs (either
 /// order; [a, a] for a rod against itself) instead of `friction` — a
 /// cable against a rope, yarns of two fibres.
+/// `line_stiffness`: None, one rigid row where two strands come closest
+/// (each place of contact); Some(k), distributed rows (`distributed_rows`):
+/// a compliant row at the middle of every capsule within reach of another
+/// strand, k the contact's stiffness per unit length (force/length²).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct RodContacts {
     pub margin: f64,
@@ -79,6 +83,8 @@ pub struct RodContacts {
     pub joined: Vec<[RodHandle; 2]>,
     #[serde(default, deserialize_with = "sorted_pairs")]
     pub pair_friction: Vec<([RodHandle; 2], f64)>,
+    #[serde(default)]
+    pub line_stiffness: Option<f64>,
 }
 
 /// Pair coefficients as read from a snapshot, put in the order the lookup
@@ -100,7 +106,7 @@ fn pair_key(a: RodHandle, b: RodHandle) -> [RodHandle; 2] {
 
 impl RodContacts {
     pub fn new(margin: f64, self_contact: bool, between_rods: bool) -> Result<RodContacts> {
-        let d = RodContacts { margin, self_contact, between_rods, friction: 0.0, no_self_contact: Vec::new(), joined: Vec::new(), pair_friction: Vec::new() };
+        let d = RodContacts { margin, self_contact, between_rods, friction: 0.0, no_self_contact: Vec::new(), joined: Vec::new(), pair_friction: Vec::new(), line_stiffness: None };
         d.validate()?;
         Ok(d)
     }
@@ -140,6 +146,13 @@ impl RodContacts {
         self.validate()?;
         Ok(self)
     }
+    /// Distributed rows of stiffness `k` per unit length (force/length²,
+    /// finite > 0) instead of one rigid row per place of contact.
+    pub fn with_line_stiffness(mut self, k: f64) -> Result<RodContacts> {
+        self.line_stiffness = Some(k);
+        self.validate()?;
+        Ok(self)
+    }
     /// Every rod the detector names (its lists of rods and pairs).
     pub fn rods_named(&self) -> impl Iterator<Item = RodHandle> + '_ {
         let pairs = self.joined.iter().chain(self.pair_friction.iter().map(|(k, _)| k));
@@ -155,6 +168,14 @@ impl RodContacts {
     }
     pub fn validate(&self) -> Result<()> {
         super::check_margin_and_friction(self.margin, self.friction)?;
+        if let Some(k) = self.line_stiffness {
+            crate::error::positive("line stiffness", k)?;
+            // A penalty row's friction is not yet held within μN: a knit
+            // cell relaxed with μ = 0.3 had rows past it 181-fold.
+            if self.friction > 0.0 || self.pair_friction.iter().any(|&(_, mu)| mu > 0.0) {
+                return Err(crate::Error::invalid("line stiffness", k, "frictionless contact (distributed rows do not carry friction yet)"));
+            }
+        }
         // Sorted, each pair once, each key (min, max): what the lookup
         // needs (a hand-edited snapshot may break it).
         if let Some(w) = self.pair_friction.windows(2).find(|w| w[0].0 >= w[1].0) {
@@ -307,8 +328,7 @@ impl ContactDetector for RodContacts {
         if !self.self_contact && !self.between_rods {
             return Ok(());
         }
-        // Arc length below which a rod's own points are not paired.
-        let exclusion = |reach: f64| (PI * reach).max(0.5 * PI * (reach + self.margin));
+        let exclusion = |reach: f64| self.exclusion(reach);
         // In the step of a world that uses the pool (on one of its
         // threads) the phases below run in blocks on the pool; each keeps
         // the serial order, so the rows are the same bit for bit.
@@ -523,6 +543,9 @@ impl ContactDetector for RodContacts {
             // |da × db|² ≥ (reach / l)² |da|² |db|², false for a point capsule.
             da.cross(&db).norm_squared() * l * l >= reach * reach * da.norm_squared() * db.norm_squared()
         };
+        if let Some(k) = self.line_stiffness {
+            return self.distributed_rows(k, rods, caps, nearest, chain, next, out);
+        }
         super::fill_blocks(parallel, caps.len(), seeds, |range, seeds| {
             for i in range {
                 for (j, d, [s, t]) in nearest.of(i) {
@@ -565,19 +588,6 @@ impl ContactDetector for RodContacts {
         // at most two cells along each axis, and in one along about half.
         let rmax = caps.iter().map(|c| c.radius).fold(0.0, f64::max);
         let dup_cell = 4.0 * segment.iter().map(|l| 0.5 * l).fold(0.5 * rmax, f64::max);
-        // A capsule's span grown by a segment each way: the chords may pick
-        // a capsule next to the one holding a crossing's touching point, and
-        // a row held inside the chord's own span then pushes at a slant (a
-        // rod pressed across another slid off it).
-        let window = |rod: &Rod, c: &Capsule| {
-            let (u0, u1) = rod.domain();
-            let grow = (u1 - u0) / rod.n_segments().max(1) as f64;
-            if rod.is_closed() {
-                (c.ua - grow, c.ub + grow)
-            } else {
-                ((c.ua - grow).max(u0), (c.ub + grow).min(u1))
-            }
-        };
         // Each kept capsule pair moved to the splines' closest points
         // within those windows.
         super::fill_blocks(parallel, seed_list.len(), rows, |range, rows| {
@@ -588,27 +598,8 @@ impl ContactDetector for RodContacts {
                 // runs past the period end); the result comes back wrapped.
                 let (ua, ub, pa, pb) = closest_points_and_positions_within(ra, rb, a.ua + s * (a.ub - a.ua), b.ua + t * (b.ub - b.ua), window(ra, a), window(rb, b))?;
                 let c = Contact { ua, ub, distance: a.radius + b.radius };
-                if a.rod == b.rod {
-                    // The projection may slide a self pair along the rod onto
-                    // itself: keep it only if it still closes a loop.
-                    let (u0, u1) = ra.domain();
-                    let du = (c.ua - c.ub).abs();
-                    let du = if ra.is_closed() { du.min(u1 - u0 - du) } else { du };
-                    let along = du * chain[a.rod] / (u1 - u0);
-                    if along < exclusion(c.distance) || (pa - pb).norm() < 1e-9 * c.distance {
-                        continue;
-                    }
-                } else if next[a.rod] == b.rod || next[b.rod] == a.rod {
-                    // Likewise across a join: arc to the end of the one and
-                    // from the start of the other.
-                    let arc = |rod: &Rod, k: usize, u: f64, to_end: bool| {
-                        let (u0, u1) = rod.domain();
-                        chain[k] * if to_end { u1 - u } else { u - u0 } / (u1 - u0)
-                    };
-                    let a_first = next[a.rod] == b.rod;
-                    if arc(ra, a.rod, c.ua, a_first) + arc(rb, b.rod, c.ub, !a_first) < exclusion(c.distance) {
-                        continue;
-                    }
+                if !self.apart_along(rods, [a.rod, b.rod], &c, (pa - pb).norm(), chain, next) {
+                    continue;
                 }
                 rows.push(((pa - pb).norm(), a.rod, b.rod, c, pa, pb));
             }
@@ -672,6 +663,101 @@ impl ContactDetector for RodContacts {
         for (handles, c) in chosen.iter() {
             out.pairs.push(ContactPair::new(*handles, ConstraintKind::Contact(c.clone()))?.with_friction(self.friction_between(handles[0], handles[1]))?);
         }
+        Ok(())
+    }
+}
+
+/// A capsule's span grown by a segment each way, the window of its
+/// projection onto the spline: the chords may pick a capsule next to the
+/// one holding a crossing's touching point, and a row held inside the
+/// chord's own span then pushes at a slant (a rod pressed across another
+/// slid off it).
+fn window(rod: &Rod, c: &Capsule) -> (f64, f64) {
+    let (u0, u1) = rod.domain();
+    let grow = (u1 - u0) / rod.n_segments().max(1) as f64;
+    if rod.is_closed() {
+        (c.ua - grow, c.ub + grow)
+    } else {
+        ((c.ua - grow).max(u0), (c.ub + grow).min(u1))
+    }
+}
+
+impl RodContacts {
+    /// Arc length below which a rod's own points are not paired (`reach`:
+    /// the two radii): half a turn of the tightest loop that can touch.
+    fn exclusion(&self, reach: f64) -> f64 {
+        (PI * reach).max(0.5 * PI * (reach + self.margin))
+    }
+
+    /// Whether a row projected onto the splines (`c`, its points `dist`
+    /// apart, on rods `ends` of the detector's list) still pairs points
+    /// apart along the yarn: a projection may slide a self pair along the
+    /// rod onto itself, or a pair of joined rods across their join.
+    fn apart_along(&self, rods: &[(RodHandle, &Rod)], ends: [usize; 2], c: &Contact, dist: f64, chain: &[f64], next: &[usize]) -> bool {
+        let [a, b] = ends;
+        let (ra, rb) = (rods[a].1, rods[b].1);
+        if a == b {
+            let (u0, u1) = ra.domain();
+            let du = (c.ua - c.ub).abs();
+            let du = if ra.is_closed() { du.min(u1 - u0 - du) } else { du };
+            du * chain[a] / (u1 - u0) >= self.exclusion(c.distance) && dist >= 1e-9 * c.distance
+        } else if next[a] == b || next[b] == a {
+            // Arc to the end of the one and from the start of the other.
+            let arc = |rod: &Rod, k: usize, u: f64, to_end: bool| {
+                let (u0, u1) = rod.domain();
+                chain[k] * if to_end { u1 - u } else { u - u0 } / (u1 - u0)
+            };
+            let a_first = next[a] == b;
+            arc(ra, a, c.ua, a_first) + arc(rb, b, c.ub, !a_first) >= self.exclusion(c.distance)
+        } else {
+            true
+        }
+    }
+
+    /// Distributed rows (`line_stiffness` = k): a row at the middle of every
+    /// capsule against the closest point of each strand that is its
+    /// nearest partner there, the capsule's abscissa held. Where one strand
+    /// wraps round another the distance along the wrap is nearly flat, and
+    /// one row per place of contact moves to wherever the last step pressed
+    /// deepest: a knit cell's steps alternated (README, knitted fabrics).
+    /// Rows held at the capsules stay where they are, and along a line of
+    /// contact they outnumber what the control points can meet, so each is
+    /// compliant: both strands' capsules give rows, each carrying half of
+    /// the stiffness k (force/length²) over its capsule's length ℓ, so
+    /// compliance 2/(k ℓ), and two strands pressed side by side with q
+    /// (force/length) sink by q/k (`tests/contact_line.rs`). Where one
+    /// crosses or wraps round the other, the other's rows gather at the
+    /// crossing: q/k is the law of strands side by side only. Each row is
+    /// a penalty taken where the strands are into each other at the start
+    /// of a step, with no active-set rounds (`assemble_with`).
+    #[allow(clippy::too_many_arguments)]
+    fn distributed_rows(&self, k: f64, rods: &[(RodHandle, &Rod)], caps: &[Capsule], nearest: &Nearest, chain: &[f64], next: &[usize], out: &mut ContactSet) -> Result<()> {
+        let first = out.pairs.len();
+        for (i, a) in caps.iter().enumerate() {
+            let length = a.dd.sqrt();
+            if length == 0.0 {
+                continue; // a point capsule (an open rod's end): its neighbour holds it
+            }
+            for (j, _, _) in nearest.of(i) {
+                let b = &caps[j];
+                let (ra, rb) = (rods[a.rod].1, rods[b.rod].1);
+                let um = 0.5 * (a.ua + a.ub);
+                let (ua, ub, pa, pb) = closest_points_and_positions_within(ra, rb, um, 0.5 * (b.ua + b.ub), (um, um), window(rb, b))?;
+                let c = Contact { ua, ub, distance: a.radius + b.radius };
+                let dist = (pa - pb).norm();
+                if dist >= c.distance + self.margin || !self.apart_along(rods, [a.rod, b.rod], &c, dist, chain, next) {
+                    continue;
+                }
+                let handles = [rods[a.rod].0, rods[b.rod].0];
+                let pair = ContactPair::new(handles, ConstraintKind::Contact(c))?.with_friction(self.friction_between(handles[0], handles[1]))?;
+                out.pairs.push(pair.with_compliance(2.0 / (k * length))?);
+            }
+        }
+        // In the order along the rods, as the closest rows are.
+        out.pairs[first..].sort_unstable_by(|x, y| {
+            let (ConstraintKind::Contact(p), ConstraintKind::Contact(q)) = (&x.kind, &y.kind) else { return std::cmp::Ordering::Equal };
+            x.rods.cmp(&y.rods).then(p.ua.total_cmp(&q.ua)).then(p.ub.total_cmp(&q.ub))
+        });
         Ok(())
     }
 }

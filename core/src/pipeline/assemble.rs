@@ -281,12 +281,29 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
     // round's detection, `Workspace::detected`).
     // A pair taken out as dependent (see `solve::block_dependent_contact`) stays out.
     let carry = Carry::new(&previous, std::mem::take(&mut ws.carry));
+    let mut row = [crate::constraint::Row::default(); 1];
     for p in contacts.pairs.iter_mut().filter(|p| !super::solve::is_blocked(rod_arena, &ws.blocked, p)) {
-        if let Some(old) = carry.find(rod_arena, &previous, p) {
+        let old = carry.find(rod_arena, &previous, p);
+        if let Some(old) = old {
             p.active = true;
             p.force = old.force;
             if let (Some(f), Some(of)) = (&mut p.friction, &old.friction) {
                 f.carry(of);
+            }
+        }
+        if p.compliance > 0.0 {
+            // A compliant row is a penalty taken where the strands are
+            // into each other at the start of the step (its force −g/C),
+            // left to the next step where they are not: no rounds. Left to
+            // the rounds, the rows of a knit cell (thousands, along lines
+            // of contact) were still pulling, four in ten, when the rounds
+            // ran out.
+            if let (Some(a), Some(b)) = (rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
+                p.kind.linearize(&[a, b], &mut row)?;
+                p.active = row[0].rhs > 0.0; // rhs = target − g
+                if !p.active {
+                    p.force = 0.0;
+                }
             }
         }
     }
@@ -333,11 +350,12 @@ pub(crate) const CONTACT_SLACK: f64 = 5e-3;
 
 /// The penetration pair `p` (on rods `a`, `b`) may hold: [`CONTACT_SLACK`]
 /// of both rods' radii for a rod–rod (or self) row, of the rod's own
-/// against an obstacle's tangent plane; none while it slips or outside an
+/// against an obstacle's tangent plane; none while it slips, for a
+/// compliant row (it sinks by its force's share anyway) or outside an
 /// implicit Euler step (`on`).
 /// `radii`: the two rods' largest bounding radii ([`largest_radius`]).
 pub(crate) fn contact_slack(on: bool, p: &crate::contact::ContactPair, radii: [f64; 2]) -> f64 {
-    if !on || p.friction.as_ref().is_some_and(|f| f.slip.is_some()) {
+    if !on || p.compliance > 0.0 || p.friction.as_ref().is_some_and(|f| f.slip.is_some()) {
         return 0.0;
     }
     let reach = match p.kind {
@@ -534,7 +552,7 @@ fn gather_and_assemble(
         let p = &contacts.pairs[i];
         let (a, b) = (position_of(pos, p.rods[0])?, position_of(pos, p.rods[1])?);
         let slack = contact_slack(ws.contact_slack, p, [ws.radii[a], ws.radii[b]]);
-        crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: 0.0, lambda: std::slice::from_ref(&p.force), slack, elastic: false });
+        crefs.push(ConstraintRef { rods: [a, b], kind: &p.kind, compliance: p.compliance, lambda: std::slice::from_ref(&p.force), slack, elastic: false });
     }
     for &i in &ws.stick_ids {
         let p = &contacts.pairs[i];

@@ -37,6 +37,10 @@ pub(crate) fn missed(world: &mut World) -> Result<bool> {
         let mut rows = [Row::default(); 1];
         for p in found.pairs.drain(..) {
             let ConstraintKind::Contact(c) = &p.kind else { continue };
+            // A penalty row sinks by design, and the next step takes it.
+            if p.compliance > 0.0 {
+                continue;
+            }
             let (Some(a), Some(b)) = (rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) else { continue };
             p.kind.linearize(&[a, b], &mut rows)?;
             // rhs = target − g: the gap is −rhs.

@@ -291,9 +291,16 @@ fn update_active_set_with(world: &mut World, freeze_friction: bool, row_of: &mut
     let mut newly_pulled = Vec::new();
     for (i, p) in contacts.pairs.iter_mut().enumerate() {
         let (Some(a), Some(b)) = (rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) else { continue };
+        // A compliant row is a penalty set at the start of the step
+        // (`assemble_with`): kept or left as it is, its force as solved
+        // but never pulling (the linear penalty's, where the step parts
+        // the strands).
+        let penalty = p.compliance > 0.0;
         if p.active {
-            let force = -ws.sys.sol[row_of[i]];
-            if force < 0.0 {
+            let mut force = -ws.sys.sol[row_of[i]];
+            if penalty {
+                force = force.max(0.0);
+            } else if force < 0.0 {
                 p.active = false;
                 // Held rounds settle the normal set alone; a pair pulling
                 // when in and pressed a little past its slack when out
@@ -322,7 +329,7 @@ fn update_active_set_with(world: &mut World, freeze_friction: bool, row_of: &mut
             }
             continue;
         }
-        if is_blocked(rods, &ws.blocked, p) || is_blocked(rods, &ws.pulled, p) {
+        if penalty || is_blocked(rods, &ws.blocked, p) || is_blocked(rods, &ws.pulled, p) {
             continue;
         }
         p.kind.linearize(&[a, b], &mut rows[..1])?;
@@ -655,7 +662,9 @@ pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) ->
         p.force = 0.0;
     }
     for (k, &i) in ws.contact_ids.iter().enumerate() {
-        contacts.pairs[i].force = -ws.sys.sol[ws.layout.row_index[nc + k]];
+        let (p, f) = (&mut contacts.pairs[i], -ws.sys.sol[ws.layout.row_index[nc + k]]);
+        // A penalty row never pulls (see `update_active_set_with`).
+        p.force = if p.compliance > 0.0 { f.max(0.0) } else { f };
     }
     // Sticking pairs: their rows' multipliers are the friction force;
     // slipping ones: μ N along −μ N ŝ plus their row's reaction across ŝ.

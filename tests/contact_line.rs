@@ -1,0 +1,107 @@
+//! Distributed contact rows (`RodContacts::with_line_stiffness`): a
+//! compliant row at every capsule of a strand within reach of another,
+//! against the other's closest point, instead of one rigid row where the
+//! strands come closest. Two straight rods pressed together along their
+//! length by opposite line loads q settle with their centrelines 2R − q/k
+//! apart (the closed form of a uniform line of stiffness k per length),
+//! the rows' forces adding up to q L.
+use nalgebra::Vector3;
+use strandkit::prelude::*;
+use strandkit::RodContacts;
+
+const R: f64 = 0.01;
+
+fn rod(a: Vector3<f64>, b: Vector3<f64>, n: usize) -> Rod {
+    RodBuilder::straight(a, b)
+        .control_points(n)
+        .with_roll(false)
+        .section(Section::circle(R).unwrap())
+        .material(Material::new("rubber", 1e7, 0.45, 1000.0).unwrap())
+        .build()
+        .unwrap()
+}
+
+/// Distance from rod `a`'s point at `u` to rod `b`'s centreline (fine sampling, then refined).
+fn distance_to(a: &Rod, u: f64, b: &Rod) -> f64 {
+    let p = a.position(u).unwrap();
+    let (u0, u1) = b.domain();
+    let n = 2000;
+    let k = (0..=n).min_by(|&i, &j| {
+        let d = |k: usize| (b.position(u0 + (u1 - u0) * k as f64 / n as f64).unwrap() - p).norm();
+        d(i).total_cmp(&d(j))
+    });
+    // The best sample's neighbourhood, golden-section refined.
+    let k = k.unwrap() as f64; // (0..=n) is not empty
+    let (mut lo, mut hi) = ((u0 + (u1 - u0) * (k - 1.0) / n as f64).max(u0), (u0 + (u1 - u0) * (k + 1.0) / n as f64).min(u1));
+    let d = |u: f64| (b.position(u).unwrap() - p).norm();
+    for _ in 0..60 {
+        let (m1, m2) = (hi - 0.618 * (hi - lo), lo + 0.618 * (hi - lo));
+        if d(m1) < d(m2) {
+            hi = m2;
+        } else {
+            lo = m1;
+        }
+    }
+    d(0.5 * (lo + hi))
+}
+
+/// Overdamped steps (the fluid's drag only) until no control point moves
+/// more than `tol` (m) in a step, at most `max` steps; returns the steps.
+fn settle(w: &mut World, tol: f64, max: usize) -> usize {
+    for k in 0..max {
+        let before: Vec<Vec<f64>> = w.rods().map(|(_, r)| r.coords().to_vec()).collect();
+        w.step().unwrap();
+        let moved = w.rods().zip(&before).flat_map(|((_, r), q)| r.coords().iter().zip(q).map(|(x, y)| (x - y).abs()).collect::<Vec<_>>()).fold(0.0, f64::max);
+        if moved < tol {
+            return k + 1;
+        }
+    }
+    panic!("not settled in {max} steps");
+}
+
+#[test]
+fn rods_pressed_along_their_length_sink_by_q_over_k() {
+    let (q, k, length) = (200.0, 1e6, 1.0); // N/m, N/m², m: q/k = 2e-4 m (2 % of R)
+    let params = IntegrationParameters { dt: 1e-3, overdamped: true, viscosity: 10.0, gravity: [0.0; 3], ..Default::default() };
+    let mut w = World::new(params);
+    let a = w.add_rod(rod(Vector3::zeros(), Vector3::new(length, 0.0, 0.0), 12));
+    let b = w.add_rod(rod(Vector3::new(0.0, 0.0, 2.0 * R * 1.001), Vector3::new(length, 0.0, 2.0 * R * 1.001), 12));
+    w.add_load(Load::Distributed(Distributed { rod: a, force_per_length: [0.0, 0.0, q] })).unwrap();
+    w.add_load(Load::Distributed(Distributed { rod: b, force_per_length: [0.0, 0.0, -q] })).unwrap();
+    w.add_contact_detector(RodContacts::new(0.25 * R, false, true).unwrap().with_line_stiffness(k).unwrap()).unwrap();
+    let steps = settle(&mut w, 1e-10, 400);
+    let (ra, rb) = (w.rod(a).unwrap(), w.rod(b).unwrap());
+    let (u0, u1) = ra.domain();
+    let expected = 2.0 * R - q / k;
+    // Along the whole length, the ends' last tenth aside (a capsule there
+    // is half a sample long, and the line's end is free).
+    let mut worst: f64 = 0.0;
+    for i in 1..10 {
+        let d = distance_to(ra, u0 + (u1 - u0) * i as f64 / 10.0, rb);
+        worst = worst.max(((2.0 * R - d) / (q / k) - 1.0).abs());
+    }
+    let total: f64 = w.contacts().active().map(|(_, p)| p.force).sum();
+    println!("{steps} steps; sink (2R − distance) within {:.2} % of q/k = {:.3e} m; rows {}, their forces {total:.4} N for q L = {} N", 100.0 * worst, q / k, w.contacts().active().count(), q * length);
+    assert!(worst < 0.01, "sink off q/k by {worst} (centrelines should be {expected} m apart)");
+    assert!((total / (q * length) - 1.0).abs() < 1e-6, "row forces {total} N against q L = {} N", q * length);
+}
+
+#[test]
+fn distributed_rows_refuse_a_bad_stiffness() {
+    for k in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        assert!(matches!(RodContacts::new(1e-3, true, true).unwrap().with_line_stiffness(k), Err(Error::InvalidInput { .. })), "stiffness {k}");
+    }
+    // Friction on distributed rows is not held within μN yet: refused.
+    let d = RodContacts::new(1e-3, true, true).unwrap();
+    assert!(matches!(d.clone().with_friction(0.3).unwrap().with_line_stiffness(1e6), Err(Error::InvalidInput { .. })));
+    assert!(matches!(d.clone().with_line_stiffness(1e6).unwrap().with_friction(0.3), Err(Error::InvalidInput { .. })));
+    let h = |i: u32| RodHandle { index: i, generation: 0 };
+    assert!(matches!(d.with_line_stiffness(1e6).unwrap().with_pair_friction(h(0), h(1), 0.2), Err(Error::InvalidInput { .. })));
+    // A snapshot's detector keeps it; one written before it reads as rigid rows.
+    let d = RodContacts::new(1e-3, true, true).unwrap().with_line_stiffness(5e8).unwrap();
+    let read: RodContacts = serde_json::from_str(&serde_json::to_string(&d).unwrap()).unwrap();
+    assert_eq!(read, d);
+    let mut old = serde_json::to_value(RodContacts::new(1e-3, true, true).unwrap()).unwrap();
+    old.as_object_mut().unwrap().remove("line_stiffness");
+    assert_eq!(serde_json::from_value::<RodContacts>(old).unwrap().line_stiffness, None);
+}
