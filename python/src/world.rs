@@ -330,11 +330,14 @@ impl PyWorld {
     /// triples (a, b, μ) giving rods a and b (either order; a rod twice for
     /// its self-contact) their own coefficient instead of `friction`.
     /// `line_stiffness` (force/length², finite > 0; None: rigid rows):
-    /// distributed rows — a compliant row at every sample of a strand
-    /// within reach of another, so that a line of contact (a yarn wrapped
-    /// round another) is held along its length and sinks by q/k under a
-    /// line load q (force/length) instead of one rigid row per place of
-    /// contact, which moves wherever the last step pressed deepest.
+    /// distributed rows — a penalty row at every sample of a strand within
+    /// reach of another, so that a line of contact (a yarn wrapped round
+    /// another) is held along its length, instead of one rigid row per
+    /// place of contact, which moves wherever the last step pressed
+    /// deepest. Two strands pressed side by side with a line load q
+    /// (force/length) sink by q/k (where one crosses or wraps round the
+    /// other, the other's rows gather at the crossing). Frictionless only
+    /// for now (refused with `friction` or `pair_friction` > 0).
     /// Snapshots keep the detection and the contacts' state.
     #[pyo3(signature = (*, margin, self_contact = true, between_rods = true, friction = 0.0, no_self_contact = Vec::new(), joined = Vec::new(), pair_friction = Vec::new(), line_stiffness = None))]
     #[allow(clippy::too_many_arguments)]

@@ -228,9 +228,9 @@ def test_distributed_contact_rows_let_a_cell_settle():
     # Where a loop's head wraps round the leg above it, one rigid row per
     # place of contact goes wherever the last step pressed deepest and the
     # steps alternate (README, knitted fabrics): this 16 x 4 cell, relaxed
-    # so, was still "NOT converged" after 400 steps (166 s). Distributed
+    # so, was still "NOT converged" after 400 steps (155 s). Distributed
     # rows (a penalty row at every capsule, k = E/2 per length) hold the
-    # whole wrap. Measured (2026-12-02): converged after 270 steps (23 s),
+    # whole wrap. Measured (2026-12-02): converged after 270 steps (22 s),
     # k_c 5.312, k_w 3.614, 3 steps refused, no row pulling, closest
     # approach 0.914 diameters.
     f = sk.knit.fabric("jersey", wales=16, courses=4, loop_length=3.8e-3, yarn_radius=1e-4, boundary="cell",

@@ -283,8 +283,7 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
     let carry = Carry::new(&previous, std::mem::take(&mut ws.carry));
     let mut row = [crate::constraint::Row::default(); 1];
     for p in contacts.pairs.iter_mut().filter(|p| !super::solve::is_blocked(rod_arena, &ws.blocked, p)) {
-        let old = carry.find(rod_arena, &previous, p);
-        if let Some(old) = old {
+        if let Some(old) = carry.find(rod_arena, &previous, p) {
             p.active = true;
             p.force = old.force;
             if let (Some(f), Some(of)) = (&mut p.friction, &old.friction) {

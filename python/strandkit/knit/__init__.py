@@ -275,7 +275,7 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
     closest. A stiffness k (N/m², per length of contact) or "yarn"
     (k = E/2, E = B/I the yarn's modulus): distributed rows
     (``World.contact(line_stiffness=k)``), a penalty row at every sample
-    of a yarn near another, a line of contact pressed with q (N/m)
+    of a yarn near another, two yarns pressed side by side with q (N/m)
     sinking by q/k — the yarn's own transverse give (a monofilament's
     Hertz line contact is softer, about E/7 at a knit's loads; a
     multifilament yarn softer still). Where a loop's head wraps round the
