@@ -160,7 +160,7 @@ fn a_slider_changing_segment_does_not_allocate() {
 /// friction: a rod pressed across another (rod–rod detection, sticking
 /// pairs), a rope lying on a slope below the friction angle (a plane) and
 /// on level ground made of a triangle mesh (its tree searched on a fixed
-/// stack).
+/// stack); two rods pressed side by side held by distributed rows.
 /// (A step whose active set changes rebuilds the ordering and the layout,
 /// which allocates: a change of topology.)
 #[test]
@@ -199,7 +199,16 @@ fn settled_contact_steps_do_not_allocate() {
     ground.add_rod(rod(Vector3::new(0.0, 0.0, r), Vector3::new(0.0, 0.5, r), 20, &Material::new("nylon", 3e9, 0.4, 1140.0).unwrap()));
     let mesh = strandkit::TriMesh::new(vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]], vec![[0, 1, 2], [0, 2, 3]]).unwrap();
     ground.add_contact_detector(Obstacle::mesh(mesh).unwrap().with_margin(0.005).unwrap().with_friction(0.4).unwrap()).unwrap();
-    for (name, w) in [("rod pressed across a rod", &mut crossed), ("rope on a slope", &mut slope), ("rope on a mesh", &mut ground)] {
+    // Two rods pressed side by side with distributed rows (a penalty row
+    // at every capsule, `RodContacts::with_line_stiffness`).
+    let mut side = World::new(IntegrationParameters { dt: 1e-3, overdamped: true, viscosity: 10.0, parallel: false, ..Default::default() });
+    let rubber = Material::new("rubber", 1e7, 0.45, 1000.0).unwrap();
+    let lower = side.add_rod(rod(Vector3::zeros(), Vector3::x(), 12, &rubber));
+    let upper = side.add_rod(rod(Vector3::new(0.0, 0.0, 2.002 * r), Vector3::new(1.0, 0.0, 2.002 * r), 12, &rubber));
+    side.add_load(Load::Distributed(Distributed { rod: lower, force_per_length: [0.0, 0.0, 200.0] })).unwrap();
+    side.add_load(Load::Distributed(Distributed { rod: upper, force_per_length: [0.0, 0.0, -200.0] })).unwrap();
+    side.add_contact_detector(RodContacts::new(0.25 * r, false, true).unwrap().with_line_stiffness(1e6).unwrap()).unwrap();
+    for (name, w) in [("rod pressed across a rod", &mut crossed), ("rope on a slope", &mut slope), ("rope on a mesh", &mut ground), ("rods side by side, distributed rows", &mut side)] {
         for _ in 0..200 {
             w.step().unwrap();
         }
