@@ -204,9 +204,12 @@ def test_ctrl_c_in_a_scene_sweep_stops_it(tmp_path):
     import subprocess
     import sys
     import time
+    # Points long enough (over a second each) that the SIGINT sent once the
+    # first is written lands in a later one: with 1500 steps a loaded CI
+    # machine once ran the other three before it arrived (exit 0).
     scene = sk.Scene.from_builder("rope_bridge", n_planks=4, span=5.0, sag=0.5,
                                   world={"gravity": [0, -9.81, 0], "dt": 2e-3},
-                                  protocol=[{"step": {"steps": 1500}}], outputs={"every": 50})
+                                  protocol=[{"step": {"steps": 6000}}], outputs={"every": 200})
     path = scene.save(tmp_path / "bridge.json")
     out = tmp_path / "sweep"
     args = [sys.executable, "-m", "strandkit", "sweep", str(path), "--vary", "structure.args.n_planks=3,4,5,6",
