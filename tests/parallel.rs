@@ -14,12 +14,13 @@ use strandkit::{RodContacts, Scheme};
 /// system), so that it sags onto rod 2k: contact detection on, pairs
 /// active.
 fn world(parallel: bool, n: usize, pairs: bool) -> World {
-    world_with(parallel, n, pairs, Scheme::ImplicitEuler, false)
+    world_with(parallel, n, pairs, Scheme::ImplicitEuler, false, None)
 }
 
 /// [`world`] stepped by `scheme`, with a 20 g bead sliding on every
-/// seventh free rod and on rods 49 and 50 when `beads`.
-fn world_with(parallel: bool, n: usize, pairs: bool, scheme: Scheme, beads: bool) -> World {
+/// seventh free rod and on rods 49 and 50 when `beads`; the pairs'
+/// contact on distributed rows of stiffness `line` (N/m²) when given.
+fn world_with(parallel: bool, n: usize, pairs: bool, scheme: Scheme, beads: bool, line: Option<f64>) -> World {
     let gravity = if pairs { [0.0, 0.0, -9.81] } else { [0.0, -9.81, 0.0] };
     let mut w = World::new(IntegrationParameters { dt: 2e-3, gravity, parallel, scheme, ..Default::default() });
     let mut hs = Vec::new();
@@ -59,7 +60,12 @@ fn world_with(parallel: bool, n: usize, pairs: bool, scheme: Scheme, beads: bool
             let offset = [d.x, d.y, d.z, 0.0];
             w.add_link(a, b, ConstraintKind::RelativePosition(RelativePosition { ua, ub, axes: [true, true, true, false], offset }), 0.0).unwrap();
         }
-        w.add_contact_detector(RodContacts::new(0.005, false, true).unwrap()).unwrap();
+        let detector = RodContacts::new(0.005, false, true).unwrap();
+        let detector = match line {
+            Some(k) => detector.with_line_stiffness(k).unwrap(),
+            None => detector,
+        };
+        w.add_contact_detector(detector).unwrap();
     }
     w
 }
@@ -97,10 +103,10 @@ fn same_worlds_after_steps(mut a: World, mut b: World, steps: usize) -> usize {
 /// rod like the right-hand side).
 #[test]
 fn free_rods_with_beads_or_the_trapezoidal_rule_step_alike_on_the_pool() {
-    let beads = |parallel| world_with(parallel, 100, false, Scheme::ImplicitEuler, true);
+    let beads = |parallel| world_with(parallel, 100, false, Scheme::ImplicitEuler, true, None);
     assert_eq!(beads(true).beads().count(), 16);
     same_worlds_after_steps(beads(false), beads(true), 6);
-    let trapezoidal = |parallel| world_with(parallel, 100, false, Scheme::Trapezoidal, false);
+    let trapezoidal = |parallel| world_with(parallel, 100, false, Scheme::Trapezoidal, false, None);
     same_worlds_after_steps(trapezoidal(false), trapezoidal(true), 4);
 }
 
@@ -117,4 +123,13 @@ fn linked_rods_in_contact_step_alike_on_one_thread_and_on_the_pool() {
     // pairs, not within them), with their contacts' active set.
     let most = same_after_steps(100, true, 40);
     assert!(most >= 50, "the sagging rods should touch the rods below: {most} active pairs at most");
+}
+
+#[test]
+fn rods_on_distributed_contact_rows_step_alike_on_one_thread_and_on_the_pool() {
+    // The rows are found in blocks on the pool (`distributed_rows`); a
+    // row per capsule within reach, so many more than the closest rows.
+    let line = |parallel| world_with(parallel, 100, true, Scheme::ImplicitEuler, false, Some(2e5));
+    let most = same_worlds_after_steps(line(false), line(true), 40);
+    assert!(most >= 200, "the sagging rods should press on the rods below along lines: {most} active rows at most");
 }

@@ -169,6 +169,12 @@ impl ContactPair {
         self.compliance = crate::error::non_negative("contact compliance", c)?;
         Ok(self)
     }
+    /// A penalty row (compliance > 0): acting where the strands are into
+    /// each other at the start of the step, never pulling, outside the
+    /// active-set rounds (see `pipeline::assemble::assemble_with`).
+    pub fn is_penalty(&self) -> bool {
+        self.compliance > 0.0
+    }
     /// The tangential (friction) force on rod a of the last solve (force unit).
     pub fn friction_force(&self) -> [f64; 3] {
         self.friction.as_ref().filter(|_| self.active).map_or([0.0; 3], |f| f.force)

@@ -231,6 +231,9 @@ pub(crate) struct Scratch {
     group_starts: Vec<usize>,
     choice: Vec<Choice>,
     chosen: Vec<([RodHandle; 2], Contact)>,
+    /// Distributed rows per block: rods (in the detector's list), the row,
+    /// its compliance (length/force).
+    lines: Vec<Vec<(usize, usize, Contact, f64)>>,
 }
 
 /// One block of the pair tests: its hits, and its own scratch (a run's
@@ -340,7 +343,7 @@ impl ContactDetector for RodContacts {
         let grow = |c: &Capsule| Vector3::repeat(c.radius + 0.5 * self.margin);
         // Each rod's capsules in its own range of the arrays, filled rod by
         // rod (on the pool when parallel).
-        let Scratch { caps, boxes, spheres, strands, chain, closed, segment, no_self, next, rod_ranges, runs, hits, nearest, parts: parts_buf, seeds, seed_list, rows, sorted, by_pair, group_starts, choice, chosen } = &mut scratch.rods;
+        let Scratch { caps, boxes, spheres, strands, chain, closed, segment, no_self, next, rod_ranges, runs, hits, nearest, parts: parts_buf, seeds, seed_list, rows, sorted, by_pair, group_starts, choice, chosen, lines } = &mut scratch.rods;
         rod_ranges.clear();
         closed.clear();
         closed.extend(rods.iter().map(|(_, r)| r.is_closed()));
@@ -544,7 +547,7 @@ impl ContactDetector for RodContacts {
             da.cross(&db).norm_squared() * l * l >= reach * reach * da.norm_squared() * db.norm_squared()
         };
         if let Some(k) = self.line_stiffness {
-            return self.distributed_rows(k, rods, caps, nearest, chain, next, out);
+            return self.distributed_rows(k, parallel, rods, caps, nearest, chain, next, lines, out);
         }
         super::fill_blocks(parallel, caps.len(), seeds, |range, seeds| {
             for i in range {
@@ -731,27 +734,44 @@ impl RodContacts {
     /// a penalty taken where the strands are into each other at the start
     /// of a step, with no active-set rounds (`assemble_with`).
     #[allow(clippy::too_many_arguments)]
-    fn distributed_rows(&self, k: f64, rods: &[(RodHandle, &Rod)], caps: &[Capsule], nearest: &Nearest, chain: &[f64], next: &[usize], out: &mut ContactSet) -> Result<()> {
+    fn distributed_rows(
+        &self,
+        k: f64,
+        parallel: bool,
+        rods: &[(RodHandle, &Rod)],
+        caps: &[Capsule],
+        nearest: &Nearest,
+        chain: &[f64],
+        next: &[usize],
+        lines: &mut Vec<Vec<(usize, usize, Contact, f64)>>,
+        out: &mut ContactSet,
+    ) -> Result<()> {
         let first = out.pairs.len();
-        for (i, a) in caps.iter().enumerate() {
-            let length = a.dd.sqrt();
-            if length == 0.0 {
-                continue; // a point capsule (an open rod's end): its neighbour holds it
-            }
-            for (j, _, _) in nearest.of(i) {
-                let b = &caps[j];
-                let (ra, rb) = (rods[a.rod].1, rods[b.rod].1);
-                let um = 0.5 * (a.ua + a.ub);
-                let (ua, ub, pa, pb) = closest_points_and_positions_within(ra, rb, um, 0.5 * (b.ua + b.ub), (um, um), window(rb, b))?;
-                let c = Contact { ua, ub, distance: a.radius + b.radius };
-                let dist = (pa - pb).norm();
-                if dist >= c.distance + self.margin || !self.apart_along(rods, [a.rod, b.rod], &c, dist, chain, next) {
-                    continue;
+        super::fill_blocks(parallel, caps.len(), lines, |range, lines| {
+            for (i, a) in caps[range.clone()].iter().enumerate() {
+                let length = a.dd.sqrt();
+                if length == 0.0 {
+                    continue; // a point capsule (an open rod's end): its neighbour holds it
                 }
-                let handles = [rods[a.rod].0, rods[b.rod].0];
-                let pair = ContactPair::new(handles, ConstraintKind::Contact(c))?.with_friction(self.friction_between(handles[0], handles[1]))?;
-                out.pairs.push(pair.with_compliance(2.0 / (k * length))?);
+                for (j, _, _) in nearest.of(range.start + i) {
+                    let b = &caps[j];
+                    let (ra, rb) = (rods[a.rod].1, rods[b.rod].1);
+                    let um = 0.5 * (a.ua + a.ub);
+                    let (ua, ub, pa, pb) = closest_points_and_positions_within(ra, rb, um, 0.5 * (b.ua + b.ub), (um, um), window(rb, b))?;
+                    let c = Contact { ua, ub, distance: a.radius + b.radius };
+                    let dist = (pa - pb).norm();
+                    if dist >= c.distance + self.margin || !self.apart_along(rods, [a.rod, b.rod], &c, dist, chain, next) {
+                        continue;
+                    }
+                    lines.push((a.rod, b.rod, c, 2.0 / (k * length)));
+                }
             }
+            Ok(())
+        })?;
+        for (a, b, c, compliance) in lines.iter().flatten() {
+            let handles = [rods[*a].0, rods[*b].0];
+            let pair = ContactPair::new(handles, ConstraintKind::Contact(c.clone()))?.with_friction(self.friction_between(handles[0], handles[1]))?;
+            out.pairs.push(pair.with_compliance(*compliance)?);
         }
         // In the order along the rods, as the closest rows are.
         out.pairs[first..].sort_unstable_by(|x, y| {

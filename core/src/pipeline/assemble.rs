@@ -260,6 +260,9 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
             detect_all(rod_arena, detectors, ws, contacts)?;
             // Pairs a first solve of this step went through (recheck.rs).
             contacts.pairs.extend(ws.recheck_pairs.iter().cloned());
+            // Before the pairs are kept for the rounds: they do not move
+            // the rods, so the decision stands through them.
+            decide_penalties(rod_arena, &ws.blocked, &mut contacts.pairs)?;
             if reuse {
                 ws.detected.pairs.clear();
                 ws.detected.pairs.extend(contacts.pairs.iter().cloned());
@@ -275,34 +278,25 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
                 p.kind.project(&[a, b])?;
             }
         }
+        decide_penalties(rod_arena, &ws.blocked, &mut contacts.pairs)?;
     }
     // A pair detected again keeps its place in the active set (and its
     // force): the active-set rounds re-assemble (on the pairs of the first
-    // round's detection, `Workspace::detected`).
+    // round's detection, `Workspace::detected`). A penalty row's place
+    // was decided above; an active one takes its force (the friction's
+    // normal) and friction state from the pair found there.
     // A pair taken out as dependent (see `solve::block_dependent_contact`) stays out.
     let carry = Carry::new(&previous, std::mem::take(&mut ws.carry));
-    let mut row = [crate::constraint::Row::default(); 1];
     for p in contacts.pairs.iter_mut().filter(|p| !super::solve::is_blocked(rod_arena, &ws.blocked, p)) {
+        if p.is_penalty() && !p.active {
+            p.force = 0.0;
+            continue;
+        }
         if let Some(old) = carry.find(rod_arena, &previous, p) {
             p.active = true;
             p.force = old.force;
             if let (Some(f), Some(of)) = (&mut p.friction, &old.friction) {
                 f.carry(of);
-            }
-        }
-        if p.compliance > 0.0 {
-            // A compliant row is a penalty taken where the strands are
-            // into each other at the start of the step (its force −g/C),
-            // left to the next step where they are not: no rounds. Left to
-            // the rounds, the rows of a knit cell (thousands, along lines
-            // of contact) were still pulling, four in ten, when the rounds
-            // ran out.
-            if let (Some(a), Some(b)) = (rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
-                p.kind.linearize(&[a, b], &mut row)?;
-                p.active = row[0].rhs > 0.0; // rhs = target − g
-                if !p.active {
-                    p.force = 0.0;
-                }
             }
         }
     }
@@ -335,6 +329,27 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
     Ok(energy)
 }
 
+/// Penalty rows (`ContactPair::is_penalty`) act where the strands are into
+/// each other when the pairs are found (their force −g/C) and wait for the
+/// next step where they are not: they take no part in the active-set
+/// rounds. Left to the rounds, the rows of a knit cell (thousands, along
+/// lines of contact) were still pulling, four in ten, when the rounds ran
+/// out. Blocked pairs (`solve::block_dependent_contact`) stay out.
+fn decide_penalties(rods: &Arena<Rod>, blocked: &[crate::contact::ContactPair], pairs: &mut [crate::contact::ContactPair]) -> Result<()> {
+    let mut row = [crate::constraint::Row::default(); 1];
+    for p in pairs.iter_mut().filter(|p| p.is_penalty()) {
+        p.active = false;
+        if super::solve::is_blocked(rods, blocked, p) {
+            continue;
+        }
+        if let (Some(a), Some(b)) = (rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) {
+            p.kind.linearize(&[a, b], &mut row)?;
+            p.active = row[0].rhs > 0.0; // rhs = target − g
+        }
+    }
+    Ok(())
+}
+
 /// Penetration a frictionless contact row holds instead of pushing out, in
 /// an implicit Euler step: half a percent of the rods' radii. A row
 /// re-seated where the spline already sags through (rows sit about one per
@@ -354,7 +369,7 @@ pub(crate) const CONTACT_SLACK: f64 = 5e-3;
 /// implicit Euler step (`on`).
 /// `radii`: the two rods' largest bounding radii ([`largest_radius`]).
 pub(crate) fn contact_slack(on: bool, p: &crate::contact::ContactPair, radii: [f64; 2]) -> f64 {
-    if !on || p.compliance > 0.0 || p.friction.as_ref().is_some_and(|f| f.slip.is_some()) {
+    if !on || p.is_penalty() || p.friction.as_ref().is_some_and(|f| f.slip.is_some()) {
         return 0.0;
     }
     let reach = match p.kind {

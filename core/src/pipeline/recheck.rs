@@ -38,7 +38,7 @@ pub(crate) fn missed(world: &mut World) -> Result<bool> {
         for p in found.pairs.drain(..) {
             let ConstraintKind::Contact(c) = &p.kind else { continue };
             // A penalty row sinks by design, and the next step takes it.
-            if p.compliance > 0.0 {
+            if p.is_penalty() {
                 continue;
             }
             let (Some(a), Some(b)) = (rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) else { continue };

@@ -295,7 +295,7 @@ fn update_active_set_with(world: &mut World, freeze_friction: bool, row_of: &mut
         // (`assemble_with`): kept or left as it is, its force as solved
         // but never pulling (the linear penalty's, where the step parts
         // the strands).
-        let penalty = p.compliance > 0.0;
+        let penalty = p.is_penalty();
         if p.active {
             let mut force = -ws.sys.sol[row_of[i]];
             if penalty {
@@ -664,7 +664,7 @@ pub(crate) fn apply(world: &mut World, scale: f64, set_velocity: Option<f64>) ->
     for (k, &i) in ws.contact_ids.iter().enumerate() {
         let (p, f) = (&mut contacts.pairs[i], -ws.sys.sol[ws.layout.row_index[nc + k]]);
         // A penalty row never pulls (see `update_active_set_with`).
-        p.force = if p.compliance > 0.0 { f.max(0.0) } else { f };
+        p.force = if p.is_penalty() { f.max(0.0) } else { f };
     }
     // Sticking pairs: their rows' multipliers are the friction force;
     // slipping ones: μ N along −μ N ŝ plus their row's reaction across ŝ.
