@@ -200,14 +200,15 @@ fn settled_contact_steps_do_not_allocate() {
     let mesh = strandkit::TriMesh::new(vec![[-1.0, -1.0, 0.0], [1.0, -1.0, 0.0], [1.0, 1.0, 0.0], [-1.0, 1.0, 0.0]], vec![[0, 1, 2], [0, 2, 3]]).unwrap();
     ground.add_contact_detector(Obstacle::mesh(mesh).unwrap().with_margin(0.005).unwrap().with_friction(0.4).unwrap()).unwrap();
     // Two rods pressed side by side with distributed rows (a penalty row
-    // at every capsule, `RodContacts::with_line_stiffness`).
+    // at every capsule, `RodContacts::with_line_stiffness`), with friction
+    // (a spring per row, trimmed each step) and a pull along the rods.
     let mut side = World::new(IntegrationParameters { dt: 1e-3, overdamped: true, viscosity: 10.0, parallel: false, ..Default::default() });
     let rubber = Material::new("rubber", 1e7, 0.45, 1000.0).unwrap();
     let lower = side.add_rod(rod(Vector3::zeros(), Vector3::x(), 12, &rubber));
     let upper = side.add_rod(rod(Vector3::new(0.0, 0.0, 2.002 * r), Vector3::new(1.0, 0.0, 2.002 * r), 12, &rubber));
     side.add_load(Load::Distributed(Distributed { rod: lower, force_per_length: [0.0, 0.0, 200.0] })).unwrap();
-    side.add_load(Load::Distributed(Distributed { rod: upper, force_per_length: [0.0, 0.0, -200.0] })).unwrap();
-    side.add_contact_detector(RodContacts::new(0.25 * r, false, true).unwrap().with_line_stiffness(1e6).unwrap()).unwrap();
+    side.add_load(Load::Distributed(Distributed { rod: upper, force_per_length: [30.0, 0.0, -200.0] })).unwrap();
+    side.add_contact_detector(RodContacts::new(0.25 * r, false, true).unwrap().with_friction(0.3).unwrap().with_line_stiffness(1e6).unwrap()).unwrap();
     for (name, w) in [("rod pressed across a rod", &mut crossed), ("rope on a slope", &mut slope), ("rope on a mesh", &mut ground), ("rods side by side, distributed rows", &mut side)] {
         for _ in 0..200 {
             w.step().unwrap();

@@ -336,8 +336,11 @@ impl PyWorld {
     /// place of contact, which moves wherever the last step pressed
     /// deepest. Two strands pressed side by side with a line load q
     /// (force/length) sink by q/k (where one crosses or wraps round the
-    /// other, the other's rows gather at the crossing). Frictionless only
-    /// for now (refused with `friction` or `pair_friction` > 0).
+    /// other, the other's rows gather at the crossing). With friction, each
+    /// row's is a tangential spring of the row's compliance trimmed to μ N
+    /// at the start of each step (no active-set rounds): within μ N at rest;
+    /// sliding, above it by the step's slide times k per row length (small
+    /// steps, or a drag much larger than k·dt, for Coulomb's sliding force).
     /// Snapshots keep the detection and the contacts' state.
     #[pyo3(signature = (*, margin, self_contact = true, between_rods = true, friction = 0.0, no_self_contact = Vec::new(), joined = Vec::new(), pair_friction = Vec::new(), line_stiffness = None))]
     #[allow(clippy::too_many_arguments)]

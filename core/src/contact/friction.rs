@@ -16,6 +16,13 @@
 //! whose motion over the step turned against ŝ sticks again; a slipping
 //! pair whose direction or normal force moved is solved again with them,
 //! so that the friction of a slipping pair is μ N of the same solve.
+//!
+//! A penalty row (distributed rows, `ContactPair::is_penalty`) takes no
+//! rounds: its friction is a tangential spring of the row's compliance,
+//! trimmed to μ N at the start of each step ([`Friction::prepare_spring`]).
+//! At rest it keeps |F_t| ≤ μ N; sliding, it passes μ N by what the pair
+//! slides in the step over the compliance — against a drag ζ per length,
+//! μ q + (t − μ q) k dt/(ζ + k dt) per length (`tests/contact_line.rs`).
 use crate::constraint::kinds::{Axis, RelativeAxis, RelativePlane};
 use crate::constraint::ConstraintKind;
 use crate::error::{Error, Result};
@@ -69,12 +76,16 @@ pub struct Friction {
     /// to rod a (force unit).
     #[serde(default)]
     pub slip_applied: [f64; 3],
+    /// A penalty row's spring ([`Friction::prepare_spring`]) was trimmed to
+    /// the Coulomb cone at the start of this step: the pair is sliding.
+    #[serde(default)]
+    pub at_limit: bool,
 }
 
 impl Friction {
     pub fn new(mu: f64) -> Result<Friction> {
         check_mu(mu)?;
-        Ok(Friction { mu, slip: None, anchor: None, start: None, force: [0.0; 3], normal: 0.0, rows: None, compliance: 0.0, slip_length: 0.0, slip_applied: [0.0; 3] })
+        Ok(Friction { mu, slip: None, anchor: None, start: None, force: [0.0; 3], normal: 0.0, rows: None, compliance: 0.0, slip_length: 0.0, slip_applied: [0.0; 3], at_limit: false })
     }
     /// Forgets the motion state (the pair left the active set).
     pub fn reset(&mut self) {
@@ -171,12 +182,17 @@ impl Friction {
             self.compliance = if self.rows.is_some() { compliance.max(self.slip_length / limit) } else { compliance };
             return Ok(());
         }
-        let ub = g.ub.unwrap_or(0.0);
-        let anchor = match self.anchor {
+        let anchor = self.moved_anchor(g, rods)?;
+        self.hold(g, anchor, compliance);
+        Ok(())
+    }
+    /// The anchor where the pair is now: none yet, where it is; found
+    /// again at neighbouring abscissae, moved by what separates the
+    /// points on the rods now.
+    fn moved_anchor(&self, g: &Geometry, rods: [&Rod; 2]) -> Result<Vector3<f64>> {
+        Ok(match self.anchor {
             None => g.relative,
             Some((a, [ua, ub_old])) => {
-                // The same pair, found at neighbouring abscissae: the
-                // anchor moves by what separates the points on the rods now.
                 // anchor + [r_a(ua') − r_a(ua)] − [r_b(ub') − r_b(ub)], the
                 // relative position (g.relative) carrying the primed terms.
                 let mut a = Vector3::from(a) + g.relative - rods[0].position(ua)?;
@@ -185,13 +201,41 @@ impl Friction {
                 }
                 a
             }
-        };
-        self.anchor = Some((anchor.into(), [g.ua, ub]));
+        })
+    }
+    /// Stick rows of compliance `compliance` about `anchor`.
+    fn hold(&mut self, g: &Geometry, anchor: Vector3<f64>, compliance: f64) {
+        self.anchor = Some((anchor.into(), [g.ua, g.ub.unwrap_or(0.0)]));
         self.compliance = compliance;
         self.rows = Some(match g.ub {
             Some(ub) => RelativeAxis { ua: g.ua, ub, offset: anchor.into(), direction: g.normal.into() }.into(),
             None => Axis { u: g.ua, origin: anchor.into(), direction: g.normal.into() }.into(),
         });
+    }
+    /// A penalty row's friction (`ContactPair::is_penalty`, normal force
+    /// `normal` = −g/C at the start of the step, `compliance` its C): a
+    /// tangential spring of the same compliance about the anchor, its
+    /// stretch trimmed at the start of each step to the Coulomb cone,
+    /// |d_t| ≤ μ N C — the linear spring–slider of granular codes
+    /// (Cundall & Strack 1979), slipping between steps instead of in
+    /// active-set rounds (each a solve; thousands of rows at the cone's
+    /// edge used them all). Within a step the spring may pass μ N by what
+    /// the pair slides in it over C; a pair at rest keeps |F_t| ≤ μ N.
+    pub(crate) fn prepare_spring(&mut self, g: &Geometry, rods: [&Rod; 2], step: u64, normal: f64, compliance: f64) -> Result<()> {
+        if self.start.is_none_or(|a| a.1 != step) {
+            self.start = Some((g.relative.into(), step, [g.ua, g.ub.unwrap_or(0.0)]));
+        }
+        self.slip = None;
+        self.normal = normal.max(0.0);
+        let mut anchor = self.moved_anchor(g, rods)?;
+        let d = g.relative - anchor;
+        let dt = d - g.normal * g.normal.dot(&d);
+        let reach = self.mu * self.normal * compliance;
+        self.at_limit = dt.norm() > reach;
+        if self.at_limit {
+            anchor = g.relative - dt * (reach / dt.norm());
+        }
+        self.hold(g, anchor, compliance);
         Ok(())
     }
     /// The slip force on rod a (force unit) of the current assembly.

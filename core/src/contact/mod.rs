@@ -257,7 +257,7 @@ impl ContactSet {
                 normal: g.normal.into(),
                 normal_force: p.force,
                 friction_force: p.friction_force(),
-                slipping: p.friction.as_ref().is_some_and(|f| f.slip.is_some()),
+                slipping: p.friction.as_ref().is_some_and(|f| f.slip.is_some() || f.at_limit),
             });
         }
         Ok(out)

@@ -294,7 +294,9 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
         }
         if let Some(old) = carry.find(rod_arena, &previous, p) {
             p.active = true;
-            p.force = old.force;
+            if !p.is_penalty() {
+                p.force = old.force;
+            }
             if let (Some(f), Some(of)) = (&mut p.friction, &old.friction) {
                 f.carry(of);
             }
@@ -306,11 +308,16 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
     // pairs (stick rows, or the row across a slip between rods).
     ws.stick.clear();
     for p in contacts.pairs.iter_mut() {
+        let penalty = p.is_penalty();
         if let (Some(f), Some(a), Some(b)) = (&mut p.friction, rod_arena.get(p.rods[0].into()), rod_arena.get(p.rods[1].into())) {
             if p.active {
                 let g = crate::contact::friction::geometry(&p.kind, [a, b])?;
-                let c = stick_compliance(&mut ws.stick, p.rods[0], a)? + if g.ub.is_some() { stick_compliance(&mut ws.stick, p.rods[1], b)? } else { 0.0 };
-                f.prepare(&g, [a, b], *steps, p.force, c)?;
+                if penalty {
+                    f.prepare_spring(&g, [a, b], *steps, p.force, p.compliance)?;
+                } else {
+                    let c = stick_compliance(&mut ws.stick, p.rods[0], a)? + if g.ub.is_some() { stick_compliance(&mut ws.stick, p.rods[1], b)? } else { 0.0 };
+                    f.prepare(&g, [a, b], *steps, p.force, c)?;
+                }
             } else {
                 f.reset();
             }
@@ -345,6 +352,9 @@ fn decide_penalties(rods: &Arena<Rod>, blocked: &[crate::contact::ContactPair], 
         if let (Some(a), Some(b)) = (rods.get(p.rods[0].into()), rods.get(p.rods[1].into())) {
             p.kind.linearize(&[a, b], &mut row)?;
             p.active = row[0].rhs > 0.0; // rhs = target − g
+            // Its force at the start of the step, −g/C: the normal force
+            // its friction is bounded by through the step.
+            p.force = if p.active { row[0].rhs / p.compliance } else { 0.0 };
         }
     }
     Ok(())
@@ -458,12 +468,20 @@ impl Carry {
         let half = 0.5 + 1e-9;
         // A ring's abscissae are compared around its period.
         let period = rods.get(p.rods[0].into()).filter(|r| r.is_closed()).map(|r| r.n_ctrl() as f64);
+        // A penalty row (held at its capsule's middle, several within
+        // the half unit) takes its own: the nearest, not the first.
+        let nearest = p.is_penalty();
+        let apart = |q: &crate::contact::ContactPair| match (&q.kind, &p.kind) {
+            (crate::constraint::ConstraintKind::Contact(x), crate::constraint::ConstraintKind::Contact(y)) => (x.ua - y.ua).abs() + (x.ub - y.ub).abs(),
+            _ => 0.0,
+        };
         let mut best: Option<usize> = None;
         for shift in [0.0, 1.0, -1.0] {
             let Some(t) = period.map(|t| t * shift).or((shift == 0.0).then_some(0.0)) else { continue };
             let lo = self.order.partition_point(|e| (e.0, e.1) < (p.rods[0], p.rods[1]) || (e.0, e.1) == (p.rods[0], p.rods[1]) && e.2 < u + t - half);
             for e in self.order[lo..].iter().take_while(|e| (e.0, e.1) == (p.rods[0], p.rods[1]) && e.2 <= u + t + half) {
-                if best.is_none_or(|b| e.3 < b) && same_place(rods, &previous[e.3], p) {
+                let better = |b: usize| if nearest { apart(&previous[e.3]) < apart(&previous[b]) } else { e.3 < b };
+                if best.is_none_or(better) && same_place(rods, &previous[e.3], p) {
                     best = Some(e.3);
                 }
             }

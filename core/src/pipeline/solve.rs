@@ -325,7 +325,8 @@ fn update_active_set_with(world: &mut World, freeze_friction: bool, row_of: &mut
                 if let Some((start, _, _)) = f.start {
                     moved += g.relative - nalgebra::Vector3::from(start);
                 }
-                changed |= f.update(&g, stick, moved, force, freeze_friction);
+                // A penalty row's spring slips between steps (`Friction::prepare_spring`).
+                changed |= f.update(&g, stick, moved, force, freeze_friction || penalty);
             }
             continue;
         }

@@ -282,8 +282,9 @@ def fabric(pattern: Union[str, Sequence[str]] = "jersey", *, wales: int = 10, co
     leg above it, the rigid row moves wherever the last step pressed
     deepest and a relaxation's steps alternate; distributed rows hold the
     whole wrap, and a 16 × 4 cell relaxes in 270 steps where rigid rows
-    had not settled after 400 (README, knitted fabrics). Frictionless
-    only, so far: its worlds need ``friction=0``.
+    had not settled after 400 (README, knitted fabrics). Their friction
+    is a spring per row trimmed to μ N each step: within μ N at rest,
+    above it while a step slides (README).
 
     Errors (``InvalidInputError``, before anything is built): a grid that
     cannot be knitted (ragged courses, letters other than K/P, zero wales,

@@ -46,8 +46,10 @@ class _Flow:
     """Adaptive overdamped steps on a world: dt grows while steps move
     little, shrinks when one moves too much, quarters when one fails."""
 
-    def __init__(self, world, radius: float, step_fraction: float, dt: float):
+    def __init__(self, world, radius: float, step_fraction: float, dt: float, longest: float = np.inf):
+        dt = min(dt, longest)
         self.world, self.radius, self.cap, self.dt, self.first = world, radius, step_fraction * radius, dt, dt
+        self.longest = longest
         self.fails = 0
         self.forced = 0
         self._reach = None  # the last refusal's move over max_move
@@ -97,7 +99,7 @@ class _Flow:
             # settling stretch, measured), and the next grip move was
             # refused and quartered twenty times over.
             grow = min(grow, 1.0)
-        self.dt *= grow
+        self.dt = min(self.dt * grow, self.longest)
         self.world.set_params(dt=self.dt)
         return move
 
@@ -162,6 +164,17 @@ def _first_dt(fabric: Fabric, viscosity: float) -> float:
     return 100.0 * viscosity * fabric.yarn_radius ** 4 / fabric.bending_stiffness
 
 
+def _longest_dt(fabric: Fabric, viscosity: float) -> float:
+    """The longest step (s): 1000 × η L⁴/B, L the yarn length of the
+    longest row or column of stitches, past the overdamped relaxation time
+    of the swatch's slowest bend. Longer steps are static ones, in which
+    nothing but the drag holds the swatch's rigid motions: a cell held by
+    friction grew its steps to 1e8 s, its systems turned singular for the
+    sparse solver, and each step took the dense band's (3 s against 0.1 s)."""
+    length = fabric.loop_length * max(fabric.wales, fabric.courses)
+    return 1e3 * viscosity * length ** 4 / fabric.bending_stiffness
+
+
 def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: float = 2e-4, window: int = 100,
           step_fraction: float = 0.25, viscosity: float = 1.0, record_every: int = 10, world=None,
           interlocks: Optional[Interlocks] = None, progress_bar: bool = False) -> Relaxed:
@@ -196,7 +209,7 @@ def relax(fabric: Fabric, *, friction: float = 0.0, max_steps: int = 2000, tol: 
         if interlocks is not None and world.params["overdamped"] and world.params["viscosity"] == viscosity:
             dt = world.params["dt"]
         world.set_params(viscosity=viscosity)
-    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=dt)
+    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=dt, longest=_longest_dt(fabric, viscosity))
     if interlocks is None:
         interlocks = Interlocks(world, fabric)
     elif not isinstance(interlocks, Interlocks) or interlocks.fabric is not fabric:
@@ -440,7 +453,8 @@ def _increments(world, fabric, interlocks, direction, strain, increments, unload
     """The fabric settled between its grips for ``settle_steps``, then the
     stretch's increments up (and down) to ``strain`` of ``gap`` (m), the
     grips moved by ``place(e)``; ``force()`` and ``width()`` read."""
-    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=_first_dt(fabric, world.params["viscosity"]))
+    viscosity = world.params["viscosity"]
+    flow = _Flow(world, fabric.yarn_radius, step_fraction, dt=_first_dt(fabric, viscosity), longest=_longest_dt(fabric, viscosity))
     for k in range(int(settle_steps)):
         flow.step()
         if k % 10 == 9:
