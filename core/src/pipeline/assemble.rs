@@ -414,17 +414,20 @@ pub(crate) fn detect_all(rods: &Arena<Rod>, detectors: &[crate::contact::Detecto
 /// may come back as u ≈ 0 or u ≈ period).
 pub(crate) fn same_place(rods: &Arena<Rod>, a: &crate::contact::ContactPair, b: &crate::contact::ContactPair) -> bool {
     use crate::constraint::ConstraintKind::{Contact, Plane};
-    let apart = |side: usize, x: f64, y: f64| {
-        let d = (x - y).abs();
-        match rods.get(a.rods[side].into()) {
-            Some(r) if r.is_closed() => d.min(r.n_ctrl() as f64 - d),
-            _ => d,
-        }
-    };
+    let apart = |side: usize, x: f64, y: f64| abscissae_apart(rods, a.rods[side], x, y);
     match (&a.kind, &b.kind) {
         (Contact(x), Contact(y)) => apart(0, x.ua, y.ua) + apart(1, x.ub, y.ub) < 0.5,
         (Plane(x), Plane(y)) => apart(0, x.u, y.u) < 0.5 && nalgebra::Vector3::from(x.normal).dot(&nalgebra::Vector3::from(y.normal)) > 0.5,
         (x, y) => x == y,
+    }
+}
+
+/// |x − y| on rod `rod` (parameter units), around a ring's period.
+fn abscissae_apart(rods: &Arena<Rod>, rod: crate::handles::RodHandle, x: f64, y: f64) -> f64 {
+    let d = (x - y).abs();
+    match rods.get(rod.into()) {
+        Some(r) if r.is_closed() => d.min(r.n_ctrl() as f64 - d),
+        _ => d,
     }
 }
 
@@ -472,7 +475,9 @@ impl Carry {
         // the half unit) takes its own: the nearest, not the first.
         let nearest = p.is_penalty();
         let apart = |q: &crate::contact::ContactPair| match (&q.kind, &p.kind) {
-            (crate::constraint::ConstraintKind::Contact(x), crate::constraint::ConstraintKind::Contact(y)) => (x.ua - y.ua).abs() + (x.ub - y.ub).abs(),
+            (crate::constraint::ConstraintKind::Contact(x), crate::constraint::ConstraintKind::Contact(y)) => {
+                abscissae_apart(rods, p.rods[0], x.ua, y.ua) + abscissae_apart(rods, p.rods[1], x.ub, y.ub)
+            }
             _ => 0.0,
         };
         let mut best: Option<usize> = None;
