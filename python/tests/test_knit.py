@@ -253,8 +253,8 @@ def test_distributed_contact_rows_let_a_cell_settle():
 def test_friction_on_distributed_rows_stays_within_coulomb_at_rest():
     # Each row's friction is a tangential spring of the row's own
     # compliance, trimmed to μ N at the start of every step (no active-set
-    # rounds: with them this cell had not taken 400 steps in 15 min, rows
-    # carrying up to 168 μN). Measured (2026-12-02): converged after 200
+    # rounds: with them this cell had not taken 400 steps in 15 min, and a
+    # free 8 x 2 swatch's rows carried up to 168 μN). Measured (2026-12-02): converged after 200
     # steps (15 s), k_c 5.033, k_w 3.975, 362 rows, the largest
     # |F_t|/(μ N) 1.0040 (the 16 x 4 cell: 220 steps, 197 s, 1.0155).
     f = sk.knit.fabric("jersey", wales=8, courses=2, loop_length=3.8e-3, yarn_radius=1e-4, boundary="cell",
