@@ -142,17 +142,22 @@ fn pressed_and_pulled(mu: f64, t: f64, steps: usize, dt: f64) -> (f64, f64, f64,
 #[test]
 fn friction_on_distributed_rows_holds_below_mu_q_and_slides_at_it_above() {
     let (mu, q, k) = (0.3, 200.0, 1e6);
-    // Pulled by a fifth of μ q: held. Each row's spring stretches by
+    // Pulled by half of μ q: held. Each row's spring stretches by
     // μ N C = μ q/k at most before it slips; rod a, pinned at its ends,
     // stretches under the friction, so the rows near the ends take the
-    // most (shear lag) and slip, and those between hold the rest. Over the
-    // last 400 steps rod b moves by less than 1e-3 of μ q/k (measured
-    // 1.7e-9 m; at half μ q, with more rows at the cone, it creeps by
-    // 2.8e-6 m over as many), the rows carry the whole pull, each within μ N.
-    let (moved, friction, normal, worst) = pressed_and_pulled(mu, 0.2 * mu * q, 800, 1e-3);
+    // most (shear lag) and slip (26 of 92 at the cone), and those between
+    // hold the rest. The pair, one rod pulled and the other held, bends as
+    // a two-layer beam (its middle rises 5 mm) over the overdamped bending
+    // time ζL⁴/(π⁴EI) ≈ 1.7 s, shifting normal force between the rows:
+    // rod b slides on while it bends (7e-9 m a step at step 800 of 1 ms)
+    // and stops when it has (1e-14 m a step at 30 s). Over the last
+    // 2000 steps of 10 ms it moves by less than 1e-3 of μ q/k; the rows'
+    // friction carries the pull (to 4e-4 measured: on the bent pair the
+    // normal forces take a part along x), each row within μ N.
+    let (moved, friction, normal, worst) = pressed_and_pulled(mu, 0.5 * mu * q, 4000, 1e-2);
     println!("held: moved {moved:.3e} m (μ q/k = {:.1e} m); friction {friction:.4} N, normal {normal:.4} N, worst |F_t|/(μN) {worst:.4}", mu * q / k);
     assert!(moved.abs() < 1e-3 * mu * q / k, "the held rod crept by {moved} m");
-    assert!((friction / (-0.2 * mu * q) - 1.0).abs() < 1e-4, "friction {friction} N should carry the pull {} N", 0.2 * mu * q);
+    assert!((friction / (-0.5 * mu * q) - 1.0).abs() < 2e-3, "friction {friction} N should carry the pull {} N", 0.5 * mu * q);
     assert!(worst <= 1.0 + 1e-6, "a held row's friction is {worst} μN");
     // Pulled by twice μ q: it slides. A row's spring is trimmed to μ N at
     // the start of each step and stiffens the step by k over what it slides
