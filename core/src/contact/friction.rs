@@ -150,9 +150,7 @@ impl Friction {
     /// the slip force −μ N ŝ from the pair's last normal force `normal`;
     /// `compliance`: the stick rows' ([`stick_compliance`] of the pair's rods).
     pub(crate) fn prepare(&mut self, g: &Geometry, rods: [&Rod; 2], step: u64, normal: f64, compliance: f64) -> Result<()> {
-        if self.start.is_none_or(|a| a.1 != step) {
-            self.start = Some((g.relative.into(), step, [g.ua, g.ub.unwrap_or(0.0)]));
-        }
+        self.mark_start(g, step);
         if let Some(s) = self.slip {
             let s = Vector3::from(s);
             self.anchor = None;
@@ -185,6 +183,12 @@ impl Friction {
         let anchor = self.moved_anchor(g, rods)?;
         self.hold(g, anchor, compliance);
         Ok(())
+    }
+    /// The relative position at the start of step `step`, once per step.
+    fn mark_start(&mut self, g: &Geometry, step: u64) {
+        if self.start.is_none_or(|a| a.1 != step) {
+            self.start = Some((g.relative.into(), step, [g.ua, g.ub.unwrap_or(0.0)]));
+        }
     }
     /// The anchor where the pair is now: none yet, where it is; found
     /// again at neighbouring abscissae, moved by what separates the
@@ -222,9 +226,7 @@ impl Friction {
     /// edge used them all). Within a step the spring may pass μ N by what
     /// the pair slides in it over C; a pair at rest keeps |F_t| ≤ μ N.
     pub(crate) fn prepare_spring(&mut self, g: &Geometry, rods: [&Rod; 2], step: u64, normal: f64, compliance: f64) -> Result<()> {
-        if self.start.is_none_or(|a| a.1 != step) {
-            self.start = Some((g.relative.into(), step, [g.ua, g.ub.unwrap_or(0.0)]));
-        }
+        self.mark_start(g, step);
         self.slip = None;
         self.normal = normal.max(0.0);
         let mut anchor = self.moved_anchor(g, rods)?;

@@ -289,8 +289,7 @@ pub(crate) fn assemble_with(world: &mut World, regime: Regime, reuse: bool) -> R
     let carry = Carry::new(&previous, std::mem::take(&mut ws.carry));
     for p in contacts.pairs.iter_mut().filter(|p| !super::solve::is_blocked(rod_arena, &ws.blocked, p)) {
         if p.is_penalty() && !p.active {
-            p.force = 0.0;
-            continue;
+            continue; // left out by `decide_penalties`, its force 0
         }
         if let Some(old) = carry.find(rod_arena, &previous, p) {
             p.active = true;

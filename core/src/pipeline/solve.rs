@@ -318,15 +318,21 @@ fn update_active_set_with(world: &mut World, freeze_friction: bool, row_of: &mut
                     (k, Some(kind)) if k != usize::MAX => Some(friction_reaction(&ws.sys.sol, k, kind, [a, b])?),
                     _ => None,
                 };
-                let mut moved = step_of(p.rods[0], a, g.ua)?;
-                if let Some(ub) = g.ub {
-                    moved -= step_of(p.rods[1], b, ub)?;
+                // A penalty row's spring slips between steps
+                // (`Friction::prepare_spring`); held, a pair only records
+                // its force, and its motion is not needed.
+                let frozen = freeze_friction || penalty;
+                let mut moved = nalgebra::Vector3::zeros();
+                if !frozen {
+                    moved = step_of(p.rods[0], a, g.ua)?;
+                    if let Some(ub) = g.ub {
+                        moved -= step_of(p.rods[1], b, ub)?;
+                    }
+                    if let Some((start, _, _)) = f.start {
+                        moved += g.relative - nalgebra::Vector3::from(start);
+                    }
                 }
-                if let Some((start, _, _)) = f.start {
-                    moved += g.relative - nalgebra::Vector3::from(start);
-                }
-                // A penalty row's spring slips between steps (`Friction::prepare_spring`).
-                changed |= f.update(&g, stick, moved, force, freeze_friction || penalty);
+                changed |= f.update(&g, stick, moved, force, frozen);
             }
             continue;
         }
