@@ -17,6 +17,8 @@ Usage: python3 knit_cell_stretch_probe.py START FRICTION [LOOP_MM] [STEPS]
   LOOP_MM: loop length in mm (3.8: ℓ/d = 19); STEPS: relaxation steps.
   STRAIN (environment, 0.2): the largest strain, in INCREMENTS (10)
   increments of at most PER_INCREMENT (300) steps each way.
+  ROWS=yarn (environment): distributed contact rows
+  (``contact_stiffness="yarn"``) instead of one rigid row per contact.
   HOLD=n (environment): instead of the cycle, one increment to STRAIN,
   then n more steps of the flow at that strain, the force and lateral
   strain printed every 100 (how far an increment is from equilibrium).
@@ -43,7 +45,7 @@ strain = float(os.environ.get("STRAIN", "0.2"))
 narrow = {3.8e-3: (0.8e-3, 0.86e-3), 5e-3: (1.0e-3, 1.1e-3)}
 spacing = narrow.get(loop, (0.21 * loop, 0.226 * loop)) if start == "narrow" else None
 f = sk.knit.fabric("jersey", wales=16, courses=4, loop_length=loop, yarn_radius=1e-4, boundary="cell",
-                   spacing=spacing)
+                   spacing=spacing, contact_stiffness=os.environ.get("ROWS") or None)
 t0 = time.time()
 r = ex.relax(f, friction=0.0, max_steps=steps, record_every=50)
 print(r, f"{time.time() - t0:.0f} s", flush=True)
@@ -76,7 +78,7 @@ for e, F, lat in zip(s.strain, s.force, s.lateral_strain):
     print(f"{e:7.3f} {F:10.4g} {lat:9.5f} {dl:7.3f} {nu:7.3f}")
 print(f"work loading {s.work_loading:.4g} J, unloading {s.work_unloading:.4g} J, ratio {s.work_unloading / s.work_loading:.3f}")
 print(f"clearance {s.clearance:.3f}, parted {len(s.interlocks.parted)}")
-out = os.path.join(tempfile.gettempdir(), f"knit_cell_stretch_{start}_{mu}_{loop * 1e3:g}.json")
+out = os.path.join(tempfile.gettempdir(), f"knit_cell_stretch_{start}_{mu}_{loop * 1e3:g}_{os.environ.get('ROWS', 'rigid')}.json")
 with open(out, "w") as fh:
     json.dump({"rest": d0, "strain": s.strain.tolist(), "force": s.force.tolist(),
                "lateral": s.lateral_strain.tolist(), "loading": s.loading.tolist(),

@@ -103,7 +103,8 @@ def test_relaxation_lowers_the_energy_without_yarn_passing_through():
     # Every loop stays through the one below (measured: all 12 still at
     # step 200; the bottom corners' part by step 300).
     assert r.interlocks.held.all() and r.interlocks.parted == [], r.interlocks
-    assert set(r.curl) == {"bottom", "top", "left", "right"}
+    assert set(r.curl) == {"bottom", "top", "left", "right", "sides", "ends"}
+    assert r.curl["sides"] == 0.5 * (r.curl["left"] + r.curl["right"])
     # Continued, the flow goes on with its last step: none refused (a new
     # flow's first step, 100 ηr⁴/B, is refused here), the energy still falling.
     more = ex.relax(f, world=r.world, interlocks=r.interlocks, max_steps=10, record_every=10)
@@ -269,6 +270,31 @@ def test_friction_on_distributed_rows_stays_within_coulomb_at_rest():
     # Held by friction in another state than the frictionless cell's
     # (5.244, 3.806 from this start).
     assert 4.8 < r.dimensions["k_c"] < 5.2 and 3.8 < r.dimensions["k_w"] < 4.2, r
+
+
+def test_a_free_jersey_swatch_curls_as_jersey_does_and_rib_and_garter_do_not():
+    """SPEC §9.3: plain jersey's sides roll to the back and its top and
+    bottom to the front; a rib or a garter stays flat. The edges are free
+    of the cast-on and bind-off links: held at their built length while
+    the fabric widens, they cup the swatch (README, knitted fabrics)."""
+    def relaxed_curl(pattern):
+        f = sk.knit.fabric(pattern, wales=6, courses=6, loop_length=5e-3, yarn="nylon", yarn_radius=1e-4,
+                           contact_stiffness="yarn", cast_on=False, bind_off=False)
+        r = ex.relax(f, friction=0.3, max_steps=600, record_every=100)
+        # No yarn through another (measured 0.959–0.973).
+        assert r.clearance > 0.9, r
+        return {k: v / 1e-3 for k, v in r.curl.items()}  # mm
+
+    jersey, rib, garter = (relaxed_curl(p) for p in ("jersey", "rib1x1", "garter"))
+    # Measured at 600 steps (mm; the signs held from step 400 to 1,200):
+    # jersey left −1.38, right −1.27, top +1.26, bottom +0.26 (sides
+    # −1.33, ends +0.76); rib sides −0.01, ends +0.02; garter sides +0.09,
+    # ends −0.08 (its edges tilted: left +0.44, right −0.26).
+    assert jersey["left"] < 0 and jersey["right"] < 0, jersey
+    assert jersey["top"] > 0 and jersey["bottom"] > 0, jersey
+    flat = max(abs(c[k]) for c in (rib, garter) for k in ("sides", "ends"))
+    assert flat < 0.2, (rib, garter)
+    assert min(-jersey["sides"], jersey["ends"]) > 3 * flat, (jersey, rib, garter)
 
 
 @pytest.mark.parametrize("contact_stiffness", [None, "yarn"])

@@ -77,7 +77,10 @@ def curl(world, fabric) -> dict:
     the head points in the outer course/wale of each edge minus that of
     the interior (m; + is towards the technical face, +z). Plain jersey
     curls its sides to the back (left, right < 0) and its top and bottom
-    to the front (> 0)."""
+    to the front (> 0). A swatch tilted as a whole moves opposite edges
+    oppositely, a roll moves both the same way: ``sides`` = (left +
+    right)/2 and ``ends`` = (top + bottom)/2 are the rolls with the tilt
+    taken out."""
     from ..errors import InvalidInputError
     h = fabric.heads(world)
     nc, nw = h.shape[:2]
@@ -85,8 +88,9 @@ def curl(world, fabric) -> dict:
         raise InvalidInputError(f"curl: a flat swatch of at least 3 × 3 stitches (edges and an interior), got {nw} × {nc}"
                                 f"{' (a tube)' if fabric.tube_radius > 0 else ''}")
     inner = h[1:-1, 1:-1, 2].mean()
-    return {"bottom": float(h[0, 1:-1, 2].mean() - inner), "top": float(h[-1, 1:-1, 2].mean() - inner),
+    edge = {"bottom": float(h[0, 1:-1, 2].mean() - inner), "top": float(h[-1, 1:-1, 2].mean() - inner),
             "left": float(h[1:-1, 0, 2].mean() - inner), "right": float(h[1:-1, -1, 2].mean() - inner)}
+    return {**edge, "sides": 0.5 * (edge["left"] + edge["right"]), "ends": 0.5 * (edge["top"] + edge["bottom"])}
 
 
 def _projected_crossings(a, b):
